@@ -1,0 +1,13 @@
+"""Error types shared by the package.
+
+`InputError` is raised for anything a user can fix (a bad file, a value out of range); the command
+line turns it into exit code 2 and one line on stderr. Anything else is a failed run (exit code 1).
+"""
+
+
+class InputError(ValueError):
+    """Bad user input: the message names the field and what is allowed."""
+
+
+class InputWarning(UserWarning):
+    """A result was computed but a check on the input failed (e.g. the impulse-momentum check)."""

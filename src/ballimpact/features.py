@@ -1,0 +1,371 @@
+"""Characteristic values of an impact: the 19 of thesis table 6-1 and the load-cell identities.
+
+All values come from one continuous description of the pulse, so that they do not depend on the
+sampling rate: the force is taken as piecewise linear through the samples of the contact window,
+its two ends at zero force, and the refined peak (see `refine_peak`). Crossing times, integrals and
+moments of that curve are computed exactly, never by counting samples.
+
+Definitions (DESIGN.md "Features"; times relative to contact start):
+
+- P1 contact time; P2, P3, P4 spans with force >= 10, 50, 90% of the peak (first up-crossing to
+  last down-crossing); P5 peak time; P6 peak force; P7..P10 = P6 / P1..P4.
+- P11 kurtosis and P14 skewness of the force values over the contact window sampled uniformly in
+  time (biased and non-excess, as MATLAB `kurtosis`/`skewness` used by the thesis' `PARA`): here the
+  continuous limit, (1/P1) times the integral of the powers of the curve.
+- P12 = integral of F after the peak / integral before it.
+- P13 = integral of F from the middle of the 90% window to the end of the 10% window / integral from
+  the start of the 10% window to that middle (as the appendix code computes it; the text only says
+  "integrated skewness based on P2 and P4").
+- P15 impact speed, P16 rebound speed (measured, or from the impulse when not measured), P17 COR =
+  P16 / P15, P18 mean deceleration (P15 + P16) / P1, P19 peak deceleration = change of velocity
+  across the 90% window / P4, the velocity coming from integrating -F/m.
+
+Load-cell identities (Cross 1999): impulse J = m (v_in + v_out); ball-centre compression
+y(t) = v_in t - (1/m) double integral of F; energy lost = loop integral of F dy
+= m v_in^2 (1 - e^2) / 2 with e the impulse COR.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError, InputWarning
+from .records import ContactWindow, ImpactRecord, check_positive, contact_window
+
+FEATURE_NAMES: dict[str, str] = {
+    "P1": "contact_time_s",
+    "P2": "span_above_10pct_s",
+    "P3": "span_above_50pct_s",
+    "P4": "span_above_90pct_s",
+    "P5": "peak_time_s",
+    "P6": "peak_force_n",
+    "P7": "peak_force_per_contact_time_n_per_s",
+    "P8": "peak_force_per_span_10pct_n_per_s",
+    "P9": "peak_force_per_span_50pct_n_per_s",
+    "P10": "peak_force_per_span_90pct_n_per_s",
+    "P11": "kurtosis",
+    "P12": "impulse_ratio_after_before_peak",
+    "P13": "impulse_ratio_after_before_90pct_middle",
+    "P14": "skewness",
+    "P15": "impact_speed_m_s",
+    "P16": "rebound_speed_m_s",
+    "P17": "cor",
+    "P18": "mean_deceleration_m_s2",
+    "P19": "peak_deceleration_m_s2",
+}
+
+#: Default relative tolerance of the impulse-momentum check.
+DEFAULT_IMPULSE_TOLERANCE = 0.05
+
+
+# --------------------------------------------------------------------------- the pulse curve
+
+
+@dataclass(frozen=True)
+class PulseCurve:
+    """Piecewise-linear force through `knots_s`, `knots_n` (time from contact start, s; N)."""
+
+    knots_s: np.ndarray
+    knots_n: np.ndarray
+
+    @property
+    def duration_s(self) -> float:
+        return float(self.knots_s[-1] - self.knots_s[0])
+
+    def span(self, level_n: float) -> tuple[float, float]:
+        """First up-crossing and last down-crossing of `level_n` (s)."""
+        t, f = self.knots_s, self.knots_n
+        above = np.flatnonzero(f >= level_n)
+        i, j = above[0], above[-1]
+        up = t[i] if i == 0 else _linear_crossing(t[i - 1], f[i - 1], t[i], f[i], level_n)
+        down = t[j] if j == t.size - 1 else _linear_crossing(t[j], f[j], t[j + 1], f[j + 1], level_n)
+        return float(up), float(down)
+
+    def integral(self, start_s: float, end_s: float) -> float:
+        """Exact integral of the curve over [start_s, end_s] (N s)."""
+        inside = (self.knots_s > start_s) & (self.knots_s < end_s)
+        t = np.concatenate([[start_s], self.knots_s[inside], [end_s]])
+        return float(np.trapezoid(np.interp(t, self.knots_s, self.knots_n), t))
+
+    def mean_power(self, power: int, scale_n: float) -> float:
+        """Time average of (F / scale_n)^power over the curve, exact for a piecewise-linear F."""
+        a, b = self.knots_n[:-1] / scale_n, self.knots_n[1:] / scale_n
+        # integral of a linear segment's power: h/(p+1) * sum_j a^j b^(p-j) (stable when a ~ b)
+        segment = sum(a**j * b ** (power - j) for j in range(power + 1)) / (power + 1)
+        return float(np.sum(segment * np.diff(self.knots_s)) / self.duration_s)
+
+    def velocity(self, impact_speed_m_s: float, mass_kg: float) -> np.ndarray:
+        """Ball-centre velocity at the knots, v = v_in - (1/m) integral of F (m/s)."""
+        h = np.diff(self.knots_s)
+        impulse = np.concatenate([[0.0], np.cumsum(h * (self.knots_n[:-1] + self.knots_n[1:]) / 2)])
+        return impact_speed_m_s - impulse / mass_kg
+
+    def displacement(self, velocity_m_s: np.ndarray, mass_kg: float) -> np.ndarray:
+        """Ball-centre compression at the knots (m), the exact integral of the velocity (which is
+        piecewise quadratic): over a step h, v0 h - h^2 (2 f0 + f1) / (6 m)."""
+        h = np.diff(self.knots_s)
+        f0, f1 = self.knots_n[:-1], self.knots_n[1:]
+        steps = velocity_m_s[:-1] * h - h**2 * (2 * f0 + f1) / (6 * mass_kg)
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
+    def work(self, velocity_m_s: np.ndarray, mass_kg: float) -> float:
+        """Loop integral of F dy = integral of F v dt (J); F v is cubic on each step, so Simpson's
+        rule per step is exact."""
+        h = np.diff(self.knots_s)
+        f0, f1 = self.knots_n[:-1], self.knots_n[1:]
+        v0, v1 = velocity_m_s[:-1], velocity_m_s[1:]
+        v_mid = v0 - h * (3 * f0 + f1) / (8 * mass_kg)
+        return float(np.sum(h / 6 * (f0 * v0 + 4 * (f0 + f1) / 2 * v_mid + f1 * v1)))
+
+
+def _linear_crossing(t0: float, f0: float, t1: float, f1: float, level: float) -> float:
+    return t0 + (level - f0) * (t1 - t0) / (f1 - f0)
+
+
+def refine_peak(time_s: np.ndarray, force_n: np.ndarray, index: int) -> tuple[float, float]:
+    """Sub-sample peak (time s, force N) around the largest sample `index`.
+
+    Two local models compete on the five samples around the maximum: a parabola through the middle
+    three (a rounded peak) and two straight lines through the outer pairs meeting in a cusp (a
+    kinked peak, e.g. a triangle). Each predicts the samples it did not use; the one with the smaller
+    misfit wins. With fewer neighbours, the parabola alone; the sample itself if neither is valid.
+    """
+    t, f, i = time_s, force_n, index
+    best = (float(t[i]), float(f[i]))
+    if i < 1 or i > f.size - 2:
+        return best
+    candidates = []
+    a, b, c = np.polyfit(t[i - 1 : i + 2] - t[i], f[i - 1 : i + 2], 2)
+    if a < 0:
+        vertex = -b / (2 * a)
+        if t[i - 1] - t[i] <= vertex <= t[i + 1] - t[i]:
+            misfit = 0.0
+            if i >= 2 and i <= f.size - 3:
+                for j in (i - 2, i + 2):
+                    x = t[j] - t[i]
+                    misfit += abs(a * x * x + b * x + c - f[j])
+            candidates.append((misfit, float(t[i] + vertex), float(c - b * b / (4 * a))))
+    if 2 <= i <= f.size - 3:
+        left = np.polyfit(t[i - 2 : i], f[i - 2 : i], 1)
+        right = np.polyfit(t[i + 1 : i + 3], f[i + 1 : i + 3], 1)
+        if left[0] > 0 and right[0] < 0:
+            tc = (right[1] - left[1]) / (left[0] - right[0])
+            if t[i - 1] <= tc <= t[i + 1]:
+                predicted = min(np.polyval(left, t[i]), np.polyval(right, t[i]))
+                misfit = 2 * abs(predicted - f[i])  # one residual, weighted like the parabola's two
+                candidates.append((misfit, float(tc), float(np.polyval(left, tc))))
+    if candidates:
+        _, time, force = min(candidates)
+        if force >= f[i]:
+            best = (time, force)
+    return best
+
+
+def pulse_curve(record: ImpactRecord, window: ContactWindow) -> PulseCurve:
+    """The piecewise-linear pulse over the contact window (times from contact start)."""
+    # every sample strictly between the zero-force ends: those of the window, and any below the
+    # threshold but above zero that the edge extrapolation reached past
+    inside = (record.time_s > window.start_s) & (record.time_s < window.end_s)
+    knots_t = [window.start_s, *record.time_s[inside], window.end_s]
+    knots_f = [0.0, *record.force_n[inside], 0.0]
+    peak = int(np.argmax(record.force_n))
+    peak_t, peak_f = refine_peak(record.time_s, record.force_n, peak)
+    t = np.array(knots_t) - window.start_s
+    f = np.array(knots_f)
+    if peak_f > f.max():
+        at = int(np.searchsorted(t, peak_t - window.start_s))
+        t = np.insert(t, at, peak_t - window.start_s)
+        f = np.insert(f, at, peak_f)
+    keep = np.concatenate([[True], np.diff(t) > 0])  # a crossing may coincide with a sample
+    return PulseCurve(t[keep], f[keep])
+
+
+# --------------------------------------------------------------------------- features
+
+
+@dataclass(frozen=True)
+class ImpactFeatures:
+    """Everything `extract_features` derives from one record (SI units, times from contact start).
+
+    `values` maps P1..P19 to numbers (names in `FEATURE_NAMES`); the curves `time_s`, `force_n`,
+    `velocity_m_s` and `displacement_m` are the pulse curve's knots and the integrated ball-centre
+    motion at them.
+    """
+
+    values: dict[str, float]
+    window: ContactWindow
+    mass_kg: float
+    rebound_speed_source: str
+    impulse_n_s: float
+    impulse_expected_n_s: float | None
+    impulse_relative_error: float | None
+    impulse_tolerance: float
+    impulse_cor: float
+    max_compression_m: float
+    energy_lost_j: float
+    dynamic_stiffness_n_m: float
+    time_s: np.ndarray
+    force_n: np.ndarray
+    velocity_m_s: np.ndarray
+    displacement_m: np.ndarray
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def impulse_check_passed(self) -> bool | None:
+        if self.impulse_relative_error is None:
+            return None
+        return abs(self.impulse_relative_error) <= self.impulse_tolerance
+
+    def named(self) -> dict[str, float]:
+        """The 19 values keyed by their descriptive names."""
+        return {FEATURE_NAMES[key]: value for key, value in self.values.items()}
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-able summary using the command-line contract's keys."""
+        v = self.values
+        return {
+            "peak_force_n": v["P6"],
+            "contact_time_s": v["P1"],
+            "cor": v["P17"],
+            "impact_speed_m_s": v["P15"],
+            "rebound_speed_m_s": v["P16"],
+            "rebound_speed_source": self.rebound_speed_source,
+            "mass_kg": self.mass_kg,
+            "impulse_n_s": self.impulse_n_s,
+            "impulse_expected_n_s": self.impulse_expected_n_s,
+            "impulse_relative_error": self.impulse_relative_error,
+            "impulse_tolerance": self.impulse_tolerance,
+            "impulse_check_passed": self.impulse_check_passed,
+            "impulse_cor": self.impulse_cor,
+            "max_compression_m": self.max_compression_m,
+            "energy_lost_j": self.energy_lost_j,
+            "dynamic_stiffness_n_m": self.dynamic_stiffness_n_m,
+            "contact_window": {
+                "start_s": self.window.start_s,
+                "end_s": self.window.end_s,
+                "threshold_n": self.window.threshold_n,
+                "noise_rms_n": self.window.noise_rms_n,
+            },
+            "features": dict(v),
+            "feature_names": dict(FEATURE_NAMES),
+            "warnings": list(self.warnings),
+        }
+
+
+def extract_features(
+    record: ImpactRecord,
+    *,
+    impulse_tolerance: float = DEFAULT_IMPULSE_TOLERANCE,
+    threshold_fraction: float = 1e-3,
+    noise_factor: float = 5.0,
+) -> ImpactFeatures:
+    """The 19 characteristic values and the load-cell identities of one impact.
+
+    **Arguments:**
+
+    - `record`: needs `mass_kg` and `impact_speed_m_s`; `rebound_speed_m_s` is estimated from the
+      impulse, v_out = J/m - v_in, when missing. Remove the baseline and filter before calling.
+    - `impulse_tolerance`: relative misfit allowed between the impulse J and m (v_in + v_out) when
+      the rebound speed is measured; beyond it an `InputWarning` is issued (and listed in
+      `warnings`).
+    - `threshold_fraction`, `noise_factor`: the contact-window threshold (see `contact_window`).
+
+    **Raises:** `InputError` if the mass or impact speed is missing, if there is no pulse, or if the
+    impulse is too small for the ball to have stopped (J < m v_in).
+    """
+    impulse_tolerance = check_positive("impulse_tolerance", impulse_tolerance)
+    if record.mass_kg is None:
+        raise InputError("mass_kg: the ball mass is required (e.g. --mass-kg 0.16)")
+    if record.impact_speed_m_s is None:
+        raise InputError("impact_speed_m_s: the impact speed is required (e.g. --impact-speed-m-s 25)")
+    mass, v_in = record.mass_kg, record.impact_speed_m_s
+
+    window = contact_window(
+        record, threshold_fraction=threshold_fraction, noise_factor=noise_factor
+    )
+    curve = pulse_curve(record, window)
+    impulse = curve.integral(0.0, curve.duration_s)
+    notes: list[str] = []
+    if impulse < mass * v_in:
+        raise InputError(
+            f"impulse {impulse:.4g} N s is less than m v_in = {mass * v_in:.4g} N s, so the ball "
+            "did not even stop: check mass_kg, impact_speed_m_s and the force scaling"
+        )
+    if record.rebound_speed_m_s is None:
+        v_out, source = impulse / mass - v_in, "impulse"
+        expected = relative_error = None
+    else:
+        v_out, source = record.rebound_speed_m_s, "measured"
+        expected = mass * (v_in + v_out)
+        relative_error = impulse / expected - 1.0
+        if abs(relative_error) > impulse_tolerance:
+            notes.append(
+                f"impulse check: integral of F dt = {impulse:.4g} N s differs from "
+                f"m (v_in + v_out) = {expected:.4g} N s by {relative_error:+.1%} "
+                f"(tolerance {impulse_tolerance:.1%})"
+            )
+    for note in notes:
+        warnings.warn(note, InputWarning, stacklevel=2)
+
+    peak_at = int(np.argmax(curve.knots_n))
+    peak_time, peak = float(curve.knots_s[peak_at]), float(curve.knots_n[peak_at])
+    spans = {fraction: curve.span(fraction * peak) for fraction in (0.1, 0.5, 0.9)}
+    widths = {fraction: end - start for fraction, (start, end) in spans.items()}
+    p1 = curve.duration_s
+    mean = curve.mean_power(1, peak)
+    variance = curve.mean_power(2, peak) - mean**2
+    third = curve.mean_power(3, peak) - 3 * mean * curve.mean_power(2, peak) + 2 * mean**3
+    fourth = (
+        curve.mean_power(4, peak)
+        - 4 * mean * curve.mean_power(3, peak)
+        + 6 * mean**2 * curve.mean_power(2, peak)
+        - 3 * mean**4
+    )
+    (start10, end10), (start90, end90) = spans[0.1], spans[0.9]
+    middle90 = 0.5 * (start90 + end90)
+    values = {
+        "P1": p1,
+        "P2": widths[0.1],
+        "P3": widths[0.5],
+        "P4": widths[0.9],
+        "P5": peak_time,
+        "P6": peak,
+        "P7": peak / p1,
+        "P8": peak / widths[0.1],
+        "P9": peak / widths[0.5],
+        "P10": peak / widths[0.9],
+        "P11": fourth / variance**2,
+        "P12": curve.integral(peak_time, p1) / curve.integral(0.0, peak_time),
+        "P13": curve.integral(middle90, end10) / curve.integral(start10, middle90),
+        "P14": third / variance**1.5,
+        "P15": v_in,
+        "P16": v_out,
+        "P17": v_out / v_in,
+        "P18": (v_in + v_out) / p1,
+        "P19": curve.integral(start90, end90) / mass / widths[0.9],
+    }
+    velocity = curve.velocity(v_in, mass)
+    displacement = curve.displacement(velocity, mass)
+    return ImpactFeatures(
+        values={key: float(value) for key, value in values.items()},
+        window=window,
+        mass_kg=mass,
+        rebound_speed_source=source,
+        impulse_n_s=impulse,
+        impulse_expected_n_s=expected,
+        impulse_relative_error=relative_error,
+        impulse_tolerance=impulse_tolerance,
+        impulse_cor=impulse / (mass * v_in) - 1.0,
+        max_compression_m=float(np.max(displacement)),
+        energy_lost_j=curve.work(velocity, mass),
+        dynamic_stiffness_n_m=peak**2 / (mass * v_in**2),
+        time_s=curve.knots_s,
+        force_n=curve.knots_n,
+        velocity_m_s=velocity,
+        displacement_m=displacement,
+        warnings=notes,
+    )

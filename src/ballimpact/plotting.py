@@ -1,0 +1,59 @@
+"""Pictures of an impact: force-time (raw and filtered) and force-displacement.
+
+matplotlib is used with the Agg backend, so plots are written to files with no display.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from .features import ImpactFeatures  # noqa: E402
+from .records import ImpactRecord  # noqa: E402
+
+
+def plot_impact(
+    raw: ImpactRecord,
+    filtered: ImpactRecord,
+    features: ImpactFeatures,
+    path: str | Path,
+    *,
+    title: str | None = None,
+) -> Path:
+    """Write a two-panel PNG: force-time (raw, filtered, contact window, peak) and the
+    force-displacement loop of the ball centre. Axes in ms, mm and kN for legibility."""
+    path = Path(path)
+    start = features.window.start_s
+    figure, (ax_time, ax_loop) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    margin = 0.3 * features.values["P1"]
+    shown = (raw.time_s >= start - margin) & (raw.time_s <= features.window.end_s + margin)
+    ax_time.plot((raw.time_s[shown] - start) * 1e3, raw.force_n[shown] / 1e3,
+                 color="0.6", lw=0.8, label="raw (baseline removed)")
+    name = filtered.metadata.get("filter", "none")
+    if name != "none":
+        ax_time.plot((filtered.time_s[shown] - start) * 1e3, filtered.force_n[shown] / 1e3,
+                     color="C0", lw=1.6, label=f"filtered ({name})")
+    ax_time.plot(features.values["P5"] * 1e3, features.values["P6"] / 1e3, "v", color="C3",
+                 label=f"peak {features.values['P6'] / 1e3:.3g} kN")
+    for edge in (0.0, features.values["P1"]):
+        ax_time.axvline(edge * 1e3, color="C2", lw=0.8, ls="--")
+    ax_time.plot([], [], color="C2", ls="--", label=f"contact {features.values['P1'] * 1e3:.3g} ms")
+    ax_time.set(xlabel="time from contact start (ms)", ylabel="normal force (kN)",
+                title="force-time")
+    ax_time.legend(fontsize=8)
+    ax_time.grid(alpha=0.3)
+
+    ax_loop.plot(features.displacement_m * 1e3, features.force_n / 1e3, color="C0")
+    ax_loop.set(xlabel="ball-centre displacement (mm)", ylabel="normal force (kN)",
+                title=f"force-displacement: energy lost {features.energy_lost_j:.3g} J, "
+                      f"COR {features.values['P17']:.3f}")
+    ax_loop.grid(alpha=0.3)
+    if title:
+        figure.suptitle(title)
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return path
