@@ -124,7 +124,7 @@ def apply_filter(
     Names: `none`; `cfc<N>` (SAE J211 class N, e.g. `cfc1000`); `savgol` (cubic); `lowess`
     (degree 1) and `loess` (degree 2); `poly5` (the thesis' polynomial fit of the pulse).
     `window_s` sets the window of savgol/lowess/loess, by default 10% of the contact time of the
-    unfiltered pulse. The filter's name and settings go into the metadata.
+    unfiltered pulse and at least 5 samples. The filter's name and settings go into the metadata.
     """
     key = name.strip().lower()
     if key == "none":
@@ -147,8 +147,8 @@ def apply_filter(
         _warn_if_cfc_low(settings["cfc"], contact_window(record).duration_s)
         smooth = lambda f: cfc_filter(f, rate, settings["cfc"])
         return _smoothed(record, smooth, settings)
-    if window_s is None:
-        window_s = DEFAULT_WINDOW_FRACTION * contact_window(record).duration_s
+    if window_s is None:  # 10% of the contact time, but never fewer than 5 samples
+        window_s = max(DEFAULT_WINDOW_FRACTION * contact_window(record).duration_s, 5 / rate)
     settings["window_s"] = window_s
     if key == "savgol":
         smooth = lambda f: savitzky_golay(f, rate, window_s)

@@ -91,15 +91,20 @@ def _column(path: Path, name: str, names: list[str]) -> tuple[str, float]:
         if sum(CSV_COLUMNS.get(other, ("",))[0] == field for other in names) > 1:
             raise InputError(f"{path}: header names {field.split('_')[0]} twice")
         return CSV_COLUMNS[name]
-    try:
-        float(name)
+    if _is_number(name):
         raise InputError(f"{path}: first line is not a header; name the columns with units "
                          f"(e.g. time_s,force_n)")
-    except ValueError:
-        pass
     if name in _UNITS_OF:
         raise InputError(f"{path}: column {name!r} has no unit; use one of {_UNITS_OF[name]}")
     raise InputError(f"{path}: unknown column {name!r}; allowed: {', '.join(CSV_COLUMNS)}")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def read_wav(
