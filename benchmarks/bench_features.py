@@ -61,7 +61,7 @@ def main():
             "samples": record.sample_count,
             "contact_time_error_reference": para[0] / DURATION_S - 1,
             "contact_time_error_ours": features["P1"] / DURATION_S - 1,
-            "peak_time_error_reference": para[5] / (DURATION_S / 2) - 1,
+            "peak_time_error_reference": para[4] / (DURATION_S / 2) - 1,
             "peak_time_error_ours": features["P5"] / (DURATION_S / 2) - 1,
             "reference_para_s": reference,
             "extract_features_s": ours,

@@ -33,7 +33,7 @@ def cfc_filter(force: np.ndarray, rate_hz: float, cfc: float) -> np.ndarray:
 
     The classes were made for crash tests (pulses of 10-100 ms). A ball impact lasts about 1 ms, and
     CFC 1000 (-3 dB at 1.65 kHz) then lengthens the contact time by some 20%: choose the class so
-    that 1.65 x CFC x contact time >= 15 (`apply_filter` warns otherwise), e.g. cfc10000 for 1 ms.
+    that 1.65 x CFC x contact time >= 12 (`apply_filter` warns otherwise), e.g. cfc10000 for 1 ms.
     """
     cfc = check_positive("cfc", cfc)
     design_hz = CFC_DESIGN_FACTOR * cfc
@@ -159,8 +159,8 @@ def apply_filter(
 
 
 #: Fewest cycles of the CFC -3 dB frequency per contact time for which the smoothing changes
-#: contact time and peak force by less than about 2% (checked on spring-dashpot pulses).
-MIN_CFC_CYCLES_PER_CONTACT = 15.0
+#: contact time and peak force by less than about 3% (checked on spring-dashpot pulses).
+MIN_CFC_CYCLES_PER_CONTACT = 12.0
 
 
 def _warn_if_cfc_low(cfc: float, contact_time_s: float) -> None:
