@@ -107,3 +107,8 @@ def test_filter_input_errors():
         apply_filter(uneven, "cfc1000")
     with pytest.raises(InputError, match="window_s: .* need at least"):
         apply_filter(record, "savgol", window_s=2e-5)
+    for name in ("savgol", "loess"):
+        with pytest.raises(InputError, match="window_s: .* longer than the record"):
+            apply_filter(record, name, window_s=1.0)
+    with pytest.raises(InputError, match="CFC filter needs more than 9 samples"):
+        cfc_filter(np.ones(7), 1e6, 1000)

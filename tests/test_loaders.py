@@ -51,6 +51,13 @@ def test_wav_volts_to_newtons(tmp_path, dtype):
     assert np.max(np.abs(record.force_n - pulse.force_n)) < 1e-3 * 5e3
 
 
+def test_malformed_wav_is_an_input_error(tmp_path):
+    path = tmp_path / "garbage.wav"
+    path.write_bytes(b"RIFF\x24\x00\x00\x00WAVEdata\x00\x00\x00\x00")
+    with pytest.raises(InputError, match="not a readable WAV file"):
+        load_record(path, sensitivity_v_per_n=1e-4)
+
+
 def test_wav_without_sensitivity_is_an_input_error(tmp_path):
     path = tmp_path / "pulse.wav"
     wavfile.write(path, 48000, np.zeros(100, dtype=np.int16))

@@ -38,8 +38,25 @@ def test_baseline_offset_is_removed_within_the_noise():
 
 
 def test_no_pre_impact_samples_means_no_offset():
+    """A record starting at the impact has no baseline to measure: its samples stay as they are."""
     record = half_sine(1e4, 1e-3, 100e3, pre_s=0.0)
-    assert remove_baseline(record).metadata["baseline_offset_n"] == 0.0
+    shifted = record.replace(force_n=record.force_n + 100.0)
+    unchanged = remove_baseline(shifted)
+    assert unchanged.metadata["baseline_offset_n"] == 0.0
+    assert np.array_equal(unchanged.force_n, shifted.force_n)
+
+
+@pytest.mark.parametrize(("cut", "where"), [(slice(130, None), "starts"), (slice(None, -170), "ends")])
+def test_pulse_cut_off_by_the_record_is_an_input_error(cut, where):
+    record = half_sine(1e4, 1e-3, 100e3)  # 1 ms pre and post: samples 100..200 are the pulse
+    cropped = ImpactRecord(record.time_s[cut], record.force_n[cut])
+    with pytest.raises(InputError, match=f"where the record {where}"):
+        contact_window(cropped)
+
+
+def test_resample_refuses_absurd_rates():
+    with pytest.raises(InputError, match=r"rate_hz: 1e\+12 Hz gives"):
+        resample(half_sine(1e3, 1e-3, 100e3), 1e12)
 
 
 def test_contact_window_threshold_follows_the_noise():

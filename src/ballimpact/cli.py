@@ -99,6 +99,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run_features(args: argparse.Namespace) -> dict[str, Any]:
+    _check_plot_path(args.plot)
     started = time.perf_counter()
     record = load_record(
         args.file, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
@@ -115,6 +116,7 @@ def _run_features(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _run_demo(args: argparse.Namespace) -> dict[str, Any]:
+    _check_plot_path(args.plot)
     started = time.perf_counter()
     data = resources.files("ballimpact") / "data" / "sample_impact.csv"
     with resources.as_file(data) as path:
@@ -130,6 +132,15 @@ def _run_demo(args: argparse.Namespace) -> dict[str, Any]:
         _print_table(processed)
         print(f"plot written to {args.plot}")
     return result
+
+
+def _check_plot_path(path: Path | None) -> None:
+    if path is None:
+        return
+    if path.suffix.lower() != ".png":
+        raise InputError(f"--plot: {path} must be a .png file")
+    if not path.parent.is_dir():
+        raise InputError(f"--plot: folder {path.parent} does not exist")
 
 
 def _process(record, args: argparse.Namespace) -> ProcessedImpact:

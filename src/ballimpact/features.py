@@ -160,7 +160,9 @@ def refine_peak(time_s: np.ndarray, force_n: np.ndarray, index: int) -> tuple[fl
                 candidates.append((misfit, float(tc), float(np.polyval(left, tc))))
     if candidates:
         _, time, force = min(candidates)
-        if force >= f[i]:
+        # a sub-sample peak rises above the top sample by less than the top sample rises above
+        # its lower neighbour; more means the local model does not fit (a step, a flat top)
+        if f[i] <= force <= 2 * f[i] - min(f[i - 1], f[i + 1]):
             best = (time, force)
     return best
 
@@ -308,6 +310,9 @@ def extract_features(
                 f"m (v_in + v_out) = {expected:.4g} N s by {relative_error:+.1%} "
                 f"(tolerance {impulse_tolerance:.1%})"
             )
+    if v_out > v_in:
+        notes.append(f"COR {v_out / v_in:.3g} > 1: the ball left faster than it came; check the "
+                     "speeds, the mass and the force scaling")
     for note in notes:
         warnings.warn(note, InputWarning, stacklevel=2)
 
@@ -316,15 +321,10 @@ def extract_features(
     spans = {fraction: curve.span(fraction * peak) for fraction in (0.1, 0.5, 0.9)}
     widths = {fraction: end - start for fraction, (start, end) in spans.items()}
     p1 = curve.duration_s
-    mean = curve.mean_power(1, peak)
-    variance = curve.mean_power(2, peak) - mean**2
-    third = curve.mean_power(3, peak) - 3 * mean * curve.mean_power(2, peak) + 2 * mean**3
-    fourth = (
-        curve.mean_power(4, peak)
-        - 4 * mean * curve.mean_power(3, peak)
-        + 6 * mean**2 * curve.mean_power(2, peak)
-        - 3 * mean**4
-    )
+    mean, m2, m3, m4 = (curve.mean_power(power, peak) for power in (1, 2, 3, 4))
+    variance = m2 - mean**2
+    third = m3 - 3 * mean * m2 + 2 * mean**3
+    fourth = m4 - 4 * mean * m3 + 6 * mean**2 * m2 - 3 * mean**4
     (start10, end10), (start90, end90) = spans[0.1], spans[0.9]
     middle90 = 0.5 * (start90 + end90)
     values = {

@@ -43,13 +43,16 @@ def cfc_filter(force: np.ndarray, rate_hz: float, cfc: float) -> np.ndarray:
             f"the record has {rate_hz:.0f} Hz"
         )
     sos = butter(2, design_hz, btype="low", fs=rate_hz, output="sos")
+    pad = 3 * (2 * len(sos) + 1)  # sosfiltfilt's default edge padding
+    if force.size <= pad:
+        raise InputError(f"filter: a CFC filter needs more than {pad} samples, got {force.size}")
     return sosfiltfilt(sos, force)
 
 
 def savitzky_golay(force: np.ndarray, rate_hz: float, window_s: float, order: int = 3):
     """Savitzky-Golay smoothing: least-squares polynomial of `order` over a moving window of
     `window_s` seconds (rounded to an odd number of samples)."""
-    points = _window_points(window_s, rate_hz, minimum=order + 2)
+    points = _window_points(window_s, rate_hz, minimum=order + 2, available=force.size)
     return savgol_filter(force, points, order, mode="interp")
 
 
@@ -63,19 +66,20 @@ def lowess(force: np.ndarray, rate_hz: float, window_s: float, degree: int = 2):
     """
     if degree not in (1, 2):
         raise InputError(f"degree: must be 1 or 2, got {degree!r}")
-    points = _window_points(window_s, rate_hz, minimum=degree + 3)
     count = force.size
-    if points > count:
-        raise InputError(f"filter: window of {points} samples is longer than the record")
+    points = _window_points(window_s, rate_hz, minimum=degree + 3, available=count)
     starts = np.clip(np.arange(count) - points // 2, 0, count - points)
     index = np.arange(count)
+    windows = sliding_window_view(index, points)
     smoothed = np.empty(count)
-    for block in range(0, count, 4096):  # bound the (samples x window) work arrays
-        rows = slice(block, min(block + 4096, count))
-        neighbours = sliding_window_view(np.arange(count), points)[starts[rows]]
+    block_rows = max(1, 1_000_000 // points)  # bound the (rows x window) work arrays
+    for block in range(0, count, block_rows):
+        rows = slice(block, min(block + block_rows, count))
+        neighbours = windows[starts[rows]]
         offset = (neighbours - index[rows, None]).astype(float)
         reach = np.max(np.abs(offset), axis=1, keepdims=True) * (1 + 1e-9)
-        weight = (1 - np.abs(offset / reach) ** 3) ** 3
+        offset /= reach  # scaled to (-1, 1): well-conditioned normal equations for any window
+        weight = (1 - np.abs(offset) ** 3) ** 3
         powers = offset[..., None] ** np.arange(degree + 1)  # (rows, window, degree+1)
         weighted = powers * weight[..., None]
         normal = np.einsum("rwi,rwj->rij", weighted, powers)
@@ -96,7 +100,7 @@ def polynomial_fit(time: np.ndarray, force: np.ndarray, first: int, last: int, d
     return smoothed
 
 
-def _window_points(window_s: float, rate_hz: float, minimum: int) -> int:
+def _window_points(window_s: float, rate_hz: float, minimum: int, available: int) -> int:
     window_s = check_positive("window_s", window_s)
     points = int(round(window_s * rate_hz))
     points += 1 - points % 2  # odd, centred on the sample
@@ -105,6 +109,8 @@ def _window_points(window_s: float, rate_hz: float, minimum: int) -> int:
             f"window_s: {window_s:g} s is {points} samples at {rate_hz:.0f} Hz; "
             f"need at least {minimum} (a longer window or a higher sampling rate)"
         )
+    if points > available:
+        raise InputError(f"window_s: {points} samples is longer than the record ({available})")
     return points
 
 

@@ -125,8 +125,8 @@ def read_wav(
     full_scale = check_positive("full_scale_v", full_scale_v)
     try:
         rate, data = wavfile.read(path)
-    except (OSError, ValueError, EOFError) as error:
-        raise InputError(f"{path}: not a readable WAV file ({error})") from None
+    except Exception as error:  # noqa: BLE001 - scipy raises many kinds on a malformed file
+        raise InputError(f"{path}: not a readable WAV file ({type(error).__name__}: {error})") from None
     if data.ndim == 2:
         if not 0 <= channel < data.shape[1]:
             raise InputError(f"{path}: channel: {channel} out of range 0..{data.shape[1] - 1}")

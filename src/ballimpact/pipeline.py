@@ -33,4 +33,5 @@ def process(
     if resample_hz is not None:
         raw = resample(raw, resample_hz)
     filtered = apply_filter(raw, filter, window_s=window_s)
-    return ProcessedImpact(raw, filtered, extract_features(filtered, impulse_tolerance=impulse_tolerance))
+    features = extract_features(filtered, impulse_tolerance=impulse_tolerance)
+    return ProcessedImpact(raw, filtered, features)

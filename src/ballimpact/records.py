@@ -135,6 +135,10 @@ def sample_rate_hz(record: ImpactRecord) -> float:
     return 1.0 / step
 
 
+#: Most samples `resample` will make (about 0.8 GB per series).
+MAX_RESAMPLED_SAMPLES = 100_000_000
+
+
 def resample(record: ImpactRecord, rate_hz: float) -> ImpactRecord:
     """The record on a uniform time grid at `rate_hz` (Hz) by cubic-spline interpolation.
 
@@ -144,8 +148,11 @@ def resample(record: ImpactRecord, rate_hz: float) -> ImpactRecord:
     rate_hz = check_positive("rate_hz", rate_hz)
     start, end = record.time_s[0], record.time_s[-1]
     count = int(np.floor((end - start) * rate_hz * (1 + 1e-12))) + 1
-    if count < 3:
-        raise InputError(f"rate_hz: {rate_hz} Hz gives fewer than 3 samples over the record")
+    if not 3 <= count <= MAX_RESAMPLED_SAMPLES:
+        raise InputError(
+            f"rate_hz: {rate_hz:g} Hz gives {count} samples over the record; "
+            f"allowed 3..{MAX_RESAMPLED_SAMPLES:.0e}"
+        )
     time = start + np.arange(count) / rate_hz
 
     def on_grid(series: np.ndarray | None) -> np.ndarray | None:
@@ -266,10 +273,19 @@ def contact_window(
 
 def _edge_zero(time: np.ndarray, force: np.ndarray, edge: int, *, step: int) -> float:
     """Zero-force time of the pulse edge at sample `edge`; `step` points into the window."""
-    outside = np.flatnonzero(force[: edge + 1] <= 0) if step > 0 else edge + np.flatnonzero(force[edge:] <= 0)
-    if outside.size == 0:
-        return float(time[edge])  # the record starts or ends in contact
-    bound = time[outside[-1] if step > 0 else outside[0]]
+    if step > 0:
+        outside = np.flatnonzero(force[: edge + 1] <= 0)
+        nearest = outside[-1] if outside.size else None
+    else:
+        outside = np.flatnonzero(force[edge:] <= 0)
+        nearest = edge + outside[0] if outside.size else None
+    if nearest is None:
+        where = "starts" if step > 0 else "ends"
+        raise InputError(
+            f"force_n: no sample at or below zero force where the record {where}: it {where} in "
+            "contact (record from before the impact to after the rebound) or keeps an offset"
+        )
+    bound = time[nearest]
     inner = edge + step
     slope = (force[inner] - force[edge]) / (time[inner] - time[edge])
     zero = time[edge] - force[edge] / slope if slope * step > 0 else bound
