@@ -52,10 +52,10 @@ def median_time(call, repeats):
 def main():
     results = {}
     for rate in (20e3, 1e6):
-        record = half_sine(PEAK_N, DURATION_S, rate, phase=0.37, mass_kg=0.16, impact_speed_m_s=10.0)
-        reference = median_time(lambda: para_reference(record.time_s, record.force_n, 10.0, 0.16), 50)
+        record = half_sine(PEAK_N, DURATION_S, rate, phase=0.37, mass_kg=0.16, impact_speed_m_s=25.0)
+        reference = median_time(lambda: para_reference(record.time_s, record.force_n, 25.0, 0.16), 50)
         ours = median_time(lambda: extract_features(record), 50)
-        para = para_reference(record.time_s, record.force_n, 10.0, 0.16)
+        para = para_reference(record.time_s, record.force_n, 25.0, 0.16)
         features = extract_features(record).values
         entry = {
             "samples": record.sample_count,
