@@ -43,15 +43,14 @@ def build_parser() -> argparse.ArgumentParser:
                     "characteristic values (thesis table 6-1) with COR, impulse check, "
                     "compression, energy lost and dynamic stiffness.")
     features.add_argument("file", type=Path, help="test record: CSV with unit headers or WAV")
-    add_scalar = features.add_argument
-    add_scalar("--mass-kg", type=float, help="ball mass (kg)")
-    add_scalar("--impact-speed-m-s", type=float, help="impact speed (m/s)")
-    add_scalar("--rebound-speed-m-s", type=float,
+    features.add_argument("--mass-kg", type=float, help="ball mass (kg)")
+    features.add_argument("--impact-speed-m-s", type=float, help="impact speed (m/s)")
+    features.add_argument("--rebound-speed-m-s", type=float,
                help="measured rebound speed (m/s); from the impulse if not given")
-    add_scalar("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
-    add_scalar("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
-    add_scalar("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
-    add_scalar("--channel", type=int, help="WAV: channel index (default 0)")
+    features.add_argument("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
+    features.add_argument("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
+    features.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
+    features.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
     _add_processing(features)
 
     demo = verbs.add_parser(

@@ -37,8 +37,12 @@ CSV_COLUMNS: dict[str, tuple[str, float]] = {
     "tangential_force_n": ("tangential_force_n", 1.0),
     "tangential_force_kn": ("tangential_force_n", 1e3),
 }
-_UNITS_OF = {"time": "time_s, time_ms, time_us", "force": "force_n, force_kn",
-             "velocity": "velocity_m_s", "tangential_force": "tangential_force_n, tangential_force_kn"}
+#: Record field -> the quantity it holds, as a unit-less header would name it.
+_QUANTITY = {"time_s": "time", "force_n": "force", "velocity_m_s": "velocity",
+             "tangential_force_n": "tangential_force"}
+#: Quantity -> the accepted column names, for error messages.
+_UNITS_OF = {quantity: ", ".join(name for name, (f, _) in CSV_COLUMNS.items() if f == field)
+             for field, quantity in _QUANTITY.items()}
 
 #: Keys a JSON side file may hold, each a positive number.
 SIDE_KEYS = ("mass_kg", "impact_speed_m_s", "rebound_speed_m_s", "sensitivity_v_per_n",
@@ -62,8 +66,8 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
     fields = [field for field, _ in columns]
     for required in ("time_s", "force_n"):
         if required not in fields:
-            raise InputError(f"{path}: no {required.split('_')[0]} column; add one of "
-                             f"{_UNITS_OF[required.split('_')[0]]}")
+            quantity = _QUANTITY[required]
+            raise InputError(f"{path}: no {quantity} column; add one of {_UNITS_OF[quantity]}")
     if len(lines) < 2:
         raise InputError(f"{path}: the header has no samples below it")
     values = np.empty((len(lines) - 1, len(names)))
@@ -89,7 +93,7 @@ def _column(path: Path, name: str, names: list[str]) -> tuple[str, float]:
     if name in CSV_COLUMNS:
         field = CSV_COLUMNS[name][0]
         if sum(CSV_COLUMNS.get(other, ("",))[0] == field for other in names) > 1:
-            raise InputError(f"{path}: header names {field.split('_')[0]} twice")
+            raise InputError(f"{path}: header names {_QUANTITY[field]} twice")
         return CSV_COLUMNS[name]
     if _is_number(name):
         raise InputError(f"{path}: first line is not a header; name the columns with units "
