@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from . import __version__
-from .errors import InputError
+from .errors import InputError, SimulationError
 from .features import DEFAULT_IMPULSE_TOLERANCE, FEATURE_NAMES
 from .filters import FILTER_NAMES
 from .loaders import load_record
@@ -43,15 +43,40 @@ def build_parser() -> argparse.ArgumentParser:
                     "characteristic values (thesis table 6-1) with COR, impulse check, "
                     "compression, energy lost and dynamic stiffness.")
     features.add_argument("file", type=Path, help="test record: CSV with unit headers or WAV")
-    features.add_argument("--mass-kg", type=float, help="ball mass (kg)")
-    features.add_argument("--impact-speed-m-s", type=float, help="impact speed (m/s)")
-    features.add_argument("--rebound-speed-m-s", type=float,
-               help="measured rebound speed (m/s); from the impulse if not given")
-    features.add_argument("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
-    features.add_argument("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
-    features.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
-    features.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
+    _add_record_options(features)
     _add_processing(features)
+
+    fit = verbs.add_parser(
+        "fit", help="identify a lumped model from a test, or from tests at several speeds",
+        description="Fit a lumped model (see `ballimpact models`) to the force pulse of a test by "
+                    "a genetic algorithm or differential evolution and a least-squares polish. "
+                    "With several files (one per impact speed) the parameters form a table "
+                    "against speed, as thesis tables 7-1 and 7-2.")
+    fit.add_argument("files", type=Path, nargs="+", metavar="FILE",
+                     help="test record(s): CSV with unit headers or WAV")
+    fit.add_argument("--model", required=True, help="lumped model name (see `ballimpact models`)")
+    fit.add_argument("--method", default="ga",
+                     help="ga (genetic algorithm) or de (differential evolution); default ga")
+    fit.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    fit.add_argument("--population", type=int, default=48, help="population size (default 48)")
+    fit.add_argument("--generations", type=int,
+                     help="generations (default 8 per searched quantity, at least 40)")
+    fit.add_argument("--no-polish", action="store_true", help="skip the least-squares polish")
+    fit.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
+                     help="search bounds of a parameter in SI (repeatable)")
+    fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
+                     help="hold a parameter at a value in SI (repeatable)")
+    fit.add_argument("--cor-weight", type=float, default=0.0,
+                     help="weight of the COR error in the fitness (default 0)")
+    fit.add_argument("--contact-time-weight", type=float, default=0.0,
+                     help="weight of the relative contact-time error in the fitness (default 0)")
+    fit.add_argument("--table", type=Path, help="with several files: write the speed table CSV")
+    _add_record_options(fit)
+    _add_processing(fit)
+
+    models = verbs.add_parser("models", help="list the lumped models and their parameters",
+                              description="The lumped models, their parameters and SI units.")
+    models.add_argument("--json", action="store_true", help="print one JSON object")
 
     demo = verbs.add_parser(
         "demo", help="the main job on built-in data",
@@ -61,6 +86,17 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--plot", type=Path, default=Path(DEMO_PLOT),
                       help=f"PNG to write (default {DEMO_PLOT})")
     return parser
+
+
+def _add_record_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--mass-kg", type=float, help="ball mass (kg)")
+    parser.add_argument("--impact-speed-m-s", type=float, help="impact speed (m/s)")
+    parser.add_argument("--rebound-speed-m-s", type=float,
+                        help="measured rebound speed (m/s); from the impulse if not given")
+    parser.add_argument("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
+    parser.add_argument("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
+    parser.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
+    parser.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
 
 
 def _add_processing(parser: argparse.ArgumentParser) -> None:
@@ -81,11 +117,16 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            result = {"features": _run_features, "demo": _run_demo}[args.verb](args)
+            run = {"features": _run_features, "fit": _run_fit, "models": _run_models,
+                   "demo": _run_demo}[args.verb]
+            result = run(args)
         notes = list(dict.fromkeys(str(w.message) for w in caught))
     except InputError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    except SimulationError as error:
+        print(f"error: failed run: {error}", file=sys.stderr)
+        return 1
     except Exception as error:  # noqa: BLE001 - a failed run, reported in one line
         print(f"error: failed run: {type(error).__name__}: {error}", file=sys.stderr)
         return 1
@@ -97,14 +138,17 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def _load(path: Path, args: argparse.Namespace):
+    return load_record(
+        path, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
+        rebound_speed_m_s=args.rebound_speed_m_s, sensitivity_v_per_n=args.sensitivity_v_per_n,
+        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel)
+
+
 def _run_features(args: argparse.Namespace) -> dict[str, Any]:
     _check_plot_path(args.plot)
     started = time.perf_counter()
-    record = load_record(
-        args.file, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
-        rebound_speed_m_s=args.rebound_speed_m_s, sensitivity_v_per_n=args.sensitivity_v_per_n,
-        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel)
-    processed = _process(record, args)
+    processed = _process(_load(args.file, args), args)
     result = _summary(processed, time.perf_counter() - started)
     if not args.json:
         _print_table(processed)
@@ -131,6 +175,102 @@ def _run_demo(args: argparse.Namespace) -> dict[str, Any]:
         _print_table(processed)
         print(f"plot written to {args.plot}")
     return result
+
+
+def _run_fit(args: argparse.Namespace) -> dict[str, Any]:
+    from . import lumped  # JAX and pymoo load only for the verbs that need them
+
+    _check_plot_path(args.plot)
+    if args.table is not None and not args.table.parent.is_dir():
+        raise InputError(f"--table: folder {args.table.parent} does not exist")
+    model = lumped.get_model(args.model)
+    options = dict(method=args.method, seed=args.seed, population=args.population,
+                   generations=args.generations, polish=not args.no_polish,
+                   bounds=_assignments(args.bound, "--bound", bounds=True),
+                   fixed=_assignments(args.fix, "--fix", bounds=False),
+                   cor_weight=args.cor_weight, contact_time_weight=args.contact_time_weight)
+    started = time.perf_counter()
+    processed = [_process(_load(path, args), args) for path in args.files]
+    if len(processed) == 1:
+        fitted = lumped.fit(processed[0], model, **options)
+        result = {**fitted.to_dict(), "file": str(args.files[0])}
+        if not args.json:
+            _print_fit(fitted, args.files[0])
+        if args.plot:
+            from .plotting import plot_fit
+
+            plot_fit(fitted, args.plot, title=str(args.files[0].name))
+            result["plot"] = str(args.plot)
+        result["wall_time_s"] = time.perf_counter() - started
+        return result
+    table, fits = lumped.fit_speed_table(processed, model, **options)
+    files = [str(path) for path in args.files]
+    order = sorted(range(len(files)), key=lambda i: processed[i].features.values["P15"])
+    result = {"model": model.name, "units": model.units, "table": table.to_dict(),
+              "fits": [{**f.to_dict(), "file": files[i]} for f, i in zip(fits, order)]}
+    if args.table is not None:
+        args.table.write_text(table.to_csv())
+        result["table_csv"] = str(args.table)
+    if not args.json:
+        for f, i in zip(fits, order):
+            _print_fit(f, Path(files[i]))
+        print(table.to_csv(), end="")
+    if args.plot:
+        from .plotting import plot_speed_fits
+
+        plot_speed_fits(fits, args.plot)
+        result["plot"] = str(args.plot)
+    result["wall_time_s"] = time.perf_counter() - started
+    return result
+
+
+def _assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:
+    """Parse NAME=VALUE (or NAME=LOW:HIGH) flags into a dict of floats (or float pairs)."""
+    parsed: dict[str, Any] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            if not sep or not name:
+                raise ValueError
+            parsed[name] = (tuple(float(x) for x in value.split(":", 1)) if bounds
+                            else float(value))
+            if bounds and len(parsed[name]) != 2:
+                raise ValueError
+        except ValueError:
+            form = "NAME=LOW:HIGH" if bounds else "NAME=VALUE"
+            raise InputError(f"{flag}: expected {form} with numbers in SI, got {item!r}") from None
+    return parsed
+
+
+def _print_fit(fitted, path: Path) -> None:
+    m = fitted.measured
+    print(f"{path.name}: {fitted.model} by {fitted.method.upper()} (seed {fitted.seed}), "
+          f"{fitted.evaluations} model runs, {fitted.wall_time_s:.2f} s")
+    for name, value in fitted.params.items():
+        error = fitted.standard_errors.get(name, 0.0)
+        spread = f" +/- {error:.3g}" if error > 0 else " (fixed)" if name not in fitted.bounds \
+            else ""
+        print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}")
+    print(f"  RMSE {fitted.rmse_n:.4g} N, NRMSE {fitted.nrmse:.2%} of the measured peak")
+    print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact {fitted.contact_time_s * 1e3:.4g} "
+          f"ms, COR {fitted.cor:.4f}")
+    print(f"  measured: peak {m['peak_force_n']:.5g} N, contact {m['contact_time_s'] * 1e3:.4g} ms, "
+          f"COR {m['cor']:.4f}")
+    if fitted.reproduction:
+        print("  note: a reproduction of the thesis' appendix code, not a recommended model")
+
+
+def _run_models(args: argparse.Namespace) -> dict[str, Any]:
+    from .lumped import describe_models
+
+    models = describe_models()
+    if not args.json:
+        for model in models:
+            print(f"{model['name']}: {model['summary']}")
+            for name, spec in model["params"].items():
+                fixed = f" (fixed, default {spec['default']:g})" if "default" in spec else ""
+                print(f"    {name:<18} [{spec['unit']}] {spec['description']}{fixed}")
+    return {"models": models}
 
 
 def _check_plot_path(path: Path | None) -> None:

@@ -11,3 +11,7 @@ class InputError(ValueError):
 
 class InputWarning(UserWarning):
     """A result was computed but a check on the input failed (e.g. the impulse-momentum check)."""
+
+
+class SimulationError(RuntimeError):
+    """A run that could not produce a result (no separation, non-finite state): exit code 1."""

@@ -57,3 +57,54 @@ def plot_impact(
     figure.savefig(path, dpi=120)
     plt.close(figure)
     return path
+
+
+def plot_fit(result, path: str | Path, *, title: str | None = None) -> Path:
+    """A lumped-model fit (`lumped.FitResult`): measured and fitted force-time, and the search's
+    convergence (best and mean fitness per generation, as thesis fig. 4-2)."""
+    path = Path(path)
+    figure, (ax_force, ax_history) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    _plot_fit_curves(ax_force, result, "C0")
+    ax_force.set(xlabel="time from model onset (ms)", ylabel="normal force (kN)",
+                 title=f"{result.model}: RMSE {result.rmse_n:.4g} N (NRMSE {result.nrmse:.2%})")
+    ax_force.legend(fontsize=8)
+    ax_force.grid(alpha=0.3)
+    generations = range(1, len(result.history_best) + 1)
+    ax_history.semilogy(generations, result.history_mean, color="0.5", label="mean of population")
+    ax_history.semilogy(generations, result.history_best, color="C3", label="best so far")
+    ax_history.axhline(result.fitness, color="C2", ls="--", lw=0.8,
+                       label=f"after polish {result.fitness:.4g}" if result.polished
+                       else f"final {result.fitness:.4g}")
+    ax_history.set(xlabel="generation", ylabel="fitness (NRMSE + weighted terms)",
+                   title=f"convergence ({result.method.upper()}, seed {result.seed})")
+    ax_history.legend(fontsize=8)
+    ax_history.grid(alpha=0.3, which="both")
+    if title:
+        figure.suptitle(title)
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return path
+
+
+def plot_speed_fits(results, path: str | Path, *, title: str | None = None) -> Path:
+    """Measured and fitted force-time curves of several fits (one per impact speed)."""
+    path = Path(path)
+    figure, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
+    for i, result in enumerate(results):
+        _plot_fit_curves(ax, result, f"C{i}",
+                         label=f"{result.measured['impact_speed_m_s']:g} m/s")
+    ax.set(xlabel="time from model onset (ms)", ylabel="normal force (kN)",
+           title=title or f"{results[0].model} fitted at {len(results)} speeds")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return path
+
+
+def _plot_fit_curves(ax, result, color: str, label: str | None = None) -> None:
+    time_ms = (result.time_s - result.onset_s) * 1e3
+    ax.plot(time_ms, result.measured_force_n / 1e3, ".", ms=2.5, color="0.55",
+            label=None if label else "measured")
+    ax.plot(time_ms, result.fitted_force_n / 1e3, color=color, lw=1.6,
+            label=label or f"{result.model} fit")

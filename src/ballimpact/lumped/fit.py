@@ -1,0 +1,363 @@
+"""Identify a lumped model from a measured impact: a genetic algorithm or differential evolution
+(pymoo) over the whole search box, then a bounded least-squares polish.
+
+Fitness (minimised): sqrt(NRMSE^2 + (w_cor dCOR)^2 + (w_tc dT_c / T_c)^2), with NRMSE the RMS
+force error over the comparison window divided by the measured peak force; with the default zero
+weights it is the NRMSE of the force curve (the thesis' RMSE fitness, made dimensionless).
+
+The comparison window runs from just before the measured contact start to a quarter of the contact
+time after its end, on the record's own samples, so a model pulse that is too long is penalised.
+The model's first contact (`onset_s`) is searched too, within a sample or two of the measured
+start, because a sampled record only locates it to within a sample.
+
+Parameters are searched in a box mapped to [0, 1]: `linear` or `log` between bounds, power-law
+stiffnesses as the force k y_ref^alpha at the measured maximum compression y_ref (their scale
+otherwise changes by orders of magnitude with the exponent), unit masses as shares of the ball mass
+still to give out. Bounds given by the user are in the parameter's own units (for a unit mass: a
+share, 0..1) and a stiffness with user bounds is searched as log k directly.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..errors import InputError
+from ..pipeline import ProcessedImpact, process
+from ..records import ImpactRecord, sample_rate_hz
+from .base import BatchResult, LumpedModel, Scale
+from .registry import get_model
+from .simulate import sample_on
+
+METHODS = ("ga", "de")
+#: integration steps per measured contact time; the grid covers twice the contact time
+FIT_STEPS_PER_CONTACT = 250
+TAIL_FRACTION = 0.25  # of the contact time, compared after the measured end
+_FD_STEP = 1e-6  # finite-difference step in the unit box
+
+
+@dataclass(frozen=True)
+class Gene:
+    name: str
+    low: float
+    high: float
+    kind: str  # linear | log | stiffness | mass_share
+    exponent: str | float | None = None
+
+    def value(self, u: np.ndarray) -> np.ndarray:
+        if self.kind in ("log", "stiffness"):
+            return np.exp(np.log(self.low) + u * (np.log(self.high) - np.log(self.low)))
+        return self.low + u * (self.high - self.low)
+
+
+@dataclass
+class FitResult:
+    """A fitted model. `params` and `units` in SI; `standard_errors` what the record's noise
+    leaves uncertain in each parameter (linearised, same units; large for parameters the pulse
+    does not determine); `rmse_n` the RMS force error (N) and `nrmse` it divided by the measured
+    peak force; `history_best` / `history_mean` the best and the mean
+    fitness of each generation; `fitted` the model's force on the record's samples."""
+
+    model: str
+    params: dict[str, float]
+    units: dict[str, str]
+    standard_errors: dict[str, float]
+    rmse_n: float
+    nrmse: float
+    fitness: float
+    onset_s: float
+    contact_time_s: float
+    cor: float
+    peak_force_n: float
+    measured: dict[str, float]
+    method: str
+    seed: int
+    population: int
+    generations: int
+    evaluations: int
+    polished: bool
+    history_best: list[float]
+    history_mean: list[float]
+    bounds: dict[str, dict[str, Any]]
+    weights: dict[str, float]
+    wall_time_s: float
+    time_s: np.ndarray = field(repr=False)
+    measured_force_n: np.ndarray = field(repr=False)
+    fitted_force_n: np.ndarray = field(repr=False)
+    reproduction: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-able, with the command-line contract's keys (`model`, `params`, `units`, `rmse_n`,
+        `nrmse`, `wall_time_s`)."""
+        return {
+            "model": self.model, "params": self.params, "units": self.units,
+            "standard_errors": self.standard_errors,
+            "rmse_n": self.rmse_n, "nrmse": self.nrmse, "fitness": self.fitness,
+            "wall_time_s": self.wall_time_s, "onset_s": self.onset_s,
+            "contact_time_s": self.contact_time_s, "cor": self.cor,
+            "peak_force_n": self.peak_force_n, "measured": self.measured,
+            "method": self.method, "seed": self.seed, "population": self.population,
+            "generations": self.generations, "evaluations": self.evaluations,
+            "polished": self.polished, "weights": self.weights, "bounds": self.bounds,
+            "history": {"best_fitness": self.history_best, "mean_fitness": self.history_mean},
+            "reproduction": self.reproduction,
+        }
+
+
+def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: dict | None):
+    """The searched genes and the fixed values, checked against the model's parameters."""
+    bounds, fixed = dict(bounds or {}), dict(fixed or {})
+    names = set(model.parameter_names)
+    for label, given in (("bounds", bounds), ("fixed", fixed)):
+        unknown = sorted(set(given) - names)
+        if unknown:
+            raise InputError(f"{label}: unknown parameter(s) {', '.join(unknown)} for model "
+                             f"{model.name!r}; it has {', '.join(model.parameter_names)}")
+    both = sorted(set(bounds) & set(fixed))
+    if both:
+        raise InputError(f"bounds: {', '.join(both)} cannot be both bounded and fixed")
+    defaults = model.default_bounds(scale)
+    genes = []
+    for p in model.parameters:
+        if p.name in fixed or p.search == "mass_rest" or (p.fixed and p.name not in bounds):
+            if p.search != "mass_rest":
+                fixed.setdefault(p.name, p.default)
+            continue
+        kind = p.search
+        if p.name in bounds:
+            low, high = (float(x) for x in bounds[p.name])
+            kind = "log" if kind == "stiffness" else kind
+        else:
+            low, high = defaults[p.name]
+        if not (np.isfinite(low) and np.isfinite(high) and low < high):
+            raise InputError(f"bounds.{p.name}: need low < high, got ({low!r}, {high!r})")
+        if kind in ("log", "stiffness") and low <= 0:
+            raise InputError(f"bounds.{p.name}: searched on a log scale, low must be > 0, got {low!r}")
+        if kind == "mass_share" and not (0 < low and high < 1):
+            raise InputError(f"bounds.{p.name}: a unit-mass share must lie in (0, 1), got "
+                             f"({low!r}, {high!r})")
+        genes.append(Gene(p.name, low, high, kind, p.exponent))
+    if not genes:
+        raise InputError("fixed: every parameter is fixed; nothing to fit")
+    return genes, {k: float(v) for k, v in fixed.items()}
+
+
+def decode(model: LumpedModel, genes: list[Gene], fixed: dict[str, float], u: np.ndarray,
+           scale: Scale) -> np.ndarray:
+    """Unit-box points (B, len(genes)) -> parameter vectors (B, P) in the model's order."""
+    u = np.atleast_2d(u)
+    values: dict[str, np.ndarray] = {k: np.full(u.shape[0], v) for k, v in fixed.items()}
+    for j, gene in enumerate(genes):
+        if gene.kind in ("linear", "log"):
+            values[gene.name] = gene.value(u[:, j])
+    remaining = np.full(u.shape[0], scale.mass_kg)
+    for p in model.parameters:  # unit masses in order, then the rest
+        if p.search == "mass_share":
+            if p.name not in values:
+                j = next(i for i, g in enumerate(genes) if g.name == p.name)
+                values[p.name] = remaining * genes[j].value(u[:, j])
+            remaining = remaining - values[p.name]
+        elif p.search == "mass_rest":
+            values[p.name] = remaining
+    for j, gene in enumerate(genes):
+        if gene.kind == "stiffness":
+            exponent = gene.exponent if isinstance(gene.exponent, float) else values[gene.exponent]
+            values[gene.name] = gene.value(u[:, j]) / scale.max_compression_m**exponent
+    return np.stack([values[name] for name in model.parameter_names], axis=1)
+
+
+class _Objective:
+    """Residuals of a batch of unit-box points against the measured pulse."""
+
+    def __init__(self, model, processed: ProcessedImpact, genes, fixed, scale, weights):
+        self.model, self.genes, self.fixed, self.scale = model, genes, fixed, scale
+        self.weights = weights
+        record, features = processed.filtered, processed.features
+        window = features.window
+        self.peak = features.values["P6"]
+        self.contact = features.values["P1"]
+        self.cor = features.values["P17"]
+        slack = max(1.5 / sample_rate_hz(record), 5e-3 * self.contact)
+        self.onset = (window.start_s - slack, window.start_s + slack)
+        keep = ((record.time_s >= self.onset[0])
+                & (record.time_s <= window.end_s + TAIL_FRACTION * self.contact))
+        self.time, self.force = record.time_s[keep], record.force_n[keep]
+        self.step = self.contact / FIT_STEPS_PER_CONTACT
+        self.steps = 2 * FIT_STEPS_PER_CONTACT
+        self.evaluations = 0
+
+    def split(self, u: np.ndarray):
+        u = np.atleast_2d(u)
+        onset = self.onset[0] + u[:, -1] * (self.onset[1] - self.onset[0])
+        return decode(self.model, self.genes, self.fixed, u[:, :-1], self.scale), onset
+
+    def run(self, u: np.ndarray) -> tuple[BatchResult, np.ndarray, np.ndarray]:
+        params, onset = self.split(u)
+        batch = self.model.run_batch(params, self.scale.mass_kg, self.scale.impact_speed_m_s,
+                                     self.step, self.steps)
+        self.evaluations += params.shape[0]
+        force = sample_on(batch, self.time[None, :] - onset[:, None])
+        return batch, force, onset
+
+    def residuals(self, u: np.ndarray) -> np.ndarray:
+        batch, force, _ = self.run(u)
+        scaled = (force - self.force) / (self.peak * np.sqrt(self.force.size))
+        extra = [self.weights["cor"] * (batch.rebound_speed_m_s / self.scale.impact_speed_m_s
+                                        - self.cor),
+                 self.weights["contact_time"] * (batch.contact_time_s / self.contact - 1.0)]
+        extra = [np.where(np.isfinite(e), e, 1.0)[:, None] for e in extra]
+        residual = np.concatenate([scaled] + extra, axis=1)
+        return np.where(np.isfinite(residual), residual, 1.0)
+
+    def fitness(self, u: np.ndarray) -> np.ndarray:
+        return np.sqrt(np.sum(self.residuals(u) ** 2, axis=1))
+
+
+def _search(objective: _Objective, dimension: int, method: str, population: int,
+            generations: int, seed: int):
+    from pymoo.algorithms.soo.nonconvex.de import DE
+    from pymoo.algorithms.soo.nonconvex.ga import GA
+    from pymoo.core.callback import Callback
+    from pymoo.core.problem import Problem
+    from pymoo.operators.sampling.lhs import LHS
+    from pymoo.optimize import minimize
+
+    class _Problem(Problem):
+        def __init__(self):
+            super().__init__(n_var=dimension, n_obj=1, xl=0.0, xu=1.0)
+
+        def _evaluate(self, x, out, *args, **kwargs):
+            out["F"] = objective.fitness(x)
+
+    class _History(Callback):
+        def __init__(self):
+            super().__init__()
+            self.best, self.mean = [], []
+
+        def notify(self, algorithm):
+            self.best.append(float(algorithm.opt.get("F").min()))
+            self.mean.append(float(np.mean(algorithm.pop.get("F"))))
+
+    if method == "ga":
+        algorithm = GA(pop_size=population, sampling=LHS(), eliminate_duplicates=True)
+    else:
+        algorithm = DE(pop_size=population, sampling=LHS(), variant="DE/rand/1/bin", CR=0.9,
+                       F=0.6, dither="vector")
+    history = _History()
+    result = minimize(_Problem(), algorithm, ("n_gen", generations), seed=seed, callback=history,
+                      verbose=False)
+    return np.atleast_1d(result.X), history
+
+
+def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
+    """Bounded least squares (trust-region reflective) from the search's best point; the
+    Jacobian is a forward difference evaluated as one batch."""
+    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def evaluate(x):
+        key = x.tobytes()
+        if key not in cache:
+            steps = np.where(x + _FD_STEP <= 1.0, _FD_STEP, -_FD_STEP)
+            points = np.vstack([x, x + np.diag(steps)])
+            rows = objective.residuals(points)
+            cache.clear()
+            cache[key] = (rows[0], ((rows[1:] - rows[0]) / steps[:, None]).T)
+        return cache[key]
+
+    x0 = np.clip(start, 1e-9, 1.0 - 1e-9)
+    solution = least_squares(lambda x: evaluate(x)[0], x0, jac=lambda x: evaluate(x)[1],
+                             bounds=(0.0, 1.0), method="trf", x_scale="jac", max_nfev=200,
+                             ftol=1e-12, xtol=1e-12, gtol=1e-12)
+    return solution.x
+
+
+def _standard_errors(objective: _Objective, best: np.ndarray, names: tuple[str, ...]):
+    """Linearised standard errors of the parameters (SI), s^2 (J^T J)^-1 mapped from the unit box
+    to the parameters, with s^2 the residual variance: what the noise in the record allows."""
+    steps = np.where(best + _FD_STEP <= 1.0, _FD_STEP, -_FD_STEP)
+    points = np.vstack([best, best + np.diag(steps)])
+    _, force, _ = objective.run(points)
+    jacobian = ((force[1:] - force[0]) / steps[:, None]).T  # (M, d) in N per unit box
+    dof = max(force.shape[1] - best.size, 1)
+    variance = np.sum((force[0] - objective.force) ** 2) / dof
+    covariance = variance * np.linalg.pinv(jacobian.T @ jacobian)
+    params = objective.split(points)[0]
+    mapping = ((params[1:] - params[0]) / steps[:, None]).T  # (P, d)
+    errors = np.sqrt(np.maximum(np.diag(mapping @ covariance @ mapping.T), 0.0))
+    return dict(zip(names, (float(e) for e in errors)))
+
+
+def fit(
+    record: ImpactRecord | ProcessedImpact,
+    model: str | LumpedModel = "single_element",
+    *,
+    method: str = "ga",
+    population: int = 48,
+    generations: int | None = None,
+    seed: int = 0,
+    polish: bool = True,
+    bounds: dict[str, tuple[float, float]] | None = None,
+    fixed: dict[str, float] | None = None,
+    cor_weight: float = 0.0,
+    contact_time_weight: float = 0.0,
+    filter: str = "none",
+) -> FitResult:
+    """Fit `model` to a measured impact (an `ImpactRecord`, processed here with `filter`, or an
+    already `ProcessedImpact`). `method` is `ga` (pymoo GA: SBX crossover, polynomial mutation) or
+    `de` (pymoo DE/rand/1/bin); `seed` makes it reproducible. `bounds` and `fixed` override the
+    search box per parameter (SI; see the module notes); `cor_weight` and `contact_time_weight`
+    add the COR error and the relative contact-time error to the fitness. `generations` defaults
+    to 8 per searched quantity, at least 40."""
+    started = time.perf_counter()
+    model = get_model(model)
+    if method not in METHODS:
+        raise InputError(f"method: must be one of {', '.join(METHODS)}, got {method!r}")
+    if generations is None:
+        generations = max(40, 8 * (len(model.parameters) + 1))
+    for name, value, low in (("population", population, 4), ("generations", generations, 1)):
+        if int(value) != value or value < low:
+            raise InputError(f"{name}: must be an integer >= {low}, got {value!r}")
+    for name, value in (("cor_weight", cor_weight), ("contact_time_weight", contact_time_weight)):
+        if not (np.isfinite(value) and value >= 0):
+            raise InputError(f"{name}: must be >= 0, got {value!r}")
+    processed = record if isinstance(record, ProcessedImpact) else process(record, filter=filter)
+    features = processed.features
+    scale = Scale(features.mass_kg, features.values["P15"], features.values["P1"],
+                  features.values["P6"], features.max_compression_m)
+    genes, fixed_values = search_genes(model, scale, bounds, fixed)
+    weights = {"cor": float(cor_weight), "contact_time": float(contact_time_weight)}
+    objective = _Objective(model, processed, genes, fixed_values, scale, weights)
+
+    best, history = _search(objective, len(genes) + 1, method, int(population), int(generations),
+                            int(seed))
+    if polish:
+        polished = _polish(objective, best)
+        if objective.fitness(polished)[0] <= objective.fitness(best)[0]:
+            best = polished
+    batch, force, onset = objective.run(best)
+    vector = objective.split(best)[0][0]
+    params = dict(zip(model.parameter_names, (float(x) for x in vector)))
+    errors = _standard_errors(objective, best, model.parameter_names)
+    error = force[0] - objective.force
+    rmse = float(np.sqrt(np.mean(error**2)))
+    return FitResult(
+        model=model.name, params=params, units=model.units, standard_errors=errors, rmse_n=rmse,
+        nrmse=rmse / objective.peak, fitness=float(objective.fitness(best)[0]),
+        onset_s=float(onset[0]), contact_time_s=float(batch.contact_time_s[0]),
+        cor=float(batch.rebound_speed_m_s[0] / scale.impact_speed_m_s),
+        peak_force_n=float(np.max(batch.force_n[0])),
+        measured={"peak_force_n": objective.peak, "contact_time_s": objective.contact,
+                  "cor": objective.cor, "impact_speed_m_s": scale.impact_speed_m_s,
+                  "mass_kg": scale.mass_kg},
+        method=method, seed=int(seed), population=int(population), generations=int(generations),
+        evaluations=objective.evaluations, polished=bool(polish),
+        history_best=history.best, history_mean=history.mean,
+        bounds={g.name: {"low": g.low, "high": g.high, "search": g.kind} for g in genes},
+        weights=weights, wall_time_s=time.perf_counter() - started,
+        time_s=objective.time, measured_force_n=objective.force, fitted_force_n=force[0],
+        reproduction=model.reproduction,
+    )

@@ -1,0 +1,120 @@
+"""Parameters as functions of the impact speed (thesis tables 7-1, 7-2): fit one record per speed,
+then interpolate linearly in speed between the fitted rows (no extrapolation)."""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import dataclass
+from importlib import resources
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import InputError
+from ..pipeline import ProcessedImpact
+from ..records import ImpactRecord, check_positive
+from .fit import FitResult, fit
+from .registry import get_model
+from .simulate import simulate
+
+
+@dataclass(frozen=True)
+class SpeedTable:
+    """Rows of one model's parameters at increasing impact speeds (m/s), SI units."""
+
+    model: str
+    speeds_m_s: tuple[float, ...]
+    params: dict[str, tuple[float, ...]]
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        model = get_model(self.model)
+        speeds = np.asarray(self.speeds_m_s, dtype=float)
+        if speeds.size < 1 or np.any(np.diff(speeds) <= 0) or np.any(speeds <= 0):
+            raise InputError(f"speeds_m_s: need increasing positive speeds, got {self.speeds_m_s}")
+        for name in model.parameter_names:
+            if name not in self.params and not any(p.name == name and p.fixed
+                                                   for p in model.parameters):
+                raise InputError(f"params: the table has no column {name!r} for {self.model}")
+        for name, column in self.params.items():
+            if len(column) != speeds.size:
+                raise InputError(f"params.{name}: {len(column)} values for {speeds.size} speeds")
+
+    @property
+    def units(self) -> dict[str, str]:
+        return get_model(self.model).units
+
+    def params_at(self, impact_speed_m_s: float) -> dict[str, float]:
+        """The parameters at a speed inside the table's range, linear in speed between rows."""
+        speed = check_positive("impact_speed_m_s", impact_speed_m_s)
+        low, high = self.speeds_m_s[0], self.speeds_m_s[-1]
+        if not low <= speed <= high:
+            raise InputError(f"impact_speed_m_s: {speed:g} is outside the table's range "
+                             f"[{low:g}, {high:g}] m/s")
+        return {name: float(np.interp(speed, self.speeds_m_s, column))
+                for name, column in self.params.items()}
+
+    def simulate(self, impact_speed_m_s: float, mass_kg: float | None = None, **options):
+        """`lumped.simulate` with the parameters interpolated at `impact_speed_m_s`."""
+        return simulate(self.model, self.params_at(impact_speed_m_s),
+                        impact_speed_m_s=impact_speed_m_s, mass_kg=mass_kg, **options)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"model": self.model, "speeds_m_s": list(self.speeds_m_s),
+                "params": {k: list(v) for k, v in self.params.items()}, "units": self.units,
+                "note": self.note}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> SpeedTable:
+        try:
+            return cls(data["model"], tuple(float(s) for s in data["speeds_m_s"]),
+                       {k: tuple(float(x) for x in v) for k, v in data["params"].items()},
+                       data.get("note", ""))
+        except KeyError as missing:
+            raise InputError(f"speed table: missing key {missing}") from None
+
+    def to_csv(self) -> str:
+        """One row per speed: impact_speed_m_s then the parameters (units in the header)."""
+        names = list(self.params)
+        units = self.units
+        header = ["impact_speed_m_s"] + [f"{n} [{units.get(n, '')}]" for n in names]
+        rows = [",".join(header)]
+        for i, speed in enumerate(self.speeds_m_s):
+            rows.append(",".join([f"{speed:g}"] + [f"{self.params[n][i]:.10g}" for n in names]))
+        return "\n".join(rows) + "\n"
+
+
+def fit_speed_table(
+    records: Sequence[ImpactRecord | ProcessedImpact], model: str, *, progress: bool = True,
+    **fit_options,
+) -> tuple[SpeedTable, list[FitResult]]:
+    """Fit `model` to each record (one per impact speed; see `fit` for the options) and collect
+    the parameters into a `SpeedTable` ordered by impact speed. Progress goes to stderr."""
+    if not records:
+        raise InputError("records: need at least one record")
+    results = []
+    for i, record in enumerate(records, 1):
+        result = fit(record, model, **fit_options)
+        if progress:
+            print(f"fit {i}/{len(records)}: {result.measured['impact_speed_m_s']:g} m/s, "
+                  f"NRMSE {result.nrmse:.4f}, {result.wall_time_s:.2f} s", file=sys.stderr)
+        results.append(result)
+    results.sort(key=lambda r: r.measured["impact_speed_m_s"])
+    speeds = [r.measured["impact_speed_m_s"] for r in results]
+    if len(set(speeds)) != len(speeds):
+        raise InputError(f"records: two records share an impact speed ({speeds}); one per speed")
+    names = get_model(model).parameter_names
+    table = SpeedTable(get_model(model).name, tuple(speeds),
+                       {n: tuple(r.params[n] for r in results) for n in names},
+                       note=f"fitted by ballimpact ({results[0].method})")
+    return table, results
+
+
+def thesis_tables() -> dict[str, SpeedTable]:
+    """Thesis tables 7-1 (single element) and 7-2 (three elements) as `SpeedTable`s of the
+    reproduction models; see the note on what their c means."""
+    data = json.loads((resources.files("ballimpact") / "data" / "thesis_lumped_tables.json")
+                      .read_text())
+    return {key: SpeedTable.from_dict({**table, "note": data["note"]})
+            for key, table in data["tables"].items()}
