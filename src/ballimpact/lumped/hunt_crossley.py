@@ -58,7 +58,8 @@ def hunt_crossley_cor(damping_s_m: float, impact_speed_m_s: float) -> float:
         raise InputError(f"lambda: must be >= 0 s/m, got {damping_s_m!r}")
     if z == 0:
         return 1.0
-    return float(brentq(lambda e: _residual(z, e), 1e-12, 1.0 - 1e-15, xtol=1e-15))
+    upper = min(1.0, 1.0 / z) * (1.0 - 1e-15)  # keeps 1 - e z > 0
+    return float(brentq(lambda e: _residual(z, e), 1e-12, upper, xtol=1e-15))
 
 
 def hunt_crossley_lambda(cor: float, impact_speed_m_s: float) -> float:
