@@ -7,8 +7,9 @@ weights it is the NRMSE of the force curve (the thesis' RMSE fitness, made dimen
 
 The comparison window runs from just before the measured contact start to a quarter of the contact
 time after its end, on the record's own samples, so a model pulse that is too long is penalised.
-The model's first contact (`onset_s`) is searched too, within a sample or two of the measured
-start, because a sampled record only locates it to within a sample.
+The model's first contact (`onset_s`) is searched too, within 5% of the contact time (at least
+two samples) of the measured start: a sampled record locates it only to within a sample, and noise
+raises the contact threshold, which moves the measured start by several.
 
 Parameters are searched in a box mapped to [0, 1]: `linear` or `log` between bounds, power-law
 stiffnesses as the force k y_ref^alpha at the measured maximum compression y_ref (their scale
@@ -37,6 +38,7 @@ METHODS = ("ga", "de")
 #: integration steps per measured contact time; the grid covers twice the contact time
 FIT_STEPS_PER_CONTACT = 250
 TAIL_FRACTION = 0.25  # of the contact time, compared after the measured end
+ONSET_SLACK_FRACTION = 0.05  # of the contact time: model onset searched this far around the start
 _FD_STEP = 1e-6  # finite-difference step in the unit box
 
 
@@ -181,7 +183,8 @@ class _Objective:
         self.peak = features.values["P6"]
         self.contact = features.values["P1"]
         self.cor = features.values["P17"]
-        slack = max(1.5 / sample_rate_hz(record), 5e-3 * self.contact)
+        # noise raises the contact threshold, which can move the measured start by samples
+        slack = max(2.0 / sample_rate_hz(record), ONSET_SLACK_FRACTION * self.contact)
         self.onset = (window.start_s - slack, window.start_s + slack)
         keep = ((record.time_s >= self.onset[0])
                 & (record.time_s <= window.end_s + TAIL_FRACTION * self.contact))
