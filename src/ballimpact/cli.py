@@ -58,7 +58,8 @@ def build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--method", default="ga",
                      help="ga (genetic algorithm) or de (differential evolution); default ga")
     fit.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    fit.add_argument("--population", type=int, default=48, help="population size (default 48)")
+    fit.add_argument("--population", type=int,
+                     help="population size (default 4 per searched quantity, at least 32)")
     fit.add_argument("--generations", type=int,
                      help="generations (default 8 per searched quantity, at least 40)")
     fit.add_argument("--no-polish", action="store_true", help="skip the least-squares polish")

@@ -35,8 +35,10 @@ from .registry import get_model
 from .simulate import sample_on
 
 METHODS = ("ga", "de")
-#: integration steps per measured contact time; the grid covers twice the contact time
+#: integration steps per measured contact time (RK4: relative error ~1e-8; linear interpolation
+#: between steps ~1e-4 of the peak), and the grid's length in contact times
 FIT_STEPS_PER_CONTACT = 250
+FIT_GRID_CONTACTS = 1.6
 TAIL_FRACTION = 0.25  # of the contact time, compared after the measured end
 ONSET_SLACK_FRACTION = 0.05  # of the contact time: model onset searched this far around the start
 _FD_STEP = 1e-6  # finite-difference step in the unit box
@@ -190,7 +192,7 @@ class _Objective:
                 & (record.time_s <= window.end_s + TAIL_FRACTION * self.contact))
         self.time, self.force = record.time_s[keep], record.force_n[keep]
         self.step = self.contact / FIT_STEPS_PER_CONTACT
-        self.steps = 2 * FIT_STEPS_PER_CONTACT
+        self.steps = int(FIT_GRID_CONTACTS * FIT_STEPS_PER_CONTACT)
         self.evaluations = 0
 
     def split(self, u: np.ndarray):
@@ -299,7 +301,7 @@ def fit(
     model: str | LumpedModel = "single_element",
     *,
     method: str = "ga",
-    population: int = 48,
+    population: int | None = None,
     generations: int | None = None,
     seed: int = 0,
     polish: bool = True,
@@ -313,14 +315,15 @@ def fit(
     already `ProcessedImpact`). `method` is `ga` (pymoo GA: SBX crossover, polynomial mutation) or
     `de` (pymoo DE/rand/1/bin); `seed` makes it reproducible. `bounds` and `fixed` override the
     search box per parameter (SI; see the module notes); `cor_weight` and `contact_time_weight`
-    add the COR error and the relative contact-time error to the fitness. `generations` defaults
-    to 8 per searched quantity, at least 40."""
+    add the COR error and the relative contact-time error to the fitness. `population` defaults to
+    4 per searched quantity (at least 32), `generations` to 8 (at least 40)."""
     started = time.perf_counter()
     model = get_model(model)
     if method not in METHODS:
         raise InputError(f"method: must be one of {', '.join(METHODS)}, got {method!r}")
-    if generations is None:
-        generations = max(40, 8 * (len(model.parameters) + 1))
+    searched = len(model.parameters) + 1  # with the onset; an upper bound when some are fixed
+    population = max(32, 4 * searched) if population is None else population
+    generations = max(40, 8 * searched) if generations is None else generations
     for name, value, low in (("population", population, 4), ("generations", generations, 1)):
         if int(value) != value or value < low:
             raise InputError(f"{name}: must be an integer >= {low}, got {value!r}")
