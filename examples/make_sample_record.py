@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+
+from ballimpact.lumped import hunt_crossley_lambda
 
 MASS_KG = 0.16
 IMPACT_SPEED_M_S = 20.8
@@ -24,12 +25,6 @@ OFFSET_N = 35.0
 RINGING_HZ, RINGING_DECAY_S, RINGING_FRACTION = 14e3, 2e-4, 0.03
 NOISE_FRACTION = 0.01
 SEED = 20081
-
-
-def hunt_crossley_lambda(cor: float, speed: float) -> float:
-    """lambda (s/m) giving `cor` at `speed`: z (1 + e) = ln[(1 + z)/(1 - e z)], z = lambda v."""
-    residual = lambda z: z * (1 + cor) - np.log((1 + z) / (1 - cor * z))  # noqa: E731
-    return brentq(residual, 1e-4, (1 - 1e-9) / cor) / speed
 
 
 def simulate(lam: float):

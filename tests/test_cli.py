@@ -123,6 +123,13 @@ def test_demo_json_and_plot(capsys, tmp_path):
     assert result["peak_force_n"] == pytest.approx(11219.9, rel=0.03)
     assert result["cor"] == pytest.approx(0.55, abs=0.001)
     assert result["impulse_check_passed"] is True
+    # the Hunt-Crossley generator of the sample (its header): k 2.06e7 N/m^1.5, lambda 0.057001 s/m
+    fitted = result["lumped_fit"]
+    assert fitted["model"] == "hunt_crossley"
+    assert fitted["params"]["n"] == pytest.approx(1.5, rel=0.02)
+    assert fitted["params"]["lambda"] == pytest.approx(0.057001, rel=0.02)
+    assert abs(fitted["params"]["k"] - 2.06e7) < 2 * fitted["standard_errors"]["k"]
+    assert fitted["nrmse"] < 0.01
     assert plot.stat().st_size > 10_000
 
 

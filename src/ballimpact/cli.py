@@ -25,6 +25,7 @@ from .pipeline import ProcessedImpact, process
 
 DEMO_FILTER = "loess"
 DEMO_PLOT = "ballimpact-demo.png"
+DEMO_MODEL = "hunt_crossley"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -82,7 +83,8 @@ def build_parser() -> argparse.ArgumentParser:
     demo = verbs.add_parser(
         "demo", help="the main job on built-in data",
         description="Process the built-in sample impact (a synthetic cricket-ball test, see "
-                    "data/sample_impact.csv) and print its figures.")
+                    "data/sample_impact.csv), identify a Hunt-Crossley lumped model from it, "
+                    "and print the figures.")
     demo.add_argument("--json", action="store_true", help="print one JSON object")
     demo.add_argument("--plot", type=Path, default=Path(DEMO_PLOT),
                       help=f"PNG to write (default {DEMO_PLOT})")
@@ -166,14 +168,20 @@ def _run_demo(args: argparse.Namespace) -> dict[str, Any]:
     with resources.as_file(data) as path:
         record = load_record(path)
     processed = process(record, filter=DEMO_FILTER)
+    from .lumped import fit
+
+    fitted = fit(processed, DEMO_MODEL, seed=0)
     result = _summary(processed, time.perf_counter() - started)
     result["record"] = "built-in synthetic cricket-ball test (data/sample_impact.csv)"
-    _plot(processed, args.plot, title="ballimpact demo: synthetic cricket-ball impact")
+    result["lumped_fit"] = fitted.to_dict()
+    _plot(processed, args.plot, title="ballimpact demo: synthetic cricket-ball impact", fit=fitted)
     result["plot"] = str(args.plot)
     if not args.json:
         print("ballimpact demo: built-in synthetic cricket-ball impact test "
               "(Hunt-Crossley model + load-cell ringing and noise, 200 kHz)")
         _print_table(processed)
+        print(f"lumped model identified from the test ({DEMO_MODEL}, GA + polish):")
+        _print_fit(fitted, Path("sample_impact.csv"))
         print(f"plot written to {args.plot}")
     return result
 
@@ -296,10 +304,10 @@ def _summary(processed: ProcessedImpact, wall_time_s: float) -> dict[str, Any]:
     return summary
 
 
-def _plot(processed: ProcessedImpact, path: Path, title: str) -> None:
+def _plot(processed: ProcessedImpact, path: Path, title: str, fit=None) -> None:
     from .plotting import plot_impact  # matplotlib only when a plot is asked for
 
-    plot_impact(processed.raw, processed.filtered, processed.features, path, title=title)
+    plot_impact(processed.raw, processed.filtered, processed.features, path, title=title, fit=fit)
 
 
 def _print_table(processed: ProcessedImpact) -> None:

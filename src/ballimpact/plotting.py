@@ -23,9 +23,10 @@ def plot_impact(
     path: str | Path,
     *,
     title: str | None = None,
+    fit=None,
 ) -> Path:
-    """Write a two-panel PNG: force-time (raw, filtered, contact window, peak) and the
-    force-displacement loop of the ball centre. Axes in ms, mm and kN for legibility."""
+    """Write a two-panel PNG: force-time (raw, filtered, contact window, peak, and a lumped-model
+    `fit` if given) and the force-displacement loop of the ball centre. Axes in ms, mm and kN."""
     path = Path(path)
     start = features.window.start_s
     figure, (ax_time, ax_loop) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
@@ -39,6 +40,9 @@ def plot_impact(
                      color="C0", lw=1.6, label=f"filtered ({name})")
     ax_time.plot(features.values["P5"] * 1e3, features.values["P6"] / 1e3, "v", color="C3",
                  label=f"peak {features.values['P6'] / 1e3:.3g} kN")
+    if fit is not None:
+        ax_time.plot((fit.time_s - start) * 1e3, fit.fitted_force_n / 1e3, color="C1", lw=1.4,
+                     ls="-.", label=f"{fit.model} fit (NRMSE {fit.nrmse:.1%})")
     for edge in (0.0, features.values["P1"]):
         ax_time.axvline(edge * 1e3, color="C2", lw=0.8, ls="--")
     ax_time.plot([], [], color="C2", ls="--", label=f"contact {features.values['P1'] * 1e3:.3g} ms")

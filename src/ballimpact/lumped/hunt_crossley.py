@@ -48,7 +48,7 @@ MODEL = OdeModel(
 
 
 def _residual(z: float, cor: float) -> float:
-    return z * (1.0 + cor) - np.log((1.0 + z) / (1.0 - cor * z))
+    return z * (1.0 + cor) - (np.log1p(z) - np.log1p(-cor * z))
 
 
 def hunt_crossley_cor(damping_s_m: float, impact_speed_m_s: float) -> float:
@@ -66,5 +66,6 @@ def hunt_crossley_lambda(cor: float, impact_speed_m_s: float) -> float:
     """The damping factor lambda (s/m) that gives `cor` at `impact_speed_m_s`."""
     if not 0 < cor < 1:
         raise InputError(f"cor: must be in (0, 1), got {cor!r}")
-    z = brentq(lambda z: _residual(z, cor), 1e-12, (1.0 - 1e-12) / cor, xtol=1e-15)
+    # the residual is z^2 (1 - e^2) / 2 > 0 for small z and -> -inf as e z -> 1
+    z = brentq(lambda z: _residual(z, cor), 1e-6, (1.0 - 1e-12) / cor, xtol=1e-15)
     return float(z / impact_speed_m_s)
