@@ -56,11 +56,7 @@ def plot_impact(
                 title=f"force-displacement: energy lost {features.energy_lost_j:.3g} J, "
                       f"COR {features.values['P17']:.3f}")
     ax_loop.grid(alpha=0.3)
-    if title:
-        figure.suptitle(title)
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return path
+    return _save(figure, path, title)
 
 
 def plot_fit(result, path: str | Path, *, title: str | None = None) -> Path:
@@ -83,11 +79,7 @@ def plot_fit(result, path: str | Path, *, title: str | None = None) -> Path:
                    title=f"convergence ({result.method.upper()}, seed {result.seed})")
     ax_history.legend(fontsize=8)
     ax_history.grid(alpha=0.3, which="both")
-    if title:
-        figure.suptitle(title)
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return path
+    return _save(figure, path, title)
 
 
 def plot_speed_fits(results, path: str | Path, *, title: str | None = None) -> Path:
@@ -101,9 +93,7 @@ def plot_speed_fits(results, path: str | Path, *, title: str | None = None) -> P
            title=title or f"{results[0].model} fitted at {len(results)} speeds")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return path
+    return _save(figure, path, None)
 
 
 def _plot_fit_curves(ax, result, color: str, label: str | None = None) -> None:
@@ -112,3 +102,11 @@ def _plot_fit_curves(ax, result, color: str, label: str | None = None) -> None:
             label=None if label else "measured")
     ax.plot(time_ms, result.fitted_force_n / 1e3, color=color, lw=1.6,
             label=label or f"{result.model} fit")
+
+
+def _save(figure, path: Path, title: str | None) -> Path:
+    if title:
+        figure.suptitle(title)
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return path
