@@ -82,6 +82,8 @@ def test_models_lists_the_registry(capsys):
     (["--model", "single_element", "--method", "sa"], "method: must be one of"),
     (["--model", "single_element", "--plot", "out.pdf"], "--plot"),
     (["--model", "single_element", "--table", "/no/such/folder/t.csv"], "--table: folder"),
+    (["--model", "single_element", "--table", "t.csv"], "--table: needs several files"),
+    (["--model", "single_element", "--seed", "-1"], "seed"),
 ])
 def test_fit_bad_input_exits_2(capsys, tmp_path, extra, message):
     path = write_test(tmp_path, "a", 20.0)

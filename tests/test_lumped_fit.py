@@ -42,8 +42,14 @@ def test_three_element_curve_reproduced():
     result = fit(noisy(truth, 0.02, seed=0), "three_element", seed=0)
     exact = np.interp(result.time_s, truth.time_s, truth.force_n)
     assert np.sqrt(np.mean((result.fitted_force_n - exact) ** 2)) / truth.force_n.max() < 0.02
-    masses = [result.params[f"m{i}"] for i in (1, 2, 3)]
-    assert sum(masses) == pytest.approx(0.16, rel=1e-12) and min(masses) > 0
+
+
+def test_three_element_with_a_fixed_unit_mass():
+    result = fit(clean("three_element", THREE), "three_element", fixed={"m1": 0.06},
+                 generations=30)
+    assert result.params["m1"] == 0.06
+    assert result.params["m2"] + result.params["m3"] == pytest.approx(0.10, rel=1e-12)
+    assert "m1" not in result.bounds and "m2" in result.bounds
 
 
 def test_hunt_crossley_by_de_with_fixed_exponent_and_weights():
@@ -59,11 +65,14 @@ def test_hunt_crossley_by_de_with_fixed_exponent_and_weights():
     assert result.weights == {"cor": 1.0, "contact_time": 1.0}
 
 
-def test_user_bounds_are_respected():
-    result = fit(clean("single_element", SINGLE), "single_element", bounds={"alpha": (1.0, 1.2)},
-                 generations=10)
-    assert 1.0 <= result.params["alpha"] <= 1.2
-    assert result.bounds["alpha"] == {"low": 1.0, "high": 1.2, "search": "linear"}
+def test_user_bounds_that_exclude_the_truth_cost_fitness():
+    record = clean("single_element", SINGLE)
+    free = fit(record, "single_element", generations=20)
+    bounded = fit(record, "single_element", bounds={"alpha": (1.0, 1.2), "k": (1e5, 1e9)},
+                  generations=20)
+    assert bounded.bounds["alpha"] == {"low": 1.0, "high": 1.2, "search": "linear"}
+    assert bounded.bounds["k"]["search"] == "log"  # a bounded stiffness is searched as log k
+    assert bounded.nrmse > 10 * free.nrmse
 
 
 @pytest.mark.parametrize("options, message", [
@@ -74,11 +83,28 @@ def test_user_bounds_are_respected():
     ({"fixed": {"k": 1.0, "alpha": 1.0, "c": 1.0}}, "nothing to fit"),
     ({"method": "sa"}, "method: must be one of ga, de"),
     ({"population": 2}, "population"),
+    ({"seed": -1}, "seed"),
+    ({"seed": 1.5}, "seed"),
     ({"cor_weight": -1.0}, "cor_weight"),
+    ({"bounds": {"c": (-5.0, 5.0)}}, r"bounds.c: params.c: must be >= 0"),
+    ({"bounds": {"alpha": (1.0, 2.0, 3.0)}}, r"bounds.alpha: must be a \(low, high\) pair"),
+    ({"fixed": {"alpha": float("nan")}}, "fixed.alpha: must be finite"),
+    ({"fixed": {"alpha": "one"}}, "fixed.alpha: must be a number"),
+    ({"fixed": {"k": -1e7}}, r"fixed: params.k: must be > 0"),
 ])
 def test_bad_fit_options_name_the_field(options, message):
     with pytest.raises(InputError, match=message):
         fit(clean("single_element", SINGLE), "single_element", **options)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"fixed": {"m1": 0.1, "m2": 0.1}}, "leave nothing of the ball mass"),
+    ({"fixed": {"m3": 0.02}}, "fixed.m3: the last unit mass is the rest"),
+    ({"bounds": {"m1": (0.01, 0.05)}}, "bounds.m1: unit masses are searched as shares"),
+])
+def test_bad_unit_mass_options(options, message):
+    with pytest.raises(InputError, match=message):
+        fit(clean("single_element", SINGLE), "three_element", **options)
 
 
 def test_speed_table_fits_and_interpolates():

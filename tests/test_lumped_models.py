@@ -11,6 +11,7 @@ from ballimpact.lumped import (
     MODELS,
     hertz_impact,
     hunt_crossley_cor,
+    hunt_crossley_lambda,
     kelvin_voigt_from_test,
     power_law_contact_constant,
     simulate,
@@ -66,12 +67,37 @@ def test_hunt_crossley_cor_identity(lam, n):
     assert e == pytest.approx(hunt_crossley_cor(lam, V), rel=1e-3)
 
 
-def test_simon_is_hunt_crossley_with_exponent_one_and_a_half():
+def test_simon_model_obeys_the_hunt_crossley_cor_identity():
+    """Simon's law is Hunt-Crossley's with n = 3/2, so its COR obeys the same identity."""
     simon = simulate("simon", {"k": 2e7, "alpha": 0.03}, impact_speed_m_s=V, mass_kg=M)
-    hunt = simulate("hunt_crossley", {"k": 2e7, "n": 1.5, "lambda": 0.03}, impact_speed_m_s=V,
-                    mass_kg=M)
-    assert contact(simon) == pytest.approx(contact(hunt), rel=1e-9)
-    assert simon.rebound_speed_m_s == pytest.approx(hunt.rebound_speed_m_s, rel=1e-9)
+    e, z = simon.rebound_speed_m_s / V, 0.03 * V
+    assert z * (1 + e) == pytest.approx(math.log((1 + z) / (1 - e * z)), rel=1e-3)
+
+
+@pytest.mark.parametrize("cor", [0.001, 0.03, 0.3, 0.55, 0.9, 0.999, 0.999999])
+def test_hunt_crossley_lambda_and_cor_are_inverse(cor):
+    lam = hunt_crossley_lambda(cor, V)
+    z = lam * V
+    if cor >= 0.1:  # below, 1 - e z rounds away and the identity cannot be evaluated directly
+        assert z * (1 + cor) == pytest.approx(math.log1p(z) - math.log1p(-cor * z), rel=1e-9)
+    assert hunt_crossley_cor(lam, V) == pytest.approx(cor, rel=1e-9)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: hunt_crossley_lambda(1.0, V), "cor: must be in"),
+    (lambda: hunt_crossley_lambda(0.5, 0.0), "impact_speed_m_s"),
+    (lambda: hunt_crossley_cor(-0.1, V), "lambda"),
+])
+def test_hunt_crossley_helpers_reject_bad_input(call, message):
+    with pytest.raises(InputError, match=message):
+        call()
+
+
+def test_a_run_that_does_not_separate_keeps_its_velocity_history():
+    model = MODELS["kelvin_voigt"]
+    batch = model.run_batch(np.array([[1.5e6, 60.0]]), M, 10.0, 1e-6, 300)  # 0.3 of the contact
+    assert not batch.separated[0] and np.isnan(batch.contact_time_s[0])
+    assert np.all(np.diff(batch.velocity_m_s[0]) < 0)  # still decelerating, not overwritten
 
 
 def test_hertz_model_equals_hertz_closed_form():
@@ -205,6 +231,9 @@ def test_thesis_tables_replay_nearly_elastic():
     ("single_element", {"k": 2e7, "alpha": 1.3}, M, "missing 'c'"),
     ("single_element", {"k": 2e7, "alpha": 1.3, "c": 1.0, "q": 2}, M, "unknown parameter"),
     ("single_element", {"k": -2e7, "alpha": 1.3, "c": 1.0}, M, "params.k"),
+    ("single_element", {"k": 0.0, "alpha": 1.3, "c": 1.0}, M, r"params.k: must be > 0"),
+    ("single_element", {"k": "x", "alpha": 1.3, "c": 1.0}, M, "params.k: must be a finite"),
+    ("hertz", {"youngs_modulus_pa": 1e7, "poissons_ratio": -1.0}, M, "params.poissons_ratio"),
     ("hunt_crossley", {"k": 2e7, "n": 9.0, "lambda": 0.0}, M, "params.n"),
     ("single_element", {"k": 2e7, "alpha": 1.3, "c": 1.0}, None, "mass_kg"),
     ("nope", {}, M, "unknown 'nope'"),
@@ -232,6 +261,10 @@ def test_every_model_runs_and_separates():
         "simon": {"k": 2e7, "alpha": 0.03},
         "single_element_thesis": {"k": 2e6, "alpha": 1.1, "c": 500.0},
     }
+    three = {f"{n}{i}": v for i in (1, 2, 3) for n, v in (("k", 1e7), ("alpha", 1.3), ("c", 30.0))}
+    defaults["three_element"] = {**three, "m1": 0.05, "m2": 0.05, "m3": 0.06}
+    defaults["three_element_thesis"] = {**three, "m1": 0.05, "m2": 0.05, "m3": 0.06}
+    assert set(defaults) == set(MODELS)
     for name, params in defaults.items():
         result = run_one(MODELS[name], params, M, V)
         assert result.separated[0] and 0 < result.rebound_speed_m_s[0] <= V * (1 + 1e-9), name

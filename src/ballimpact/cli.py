@@ -213,6 +213,8 @@ def _run_fit(args: argparse.Namespace) -> dict[str, Any]:
     _check_plot_path(args.plot)
     if args.table is not None and not args.table.parent.is_dir():
         raise InputError(f"--table: folder {args.table.parent} does not exist")
+    if args.table is not None and len(args.files) < 2:
+        raise InputError("--table: needs several files (one per impact speed)")
     model = lumped.get_model(args.model)
     options = dict(method=args.method, seed=args.seed, population=args.population,
                    generations=args.generations, polish=not args.no_polish,

@@ -104,8 +104,12 @@ class LumpedModel:
             if p.name not in params and p.default is None:
                 raise InputError(f"params: missing {p.name!r} ({p.unit}) for model {self.name!r}")
             value = params.get(p.name, p.default)
-            if not np.isfinite(value):
-                raise InputError(f"params.{p.name}: must be finite, got {value!r}")
+            try:
+                finite = np.isfinite(float(value))
+            except (TypeError, ValueError):
+                finite = False
+            if not finite:
+                raise InputError(f"params.{p.name}: must be a finite number, got {value!r}")
 
     def full(self, params: dict[str, float]) -> dict[str, float]:
         """`params` with fixed parameters filled in from their defaults."""
@@ -125,9 +129,13 @@ class LumpedModel:
         raise NotImplementedError
 
 
-def check_range(name: str, value: float, low: float, high: float | None = None) -> None:
-    """InputError naming `params.<name>` unless low <= value (<= high)."""
-    if value < low or (high is not None and value > high):
-        allowed = f">= {low:g}" if high is None else f"in [{low:g}, {high:g}]"
+def check_range(name: str, value: float, low: float, high: float | None = None, *,
+                strict: bool = False) -> None:
+    """InputError naming `params.<name>` unless low <= value (<= high); low < value if `strict`."""
+    below = value <= low if strict else value < low
+    if below or (high is not None and value > high):
+        opening = "(" if strict else "["
+        allowed = (f"{'>' if strict else '>='} {low:g}" if high is None
+                   else f"in {opening}{low:g}, {high:g}]")
         raise InputError(f"params.{name}: must be {allowed}, got {value!r}")
 

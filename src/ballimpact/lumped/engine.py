@@ -138,7 +138,7 @@ def _run_unit(model: OdeModel, steps: int, q, mass, speed, h):
     contact = (before_index + fraction) * h
     leave_velocity = _rk4_step(model, q, mass, before, fraction * h)[1]
     time = jnp.arange(steps + 1) * h
-    velocity = jnp.where(time > contact, leave_velocity, velocity)
+    velocity = jnp.where(done & (time > contact), leave_velocity, velocity)
     nan = jnp.nan
     return (force, velocity, jnp.where(done, contact, nan), jnp.where(done, leave_velocity, nan),
             done)

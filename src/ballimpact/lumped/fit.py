@@ -21,13 +21,14 @@ share, 0..1) and a stiffness with user bounds is searched as log k directly.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..pipeline import ProcessedImpact, process
 from ..records import ImpactRecord, sample_rate_hz
 from .base import BatchResult, LumpedModel, Scale
@@ -112,9 +113,34 @@ class FitResult:
         }
 
 
+def _number(label: str, value: Any) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{label}: must be a number in SI, got {value!r}") from None
+    if not np.isfinite(number):
+        raise InputError(f"{label}: must be finite, got {value!r}")
+    return number
+
+
+def _pair(label: str, value: Any) -> tuple[float, float]:
+    if isinstance(value, (str, bytes)) or np.ndim(value) != 1 or len(value) != 2:
+        raise InputError(f"{label}: must be a (low, high) pair in SI, got {value!r}")
+    return _number(label, value[0]), _number(label, value[1])
+
+
+def _checked(model: LumpedModel, probe: dict[str, float], label: str) -> None:
+    try:
+        model.check(probe, None)
+    except InputError as error:
+        raise InputError(f"{label}: {error}") from None
+
+
 def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: dict | None):
-    """The searched genes and the fixed values, checked against the model's parameters."""
-    bounds, fixed = dict(bounds or {}), dict(fixed or {})
+    """The searched genes and the fixed values, checked against the model's parameters and
+    ranges (a fixed value or a bound that the model refuses is an error naming it)."""
+    bounds = {name: _pair(f"bounds.{name}", v) for name, v in (bounds or {}).items()}
+    fixed = {name: _number(f"fixed.{name}", v) for name, v in (fixed or {}).items()}
     names = set(model.parameter_names)
     for label, given in (("bounds", bounds), ("fixed", fixed)):
         unknown = sorted(set(given) - names)
@@ -124,30 +150,50 @@ def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: d
     both = sorted(set(bounds) & set(fixed))
     if both:
         raise InputError(f"bounds: {', '.join(both)} cannot be both bounded and fixed")
+    masses = [p for p in model.parameters if p.search in ("mass_share", "mass_rest")]
+    for p in masses:
+        if p.search == "mass_rest" and (p.name in bounds or p.name in fixed):
+            label = "bounds" if p.name in bounds else "fixed"
+            raise InputError(f"{label}.{p.name}: the last unit mass is the rest of the ball mass; "
+                             "fix the others (kg) or leave them free")
+        if p.name in bounds:
+            raise InputError(f"bounds.{p.name}: unit masses are searched as shares of the ball "
+                             "mass; fix one in kg or leave it free")
+    given_mass = sum(fixed.get(p.name, 0.0) for p in masses)
+    if masses and given_mass >= scale.mass_kg:
+        raise InputError(f"fixed: unit masses of {given_mass:.6g} kg leave nothing of the ball "
+                         f"mass {scale.mass_kg:.6g} kg for the last unit")
     defaults = model.default_bounds(scale)
-    genes = []
+    genes, probe = [], {}
+    free_masses = [p for p in masses if p.name not in fixed]
     for p in model.parameters:
+        if p in free_masses:
+            probe[p.name] = (scale.mass_kg - given_mass) / len(free_masses)
         if p.name in fixed or p.search == "mass_rest" or (p.fixed and p.name not in bounds):
             if p.search != "mass_rest":
                 fixed.setdefault(p.name, p.default)
+                probe[p.name] = fixed[p.name]
             continue
         kind = p.search
         if p.name in bounds:
-            low, high = (float(x) for x in bounds[p.name])
+            low, high = bounds[p.name]
             kind = "log" if kind == "stiffness" else kind
         else:
             low, high = defaults[p.name]
-        if not (np.isfinite(low) and np.isfinite(high) and low < high):
+        if not low < high:
             raise InputError(f"bounds.{p.name}: need low < high, got ({low!r}, {high!r})")
         if kind in ("log", "stiffness") and low <= 0:
             raise InputError(f"bounds.{p.name}: searched on a log scale, low must be > 0, got {low!r}")
-        if kind == "mass_share" and not (0 < low and high < 1):
-            raise InputError(f"bounds.{p.name}: a unit-mass share must lie in (0, 1), got "
-                             f"({low!r}, {high!r})")
+        if kind != "mass_share":
+            probe[p.name] = 1.0 if kind == "stiffness" else 0.5 * (low + high)
         genes.append(Gene(p.name, low, high, kind, p.exponent))
     if not genes:
         raise InputError("fixed: every parameter is fixed; nothing to fit")
-    return genes, {k: float(v) for k, v in fixed.items()}
+    _checked(model, probe, "fixed")
+    for name, ends in bounds.items():
+        for end in ends:
+            _checked(model, {**probe, name: end}, f"bounds.{name}")
+    return genes, fixed
 
 
 def decode(model: LumpedModel, genes: list[Gene], fixed: dict[str, float], u: np.ndarray,
@@ -211,10 +257,11 @@ class _Objective:
     def residuals(self, u: np.ndarray) -> np.ndarray:
         batch, force, _ = self.run(u)
         scaled = (force - self.force) / (self.peak * np.sqrt(self.force.size))
-        extra = [self.weights["cor"] * (batch.rebound_speed_m_s / self.scale.impact_speed_m_s
-                                        - self.cor),
-                 self.weights["contact_time"] * (batch.contact_time_s / self.contact - 1.0)]
-        extra = [np.where(np.isfinite(e), e, 1.0)[:, None] for e in extra]
+        # a run that has not left the surface within the grid counts as a unit error
+        errors = {"cor": batch.rebound_speed_m_s / self.scale.impact_speed_m_s - self.cor,
+                  "contact_time": batch.contact_time_s / self.contact - 1.0}
+        extra = [(self.weights[k] * np.where(np.isfinite(e), e, 1.0))[:, None]
+                 for k, e in errors.items()]
         residual = np.concatenate([scaled] + extra, axis=1)
         return np.where(np.isfinite(residual), residual, 1.0)
 
@@ -324,8 +371,9 @@ def fit(
     searched = len(model.parameters) + 1  # with the onset; an upper bound when some are fixed
     population = max(32, 4 * searched) if population is None else population
     generations = max(40, 8 * searched) if generations is None else generations
-    for name, value, low in (("population", population, 4), ("generations", generations, 1)):
-        if int(value) != value or value < low:
+    for name, value, low in (("population", population, 4), ("generations", generations, 1),
+                             ("seed", seed, 0)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
             raise InputError(f"{name}: must be an integer >= {low}, got {value!r}")
     for name, value in (("cor_weight", cor_weight), ("contact_time_weight", contact_time_weight)):
         if not (np.isfinite(value) and value >= 0):
@@ -348,6 +396,10 @@ def fit(
     vector = objective.split(best)[0][0]
     params = dict(zip(model.parameter_names, (float(x) for x in vector)))
     errors = _standard_errors(objective, best, model.parameter_names)
+    if not batch.separated[0]:
+        warnings.warn(f"fit: the fitted {model.name} ball does not leave the surface within "
+                      f"{FIT_GRID_CONTACTS:g} measured contact times; its COR and contact time "
+                      "are not available", InputWarning, stacklevel=2)
     error = force[0] - objective.force
     rmse = float(np.sqrt(np.mean(error**2)))
     return FitResult(

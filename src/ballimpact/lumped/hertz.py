@@ -34,9 +34,9 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("youngs_modulus_pa", params["youngs_modulus_pa"], 0.0)
-    check_range("poissons_ratio", params["poissons_ratio"], -1.0, 0.5)
-    check_range("radius_m", params["radius_m"], 1e-6)
+    check_range("youngs_modulus_pa", params["youngs_modulus_pa"], 0.0, strict=True)
+    check_range("poissons_ratio", params["poissons_ratio"], -1.0, 0.5, strict=True)
+    check_range("radius_m", params["radius_m"], 0.0, strict=True)
 
 
 MODEL = OdeModel(

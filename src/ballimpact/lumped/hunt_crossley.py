@@ -8,6 +8,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError
+from ..records import check_positive
 from .base import Parameter, check_range
 from .engine import OdeModel, signed_power
 from .single_element import split
@@ -27,7 +28,7 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0)
+    check_range("k", params["k"], 0.0, strict=True)
     check_range("n", params["n"], 0.5, 5.0)
     check_range("lambda", params["lambda"], 0.0)
 
@@ -47,25 +48,38 @@ MODEL = OdeModel(
 )
 
 
-def _residual(z: float, cor: float) -> float:
-    return z * (1.0 + cor) - (np.log1p(z) - np.log1p(-cor * z))
+def _residual(z, cor, s):
+    """z (1 + e) - ln[(1 + z)/(1 - e z)] with s = -ln(1 - e z) given, so that the root can be
+    bracketed in s even where 1 - e z underflows."""
+    return z * (1.0 + cor) - np.log1p(z) - s
 
 
 def hunt_crossley_cor(damping_s_m: float, impact_speed_m_s: float) -> float:
     """COR of a Hunt-Crossley impact: the root e of z (1 + e) = ln[(1 + z)/(1 - e z)], z = lambda v."""
-    z = damping_s_m * impact_speed_m_s
-    if z < 0:
+    speed = check_positive("impact_speed_m_s", impact_speed_m_s)
+    if not (np.isfinite(damping_s_m) and damping_s_m >= 0):
         raise InputError(f"lambda: must be >= 0 s/m, got {damping_s_m!r}")
+    z = damping_s_m * speed
     if z == 0:
         return 1.0
-    upper = min(1.0, 1.0 / z) * (1.0 - 1e-15)  # keeps 1 - e z > 0
-    return float(brentq(lambda e: _residual(z, e), 1e-12, upper, xtol=1e-15))
+    cor = lambda s: -np.expm1(-s) / z  # noqa: E731 - e from s = -ln(1 - e z)
+    # e < 1 and e z < 1; for z >= 1 the residual falls like z + 1 - ln(1 + z) - s at large s
+    s_max = -np.log1p(-z) if z < 1 else z + 2.0
+    s = brentq(lambda s: _residual(z, cor(s), s), 1e-12 * min(z, 1.0), s_max, xtol=1e-15,
+               rtol=1e-15)
+    return float(cor(s))
 
 
 def hunt_crossley_lambda(cor: float, impact_speed_m_s: float) -> float:
-    """The damping factor lambda (s/m) that gives `cor` at `impact_speed_m_s`."""
-    if not 0 < cor < 1:
-        raise InputError(f"cor: must be in (0, 1), got {cor!r}")
-    # the residual is z^2 (1 - e^2) / 2 > 0 for small z and -> -inf as e z -> 1
-    z = brentq(lambda z: _residual(z, cor), 1e-6, (1.0 - 1e-12) / cor, xtol=1e-15)
-    return float(z / impact_speed_m_s)
+    """The damping factor lambda (s/m) that gives `cor` at `impact_speed_m_s` (for COR near 1,
+    lambda -> 3 (1 - e) / (2 v))."""
+    speed = check_positive("impact_speed_m_s", impact_speed_m_s)
+    if not 0 < cor <= 1 - 1e-6:
+        raise InputError(f"cor: must be in (0, 0.999999], got {cor!r}")
+    z_of = lambda s: -np.expm1(-s) / cor  # noqa: E731 - z from s = -ln(1 - e z)
+    # the residual is z^2 (1 - e^2)/2 - O(z^3) > 0 below the root, which is near 1.5 (1 - e)
+    s_low = -np.log1p(-cor * 0.15 * (1.0 - cor))
+    # at large s, z -> 1/e and the residual falls like (1 + e)/e - ln(1 + 1/e) - s
+    s_high = (1.0 + cor) / cor + 1.0
+    s = brentq(lambda s: _residual(z_of(s), cor, s), s_low, s_high, xtol=1e-15, rtol=1e-15)
+    return float(z_of(s) / speed)

@@ -34,7 +34,7 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0)
+    check_range("k", params["k"], 0.0, strict=True)
     check_range("c", params["c"], 0.0)
 
 

@@ -33,11 +33,10 @@ def bounds(scale):
 
 def validate(params):
     for name in ("k1", "k2"):
-        check_range(name, params[name], 0.0)
+        check_range(name, params[name], 0.0, strict=True)
     for name in ("alpha", "beta"):
         check_range(name, params[name], 0.5, 5.0)
-    if not params["c"] > 0:
-        check_range("c", params["c"], 1e-300)
+    check_range("c", params["c"], 0.0, strict=True)
 
 
 MODEL = OdeModel(

@@ -24,7 +24,7 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0)
+    check_range("k", params["k"], 0.0, strict=True)
     check_range("alpha", params["alpha"], 0.0)
 
 

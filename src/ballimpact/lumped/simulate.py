@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import SimulationError
+from ..errors import InputError, SimulationError
 from ..records import ImpactRecord, check_positive
 from .base import BatchResult, LumpedModel
 from .registry import get_model
@@ -83,6 +83,8 @@ def simulate(
     """
     model = get_model(model)
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
+    if not (isinstance(steps_per_contact, (int, np.integer)) and steps_per_contact >= 50):
+        raise InputError(f"steps_per_contact: must be an integer >= 50, got {steps_per_contact!r}")
     model.check(params, mass_kg)
     mass = model.ball_mass_kg(params, mass_kg)
     result = run_one(model, params, mass, speed, steps_per_contact)

@@ -31,7 +31,8 @@ class SpeedTable:
     def __post_init__(self) -> None:
         model = get_model(self.model)
         speeds = np.asarray(self.speeds_m_s, dtype=float)
-        if speeds.size < 1 or np.any(np.diff(speeds) <= 0) or np.any(speeds <= 0):
+        if (speeds.size < 1 or not np.all(np.isfinite(speeds)) or np.any(np.diff(speeds) <= 0)
+                or np.any(speeds <= 0)):
             raise InputError(f"speeds_m_s: need increasing positive speeds, got {self.speeds_m_s}")
         for name in model.parameter_names:
             if name not in self.params and not any(p.name == name and p.fixed
@@ -40,6 +41,8 @@ class SpeedTable:
         for name, column in self.params.items():
             if len(column) != speeds.size:
                 raise InputError(f"params.{name}: {len(column)} values for {speeds.size} speeds")
+            if not np.all(np.isfinite(column)):
+                raise InputError(f"params.{name}: values must be finite, got {column}")
 
     @property
     def units(self) -> dict[str, str]:
@@ -73,6 +76,9 @@ class SpeedTable:
                        data.get("note", ""))
         except KeyError as missing:
             raise InputError(f"speed table: missing key {missing}") from None
+        except (TypeError, ValueError, AttributeError) as error:
+            raise InputError(f"speed table: speeds_m_s and params must hold numbers ({error})") \
+                from None
 
     def to_csv(self) -> str:
         """One row per speed: impact_speed_m_s then the parameters (units in the header)."""

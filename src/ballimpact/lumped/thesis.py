@@ -86,12 +86,12 @@ class _ThesisModel(LumpedModel):
         super().check(params, mass_kg)
         full = self.full(params)
         for name, value in full.items():
-            if name.startswith(("k", "c")):
+            if name.startswith("c"):
                 check_range(name, value, 0.0)
             elif name.startswith("alpha"):
                 check_range(name, value, 0.5, 5.0)
-            elif not value > 0:
-                check_range(name, value, 1e-300)
+            else:  # stiffnesses and unit masses
+                check_range(name, value, 0.0, strict=True)
 
     def ball_mass_kg(self, params, mass_kg):
         if self._units == 1:

@@ -45,7 +45,7 @@ def bounds(scale):
 
 def validate(params):
     for i in range(1, UNITS + 1):
-        check_range(f"k{i}", params[f"k{i}"], 0.0)
+        check_range(f"k{i}", params[f"k{i}"], 0.0, strict=True)
         check_range(f"alpha{i}", params[f"alpha{i}"], 0.5, 5.0)
         check_range(f"c{i}", params[f"c{i}"], 0.0)
         if not params[f"m{i}"] > 0:
