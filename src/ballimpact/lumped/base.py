@@ -8,6 +8,7 @@ compression. A unit leaves the surface when its contact force returns to zero (s
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from dataclasses import dataclass
 import numpy as np
 
@@ -71,7 +72,7 @@ class BatchResult:
     separated: np.ndarray
 
 
-class LumpedModel:
+class LumpedModel(ABC):
     """Base of the registry's models. A model has a `name`, a one-line `summary`, its
     `parameters`, `default_bounds(scale)` (name -> (low, high); for `stiffness` parameters the
     bounds of the force at the reference compression, N) and `run_batch`."""
@@ -89,8 +90,9 @@ class LumpedModel:
     def units(self) -> dict[str, str]:
         return {p.name: p.unit for p in self.parameters}
 
+    @abstractmethod
     def default_bounds(self, scale: Scale) -> dict[str, tuple[float, float]]:
-        raise NotImplementedError
+        """Search bounds drawn from the scales of a measured impact."""
 
     def check(self, params: dict[str, float], mass_kg: float | None) -> None:
         """Validate a full parameter set (names, finiteness; model-specific ranges)."""
@@ -123,10 +125,13 @@ class LumpedModel:
             raise InputError(f"mass_kg: must be > 0, got {mass_kg!r}")
         return float(mass_kg)
 
+    @abstractmethod
     def run_batch(
         self, params: np.ndarray, mass_kg: float, impact_speed_m_s: float, step_s: float, steps: int
     ) -> BatchResult:
-        raise NotImplementedError
+        """Runs for parameter vectors (B, P) in `parameter_names` order, from first contact on a
+        grid of `steps` steps of `step_s` seconds (a model with its own fixed step may ignore
+        both)."""
 
 
 def check_range(name: str, value: float, low: float, high: float | None = None, *,
