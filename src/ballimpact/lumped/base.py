@@ -53,6 +53,11 @@ class Scale:
     def force_per_speed_n_s_m(self) -> float:
         return self.peak_force_n / self.impact_speed_m_s
 
+    @property
+    def stiffness_force_bounds_n(self) -> tuple[float, float]:
+        """Default search range of a single spring's force at the reference compression."""
+        return 0.3 * self.peak_force_n, 3.0 * self.peak_force_n
+
 
 @dataclass(frozen=True)
 class BatchResult:

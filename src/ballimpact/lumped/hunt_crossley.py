@@ -21,7 +21,7 @@ def force(q, state):
 
 def bounds(scale):
     return {
-        "k": (0.3 * scale.peak_force_n, 3.0 * scale.peak_force_n),
+        "k": scale.stiffness_force_bounds_n,
         "n": (1.0, 2.5),
         "lambda": (0.0, 3.0 / scale.impact_speed_m_s),
     }

@@ -29,7 +29,7 @@ def split(p, mass):
 
 
 def bounds(scale):
-    return {"k": (0.3 * scale.peak_force_n, 3.0 * scale.peak_force_n),
+    return {"k": scale.stiffness_force_bounds_n,
             "c": (0.0, 1.5 * scale.force_per_speed_n_s_m)}
 
 

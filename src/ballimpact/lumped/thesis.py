@@ -126,7 +126,7 @@ class _ThesisModel(LumpedModel):
 
 
 def _single_bounds(scale):
-    return {"k": (0.3 * scale.peak_force_n, 3.0 * scale.peak_force_n), "alpha": (1.0, 2.5),
+    return {"k": scale.stiffness_force_bounds_n, "alpha": (1.0, 2.5),
             "c": (0.0, 5000.0)}
 
 
