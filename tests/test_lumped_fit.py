@@ -122,3 +122,12 @@ def test_speed_table_fits_and_interpolates():
     assert again == table
     assert table.to_csv().splitlines()[0] == "impact_speed_m_s,k [N/m^n],n [1],lambda [s/m]"
     assert table.simulate(15.0, mass_kg=0.16).rebound_speed_m_s > 0
+
+
+def test_polish_improves_on_the_search_alone():
+    record = noisy(clean("single_element", SINGLE), 0.02, seed=5)
+    searched = fit(record, "single_element", polish=False, generations=20, seed=5)
+    polished = fit(record, "single_element", generations=20, seed=5)
+    assert not searched.polished and polished.polished
+    assert searched.history_best == polished.history_best  # same seed, same search
+    assert polished.fitness <= searched.fitness

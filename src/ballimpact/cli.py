@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 import time
 import warnings
@@ -192,8 +193,6 @@ def _use_compilation_cache() -> None:
     """Keep JAX's compiled programs between runs of the command (about 2 s saved per run after
     the first): in $BALLIMPACT_CACHE_DIR, else ~/.cache/ballimpact/jax. Set for this process by
     the command only; the library leaves JAX's configuration alone."""
-    import os
-
     import jax
 
     folder = os.environ.get("BALLIMPACT_CACHE_DIR") or os.path.join(

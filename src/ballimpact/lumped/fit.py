@@ -305,6 +305,12 @@ def _search(objective: _Objective, dimension: int, method: str, population: int,
     return np.atleast_1d(result.X), history
 
 
+def _difference_points(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Forward-difference steps (backward at the box's upper edge) and the batch [x, x + steps]."""
+    steps = np.where(x + _FD_STEP <= 1.0, _FD_STEP, -_FD_STEP)
+    return steps, np.vstack([x, x + np.diag(steps)])
+
+
 def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
     """Bounded least squares (trust-region reflective) from the search's best point; the
     Jacobian is a forward difference evaluated as one batch."""
@@ -313,8 +319,7 @@ def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
     def evaluate(x):
         key = x.tobytes()
         if key not in cache:
-            steps = np.where(x + _FD_STEP <= 1.0, _FD_STEP, -_FD_STEP)
-            points = np.vstack([x, x + np.diag(steps)])
+            steps, points = _difference_points(x)
             rows = objective.residuals(points)
             cache.clear()
             cache[key] = (rows[0], ((rows[1:] - rows[0]) / steps[:, None]).T)
@@ -330,8 +335,7 @@ def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
 def _standard_errors(objective: _Objective, best: np.ndarray, names: tuple[str, ...]):
     """Linearised standard errors of the parameters (SI), s^2 (J^T J)^-1 mapped from the unit box
     to the parameters, with s^2 the residual variance: what the noise in the record allows."""
-    steps = np.where(best + _FD_STEP <= 1.0, _FD_STEP, -_FD_STEP)
-    points = np.vstack([best, best + np.diag(steps)])
+    steps, points = _difference_points(best)
     _, force, _ = objective.run(points)
     jacobian = ((force[1:] - force[0]) / steps[:, None]).T  # (M, d) in N per unit box
     dof = max(force.shape[1] - best.size, 1)

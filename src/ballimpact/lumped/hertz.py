@@ -13,6 +13,7 @@ from .engine import OdeModel
 from .single_element import force as single_element_force, undamped_power_law
 
 EXPONENT = 1.5
+POISSONS_RATIO, RADIUS_M = 0.5, 0.036  # defaults: rubber-like, a cricket ball
 
 
 def _stiffness(youngs_modulus, poissons_ratio, radius):
@@ -28,8 +29,9 @@ def split(p, mass):
 
 
 def bounds(scale):
-    # E* from F = (4/3) E* sqrt(R) y^1.5 at the measured peak, with nu = 0.5 and R = 36 mm
-    estimate = 0.75 * 0.75 * scale.peak_force_n / np.sqrt(0.036) / scale.max_compression_m**1.5
+    # E from F = (4/3) E/(1 - nu^2) sqrt(R) y^1.5 at the measured peak, default nu and R
+    e_star = 0.75 * scale.peak_force_n / np.sqrt(RADIUS_M) / scale.max_compression_m**1.5
+    estimate = e_star * (1.0 - POISSONS_RATIO**2)
     return {"youngs_modulus_pa": (0.1 * estimate, 10.0 * estimate)}
 
 
@@ -44,8 +46,8 @@ MODEL = OdeModel(
     summary="elastic sphere on a rigid plane, F = (4/3) E/(1-nu^2) sqrt(R) y^1.5",
     parameters=(
         Parameter("youngs_modulus_pa", "Pa", "Young's modulus", "log"),
-        Parameter("poissons_ratio", "1", "Poisson's ratio", default=0.5),
-        Parameter("radius_m", "m", "sphere radius", default=0.036),
+        Parameter("poissons_ratio", "1", "Poisson's ratio", default=POISSONS_RATIO),
+        Parameter("radius_m", "m", "sphere radius", default=RADIUS_M),
     ),
     bounds=bounds,
     split=split,

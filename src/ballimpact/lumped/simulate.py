@@ -95,7 +95,6 @@ def simulate(
     times = np.arange(-np.ceil(margin / step), np.ceil((contact + margin) / step) + 1) * step
     force = sample_on(result, times)[0]
     velocity = sample_on(result, times, "velocity_m_s", before=speed, after=-rebound)[0]
-    velocity = np.where(times > contact, -rebound, velocity)
     return ImpactRecord(
         times, force, velocity_m_s=velocity, mass_kg=mass, impact_speed_m_s=speed,
         rebound_speed_m_s=max(rebound, 0.0),
