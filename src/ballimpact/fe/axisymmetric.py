@@ -1,0 +1,176 @@
+"""Axisymmetric 4-node quadrilateral, total Lagrangian, 2x2 Gauss points with F-bar.
+
+Coordinates are (r, z). At a Gauss point the deformation gradient is block diagonal: the in-plane
+2x2 part and the hoop stretch r / R. Volumetric locking at Poisson ratios near 0.5 is avoided by
+F-bar (de Souza Neto et al. 1996): each Gauss point's F is scaled so its determinant equals the
+one at the element centre, Fbar = (J0 / J)^(1/3) F. Internal forces are the exact pull-back of
+P : dFbar through the F-bar map (a JAX vector-Jacobian product), so they are consistent with the
+stored energy and the energy balance closes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .mesh import AxisymmetricMesh
+
+_G = 1.0 / np.sqrt(3.0)
+# Four Gauss points (weight 1 each) and the centre (index 4, for F-bar and bulk viscosity).
+POINTS = np.array([[-_G, -_G], [_G, -_G], [_G, _G], [-_G, _G], [0.0, 0.0]])
+_CORNERS = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+
+
+def _shape(xi: float, eta: float) -> tuple[np.ndarray, np.ndarray]:
+    n = 0.25 * (1 + _CORNERS[:, 0] * xi) * (1 + _CORNERS[:, 1] * eta)
+    dn = 0.25 * np.stack([_CORNERS[:, 0] * (1 + _CORNERS[:, 1] * eta),
+                          _CORNERS[:, 1] * (1 + _CORNERS[:, 0] * xi)], axis=1)
+    return n, dn
+
+
+@dataclass(frozen=True, eq=False)
+class AxiGeometry:
+    """Reference-configuration data of a mesh, elements sorted by layer (NumPy, float64).
+
+    Arrays that the step uses are laid out components first and elements last, (..., n_el), so
+    that every operation runs as a fused loop over elements (much faster on a CPU than small
+    batched matrix products).
+    """
+
+    nodes_m: np.ndarray          # (n_nodes, 2) reference (r, z)
+    elements: np.ndarray         # (n_el, 4), sorted by layer
+    layer_slices: tuple[tuple[int, int], ...]
+    shape_values: np.ndarray     # (5, 4) N_a at the points
+    grad_n: np.ndarray           # (4, 2, 5, n_el) dN_a/dX_d at the points q (1/m)
+    radius_m: np.ndarray         # (5, n_el) reference radius R at the points
+    volume_weight_m3: np.ndarray  # (4, n_el) 2 pi R det(J) w at the Gauss points
+    node_table: np.ndarray       # (n_nodes, valence) indices into the flat corners a * n_el + e
+    nodal_volume_m3: np.ndarray  # (n_layers, n_nodes) row-sum lumped volume from each layer
+    characteristic_length_m: np.ndarray  # (n_el,) area / longest diagonal
+    surface_nodes: np.ndarray
+    surface_area_m2: np.ndarray  # (n_surface,) tributary area of each surface node
+    surface_length_m: np.ndarray  # (n_surface,) length of the element under each surface node
+    surface_layer: int
+
+    @property
+    def n_elements(self) -> int:
+        return len(self.elements)
+
+    @property
+    def element_volume_m3(self) -> np.ndarray:
+        return self.volume_weight_m3.sum(axis=0)
+
+
+def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
+    order = np.argsort(mesh.element_layer, kind="stable")
+    elements = np.asarray(mesh.elements)[order]
+    layers = np.asarray(mesh.element_layer)[order]
+    n_layers = len(mesh.layer_radii_m)
+    bounds = np.searchsorted(layers, np.arange(n_layers + 1))
+    slices = tuple((int(bounds[i]), int(bounds[i + 1])) for i in range(n_layers))
+    n_el = len(elements)
+
+    X = np.asarray(mesh.nodes_m, dtype=np.float64)
+    xe = X[elements]                                    # (n_el, 4, 2)
+    values, grads = zip(*(_shape(*p) for p in POINTS))
+    shape_values = np.stack(values)                     # (5, 4)
+    dn_dxi = np.stack(grads)                            # (5, 4, 2)
+    jac = np.einsum("qak,ead->eqdk", dn_dxi, xe)         # dX_d/dxi_k, (n_el, 5, 2, 2)
+    det = np.linalg.det(jac)
+    if np.any(det <= 0):
+        raise ValueError("mesh has an element with a non-positive Jacobian")
+    grad_n = np.einsum("qak,eqkd->eqad", dn_dxi, np.linalg.inv(jac))  # (n_el, 5, 4, 2)
+    radius = np.einsum("qa,ea->eq", shape_values, xe[:, :, 0])
+    weight = 2.0 * np.pi * radius[:, :4] * det[:, :4]
+
+    n_nodes = len(X)
+    corner_node = elements.T.reshape(-1)               # flat index a * n_el + e
+    counts = np.bincount(corner_node, minlength=n_nodes)
+    table = np.full((n_nodes, counts.max()), len(corner_node), dtype=np.int64)  # pad -> zero
+    fill = np.zeros(n_nodes, dtype=np.int64)
+    for position, node in enumerate(corner_node):
+        table[node, fill[node]] = position
+        fill[node] += 1
+
+    nodal_volume = np.zeros((n_layers, n_nodes))
+    contrib = np.einsum("qa,eq->ea", shape_values[:4], weight)  # row-sum lumping
+    for i, (a, b) in enumerate(slices):
+        np.add.at(nodal_volume[i], elements[a:b].reshape(-1), contrib[a:b].reshape(-1))
+
+    area = 0.5 * np.abs(np.sum(xe[:, :, 0] * np.roll(xe[:, :, 1], -1, axis=1)
+                               - np.roll(xe[:, :, 0], -1, axis=1) * xe[:, :, 1], axis=1))
+    diagonal = np.maximum(np.linalg.norm(xe[:, 2] - xe[:, 0], axis=1),
+                          np.linalg.norm(xe[:, 3] - xe[:, 1], axis=1))
+    char_length = area / diagonal
+
+    surface = np.asarray(mesh.surface_nodes)
+    ps = X[surface]
+    seg = np.linalg.norm(np.diff(ps, axis=0), axis=1)
+    half = np.zeros(len(surface))
+    half[:-1] += 0.5 * seg
+    half[1:] += 0.5 * seg
+    # Tributary area on the sphere: a band of half the adjacent segments, a cap at the poles.
+    trib = 2.0 * np.pi * ps[:, 0] * half
+    trib[0] = np.pi * (0.5 * seg[0]) ** 2
+    trib[-1] = np.pi * (0.5 * seg[-1]) ** 2
+    # The element under each surface node: the smallest characteristic length among its elements.
+    per_node = np.full(n_nodes, np.inf)
+    np.minimum.at(per_node, elements.reshape(-1), np.repeat(char_length, 4))
+    return AxiGeometry(nodes_m=X, elements=elements, layer_slices=slices,
+                       shape_values=shape_values, grad_n=np.ascontiguousarray(
+                           grad_n.transpose(2, 3, 1, 0)),
+                       radius_m=np.ascontiguousarray(radius.T),
+                       volume_weight_m3=np.ascontiguousarray(weight.T), node_table=table,
+                       nodal_volume_m3=nodal_volume, characteristic_length_m=char_length,
+                       surface_nodes=surface, surface_area_m2=trib,
+                       surface_length_m=per_node[surface], surface_layer=n_layers - 1)
+
+
+def element_values(geom: AxiGeometry, nodal: jax.Array) -> jax.Array:
+    """Nodal vectors (2, n_nodes) at the element corners: (2, 4, n_el)."""
+    return nodal[:, geom.elements.T]
+
+
+def deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[jax.Array, jax.Array]:
+    """In-plane F (2, 2, 5, n_el) and hoop stretch (5, n_el) from corner displacements (2, 4, n_el)."""
+    H = jnp.sum(u_e[:, :, None, None, :] * geom.grad_n[None], axis=1)  # du_i/dX_d
+    F2 = H + jnp.eye(2)[:, :, None, None]
+    ur = jnp.sum(geom.shape_values[:, :, None] * u_e[0][None], axis=1)
+    return F2, 1.0 + ur / geom.radius_m
+
+
+def fbar(F2: jax.Array, Fh: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """F-bar at the Gauss points: Fbar2 (2, 2, 4, n_el), Fbar_hoop (4, n_el), J (5, n_el)."""
+    J = (F2[0, 0] * F2[1, 1] - F2[0, 1] * F2[1, 0]) * Fh
+    scale = (J[4] / J[:4]) ** (1.0 / 3.0)
+    return F2[:, :, :4] * scale, Fh[:4] * scale, J
+
+
+def right_cauchy_green(Fb2: jax.Array, Fbh: jax.Array) -> jax.Array:
+    """C (3, 3, ...) of a block-diagonal F."""
+    c00 = Fb2[0, 0] ** 2 + Fb2[1, 0] ** 2
+    c11 = Fb2[0, 1] ** 2 + Fb2[1, 1] ** 2
+    c01 = Fb2[0, 0] * Fb2[0, 1] + Fb2[1, 0] * Fb2[1, 1]
+    zero = jnp.zeros_like(c00)
+    return jnp.stack([jnp.stack([c00, c01, zero]), jnp.stack([c01, c11, zero]),
+                      jnp.stack([zero, zero, Fbh * Fbh])])
+
+
+def first_piola(Fb2, Fbh, S, pressure_j):
+    """In-plane P = Fbar S + p J Fbar^-T (2, 2, ...) and hoop P (...); `pressure_j` = sigma_bv J."""
+    det = Fb2[0, 0] * Fb2[1, 1] - Fb2[0, 1] * Fb2[1, 0]
+    inv_t = jnp.stack([jnp.stack([Fb2[1, 1], -Fb2[1, 0]]),
+                       jnp.stack([-Fb2[0, 1], Fb2[0, 0]])]) / det  # Fbar^-T
+    P2 = jnp.stack([jnp.stack([Fb2[i, 0] * S[0, j] + Fb2[i, 1] * S[1, j] for j in range(2)])
+                    for i in range(2)])
+    return P2 + pressure_j * inv_t, Fbh * S[2, 2] + pressure_j / Fbh
+
+
+def gather_nodal(geom: AxiGeometry, f_e: jax.Array) -> jax.Array:
+    """Sum corner vectors (2, 4, n_el) to nodes (2, n_nodes): a gather, no scatter."""
+    flat = f_e.reshape(f_e.shape[0], -1)
+    flat = jnp.concatenate([flat, jnp.zeros((flat.shape[0], 1), flat.dtype)], axis=1)
+    return flat[:, geom.node_table].sum(axis=-1)

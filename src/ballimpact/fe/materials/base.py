@@ -1,0 +1,217 @@
+"""What every FE material has: a strain energy split into a relaxing and a volumetric part, an
+optional Prony series, and the convention (`moduli`) in which its constants are given.
+
+The solver works with instantaneous constants. A set given as `long_term` is scaled up: deviatoric
+constants by 1 / (1 - sum g_i), the bulk modulus by 1 / (1 - sum k_i) (DESIGN.md "FE engine").
+Stresses are second Piola-Kirchhoff, S = 2 dW/dC, from the energy by automatic differentiation.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ...errors import InputError
+
+MODULI = ("long_term", "instantaneous")
+INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0, as ABAQUS/Explicit (nu = 0.475)
+
+
+@dataclass(frozen=True)
+class PronyTerm:
+    """One term of g_R(t) = 1 - sum g_i (1 - exp(-t / tau_i)) (and k_R likewise for the bulk)."""
+
+    g: float
+    k: float
+    tau_s: float
+
+
+def _number(d: dict, key: str, where: str, low: float = -math.inf, high: float = math.inf,
+            low_open: bool = False, high_open: bool = False) -> float:
+    if key not in d:
+        raise InputError(f"{where}: missing key '{key}'")
+    value = d[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}.{key}: expected a finite number, got {value!r}")
+    too_low = value <= low if low_open else value < low
+    too_high = value >= high if high_open else value > high
+    if too_low or too_high:
+        lo = "(" if low_open else "["
+        hi = ")" if high_open else "]"
+        raise InputError(f"{where}.{key} = {value}: allowed range {lo}{low:g}, {high:g}{hi}")
+    return float(value)
+
+
+def _check_keys(d: Any, allowed: set[str], where: str) -> None:
+    if not isinstance(d, dict):
+        raise InputError(f"{where}: expected an object, got {type(d).__name__}")
+    unknown = sorted(set(d) - allowed)
+    if unknown:
+        raise InputError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(sorted(allowed))})")
+
+
+def _prony_from(d: dict, where: str) -> tuple[PronyTerm, ...]:
+    terms = d.get("prony", [])
+    if not isinstance(terms, list):
+        raise InputError(f"{where}.prony: expected a list of {{g, k, tau_s}}")
+    out = []
+    for i, t in enumerate(terms):
+        w = f"{where}.prony[{i}]"
+        _check_keys(t, {"g", "k", "tau_s"}, w)
+        out.append(PronyTerm(g=_number(t, "g", w, 0.0, 1.0, high_open=True),
+                             k=_number({"k": 0.0, **t}, "k", w, 0.0, 1.0, high_open=True),
+                             tau_s=_number(t, "tau_s", w, 0.0, low_open=True)))
+    if sum(t.g for t in out) >= 1.0:
+        raise InputError(f"{where}.prony: sum of g must be < 1, got {sum(t.g for t in out):g}")
+    if sum(t.k for t in out) >= 1.0:
+        raise InputError(f"{where}.prony: sum of k must be < 1, got {sum(t.k for t in out):g}")
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Material(ABC):
+    """A hyperelastic material with optional Prony viscoelasticity (constants in SI)."""
+
+    prony: tuple[PronyTerm, ...] = field(default=(), kw_only=True)
+    moduli: str = field(default="long_term", kw_only=True)
+
+    model: ClassVar[str]
+    keys: ClassVar[tuple[str, ...]]  # the model's own keys in the ball specification
+    # Hyperfoam has no deviatoric/volumetric split: its whole stress relaxes with g_i.
+    relax_whole_stress: ClassVar[bool] = False
+
+    def __post_init__(self) -> None:
+        if self.moduli not in MODULI:
+            raise InputError(f"{self.model}.moduli = {self.moduli!r}: allowed {', '.join(MODULI)}")
+        if self.relax_whole_stress and any(t.k for t in self.prony):
+            raise InputError(f"{self.model}.prony.k: must be 0 (the whole stress relaxes with g)")
+
+    # ---- constants -------------------------------------------------------------------------
+    @property
+    def sum_g(self) -> float:
+        return float(sum(t.g for t in self.prony))
+
+    @property
+    def sum_k(self) -> float:
+        return float(sum(t.k for t in self.prony))
+
+    def deviatoric_factor(self) -> float:
+        """Factor from the constants as given to instantaneous deviatoric constants."""
+        return 1.0 / (1.0 - self.sum_g) if self.moduli == "long_term" else 1.0
+
+    def volumetric_factor(self) -> float:
+        """Factor from the bulk modulus as given to the instantaneous one."""
+        sum_k = self.sum_g if self.relax_whole_stress else self.sum_k
+        return 1.0 / (1.0 - sum_k) if self.moduli == "long_term" else 1.0
+
+    @abstractmethod
+    def given_moduli_pa(self) -> tuple[float, float]:
+        """Initial shear and bulk moduli (Pa) of the constants as given."""
+
+    @abstractmethod
+    def hyperelastic_constants(self) -> dict[str, Any]:
+        """Instantaneous constants of `energy` (SI; arrays for multi-term models)."""
+
+    def shear_modulus_pa(self, instantaneous: bool = True) -> float:
+        mu, _ = self.given_moduli_pa()
+        inst = mu * self.deviatoric_factor()
+        return inst if instantaneous else inst * (1.0 - self.sum_g)
+
+    def bulk_modulus_pa(self, instantaneous: bool = True) -> float:
+        _, k = self.given_moduli_pa()
+        relaxing = self.sum_g if self.relax_whole_stress else self.sum_k
+        inst = k * self.volumetric_factor()
+        return inst if instantaneous else inst * (1.0 - relaxing)
+
+    def wave_modulus_pa(self) -> float:
+        """Instantaneous dilatational (P-wave) modulus K + 4/3 mu, for the stable increment."""
+        return self.bulk_modulus_pa() + 4.0 / 3.0 * self.shear_modulus_pa()
+
+    def constants(self) -> dict[str, Any]:
+        """Everything the solver needs, as float64 arrays: a pytree that can be stacked for vmap."""
+        n = len(self.prony)
+        g = np.array([t.g for t in self.prony], dtype=np.float64).reshape(n)
+        k = np.array([t.k for t in self.prony], dtype=np.float64).reshape(n)
+        if self.relax_whole_stress:
+            k = np.zeros(n)
+        out = {name: np.asarray(v, dtype=np.float64)
+               for name, v in self.hyperelastic_constants().items()}
+        out.update(prony_g=g, prony_k=k,
+                   prony_tau_s=np.array([t.tau_s for t in self.prony], dtype=np.float64).reshape(n),
+                   shear_modulus_pa=np.float64(self.shear_modulus_pa()),
+                   bulk_modulus_pa=np.float64(self.bulk_modulus_pa()))
+        return out
+
+    # ---- energy (pure, jnp) ----------------------------------------------------------------
+    energy: ClassVar[Callable[[jax.Array, dict], tuple[jax.Array, jax.Array]]]
+    """energy(C, constants) -> (W_relaxing, W_volumetric) per unit reference volume (J/m^3) for
+    right Cauchy-Green tensors C of shape (3, 3, ...) (components first), at the instantaneous
+    constants."""
+
+    # ---- specification ---------------------------------------------------------------------
+    @classmethod
+    def from_dict(cls, d: dict, where: str = "material") -> Material:
+        _check_keys(d, {"model", *cls.keys, "prony", "moduli"}, where)
+        moduli = d.get("moduli", "long_term")
+        if moduli not in MODULI:
+            raise InputError(f"{where}.moduli = {moduli!r}: allowed {', '.join(MODULI)}")
+        return cls._from_keys(d, where, prony=_prony_from(d, where), moduli=moduli)
+
+    @classmethod
+    @abstractmethod
+    def _from_keys(cls, d: dict, where: str, **common: Any) -> Material: ...
+
+    @abstractmethod
+    def _keys_dict(self) -> dict[str, Any]: ...
+
+    def to_dict(self) -> dict[str, Any]:
+        out = {"model": self.model, **self._keys_dict(), "moduli": self.moduli}
+        if self.prony:
+            out["prony"] = [{"g": t.g, "k": t.k, "tau_s": t.tau_s} for t in self.prony]
+        return out
+
+
+def stress_parts(energy, C: jax.Array, constants: dict) -> tuple[jax.Array, jax.Array]:
+    """Second Piola-Kirchhoff stress parts S = 2 dW/dC; C has shape (3, 3, ...) (components first,
+    any number of points after), and so have the results. Each point's energy depends only on its
+    own C, so the gradient of the summed energy is the pointwise stress."""
+    s_dev = jax.grad(lambda c: jnp.sum(energy(c, constants)[0]))(C)
+    s_vol = jax.grad(lambda c: jnp.sum(energy(c, constants)[1]))(C)
+    return 2.0 * s_dev, 2.0 * s_vol
+
+
+def energy_density(energy, C: jax.Array, constants: dict) -> tuple[jax.Array, jax.Array]:
+    """Energy parts (J/m^3) at each point of C, shape (3, 3, ...)."""
+    return energy(C, constants)
+
+
+def identity_like(C: jax.Array) -> jax.Array:
+    """The 3x3 identity broadcast against C of shape (3, 3, ...)."""
+    return jnp.eye(3).reshape((3, 3) + (1,) * (C.ndim - 2))
+
+
+def det3(C: jax.Array) -> jax.Array:
+    """Determinant of a 3x3 matrix by cofactors (cheaper than an LU under vmap and grad)."""
+    return (C[0, 0] * (C[1, 1] * C[2, 2] - C[1, 2] * C[2, 1])
+            - C[0, 1] * (C[1, 0] * C[2, 2] - C[1, 2] * C[2, 0])
+            + C[0, 2] * (C[1, 0] * C[2, 1] - C[1, 1] * C[2, 0]))
+
+
+def isochoric_invariants(C: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
+    """(I1bar, I2bar, J) of right Cauchy-Green tensors, shape (3, 3, ...)."""
+    J = jnp.sqrt(det3(C))
+    i1 = C[0, 0] + C[1, 1] + C[2, 2]
+    i2 = 0.5 * (i1 * i1 - jnp.sum(C * jnp.swapaxes(C, 0, 1), axis=(0, 1)))
+    return J ** (-2.0 / 3.0) * i1, J ** (-4.0 / 3.0) * i2, J
+
+
+def bulk_from_d1(d1_per_pa: float, mu0_pa: float) -> float:
+    """Bulk modulus K = 2 / D1; D1 = 0 means K0 = 20 mu0 (ABAQUS/Explicit's substitute)."""
+    return INCOMPRESSIBLE_BULK_TO_SHEAR * mu0_pa if d1_per_pa == 0.0 else 2.0 / d1_per_pa

@@ -1,0 +1,48 @@
+"""Linear elastic, extended to finite rotations (Saint Venant-Kirchhoff): S = lambda tr(E) I + 2 mu E.
+
+Meant for small-strain checks (Hertz). Its relaxing part is the deviatoric 2 mu dev(E), its
+volumetric part K tr(E) I.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import jax.numpy as jnp
+
+from .base import Material, _number, identity_like
+
+
+@dataclass(frozen=True)
+class LinearElastic(Material):
+    youngs_modulus_pa: float
+    poissons_ratio: float
+
+    model = "linear_elastic"
+    keys = ("youngs_modulus_pa", "poissons_ratio")
+
+    def given_moduli_pa(self) -> tuple[float, float]:
+        e, nu = self.youngs_modulus_pa, self.poissons_ratio
+        return e / (2.0 * (1.0 + nu)), e / (3.0 * (1.0 - 2.0 * nu))
+
+    def hyperelastic_constants(self) -> dict[str, Any]:
+        mu, k = self.given_moduli_pa()
+        return {"mu_pa": mu * self.deviatoric_factor(), "k_pa": k * self.volumetric_factor()}
+
+    @staticmethod
+    def energy(C, c):
+        eye = identity_like(C)
+        E = 0.5 * (C - eye)
+        tr = E[0, 0] + E[1, 1] + E[2, 2]
+        dev = E - tr / 3.0 * eye
+        return c["mu_pa"] * jnp.sum(dev * dev, axis=(0, 1)), 0.5 * c["k_pa"] * tr * tr
+
+    @classmethod
+    def _from_keys(cls, d, where, **common):
+        return cls(youngs_modulus_pa=_number(d, "youngs_modulus_pa", where, 0.0, low_open=True),
+                   poissons_ratio=_number(d, "poissons_ratio", where, -1.0, 0.5, True, True),
+                   **common)
+
+    def _keys_dict(self):
+        return {"youngs_modulus_pa": self.youngs_modulus_pa, "poissons_ratio": self.poissons_ratio}

@@ -1,0 +1,54 @@
+"""Mooney-Rivlin: W = C10 (I1bar - 3) + C01 (I2bar - 3) + (J - 1)^2 / D1 (thesis eq. 5-9, 6-1).
+
+D1 = 0 ("incompressible", as in the thesis) is replaced by K0 = 20 mu0, mu0 = 2 (C10 + C01), as
+ABAQUS/Explicit does. A negative C01 is allowed (the thesis' sets have one); check such sets with
+`stability.mooney_rivlin_drucker`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from ...errors import InputError
+from .base import Material, _number, bulk_from_d1, isochoric_invariants
+
+
+@dataclass(frozen=True)
+class MooneyRivlin(Material):
+    c10_pa: float
+    c01_pa: float
+    d1_per_pa: float = 0.0
+
+    model = "mooney_rivlin"
+    keys = ("c10_pa", "c01_pa", "d1_per_pa")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not self.c10_pa + self.c01_pa > 0.0:
+            raise InputError(f"{self.model}: c10_pa + c01_pa must be > 0 (initial shear modulus "
+                             f"2 (C10 + C01)), got {self.c10_pa + self.c01_pa:g}")
+        if self.d1_per_pa < 0.0:
+            raise InputError(f"{self.model}.d1_per_pa = {self.d1_per_pa:g}: allowed range [0, inf)")
+
+    def given_moduli_pa(self) -> tuple[float, float]:
+        mu0 = 2.0 * (self.c10_pa + self.c01_pa)
+        return mu0, bulk_from_d1(self.d1_per_pa, mu0)
+
+    def hyperelastic_constants(self) -> dict[str, Any]:
+        f = self.deviatoric_factor()
+        return {"c10_pa": self.c10_pa * f, "c01_pa": self.c01_pa * f,
+                "k_pa": self.given_moduli_pa()[1] * self.volumetric_factor()}
+
+    @staticmethod
+    def energy(C, c):
+        i1, i2, J = isochoric_invariants(C)
+        return c["c10_pa"] * (i1 - 3.0) + c["c01_pa"] * (i2 - 3.0), 0.5 * c["k_pa"] * (J - 1.0) ** 2
+
+    @classmethod
+    def _from_keys(cls, d, where, **common):
+        return cls(c10_pa=_number(d, "c10_pa", where), c01_pa=_number(d, "c01_pa", where),
+                   d1_per_pa=_number({"d1_per_pa": 0.0, **d}, "d1_per_pa", where, 0.0), **common)
+
+    def _keys_dict(self):
+        return {"c10_pa": self.c10_pa, "c01_pa": self.c01_pa, "d1_per_pa": self.d1_per_pa}

@@ -1,0 +1,432 @@
+"""Explicit central-difference solver: a layered axisymmetric ball hits a rigid plane.
+
+The ball's south pole touches the plane z = 0 at t = 0, every node moving at -v_in along z.
+Central difference (velocity form, constant increment) with lumped masses; internal forces from
+`axisymmetric` (F-bar) and the materials' strain energies with Simo's Prony update; linear and
+quadratic bulk viscosity; node-to-plane penalty contact with a stiffness derived from the contacting
+elements. Every step is a pure JAX function; `lax.scan` advances a chunk of steps, `vmap` runs many
+parameter sets at once, and a Python loop checks between chunks whether the ball has separated.
+
+Energies (J): kinetic, internal work (strain energy + viscous + bulk-viscous dissipation), contact
+work, viscous dissipation (Prony overstresses: sum Q:Q / (2 g mu tau), exact at small strain) and
+bulk-viscous dissipation. Energy balance: KE + internal work - contact work = KE0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import partial
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..errors import InputError, SimulationError
+from .axisymmetric import (AxiGeometry, deformation, element_values, fbar, first_piola,
+                           gather_nodal, geometry, right_cauchy_green)
+from .materials import prony_update, stress_parts
+from .mesh import layered_sphere_mesh
+
+HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "kinetic_energy_j",
+           "internal_work_j", "contact_work_j", "viscous_dissipation_j",
+           "bulk_viscous_dissipation_j")
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Numerical settings (SI). Defaults follow ABAQUS/Explicit where it has one."""
+
+    element_size_m: float = 1.0e-3
+    pole_element_size_m: float | None = None   # refinement toward the contact pole
+    pole_zone_deg: float = 30.0
+    bulk_viscosity_linear: float = 0.06
+    bulk_viscosity_quadratic: float = 1.2
+    penalty_scale: float = 1.0        # contact frequency sqrt(k/m) = sqrt(scale) c_d / L
+    contact_damping: float = 0.0      # fraction of critical damping of each contact spring
+    time_step_scale: float = 0.9      # safety factor on the element-by-element stable increment
+    end_margin: float = 0.25          # simulated after separation, as a fraction of contact time
+    time_limit_s: float | None = None  # default: 6 times a Hertz estimate of the contact time
+    chunk_steps: int = 200
+
+    def __post_init__(self) -> None:
+        checks = {"element_size_m": (self.element_size_m, 0.0, math.inf),
+                  "bulk_viscosity_linear": (self.bulk_viscosity_linear, -1e-300, 10.0),
+                  "bulk_viscosity_quadratic": (self.bulk_viscosity_quadratic, -1e-300, 10.0),
+                  "penalty_scale": (self.penalty_scale, 0.0, 100.0),
+                  "contact_damping": (self.contact_damping, -1e-300, 1.0),
+                  "time_step_scale": (self.time_step_scale, 0.0, 1.0),
+                  "end_margin": (self.end_margin, -1e-300, 10.0)}
+        for name, (value, low, high) in checks.items():
+            if not (isinstance(value, (int, float)) and low < value <= high):
+                lo = "0" if low <= 0 else f"{low:g}"
+                raise InputError(f"{name} = {value!r}: allowed range "
+                                 f"{'[' if low < 0 else '('}{lo}, {high:g}]")
+        if self.time_limit_s is not None and not self.time_limit_s > 0:
+            raise InputError(f"time_limit_s = {self.time_limit_s!r}: must be > 0")
+        if not (isinstance(self.chunk_steps, int) and self.chunk_steps >= 1):
+            raise InputError(f"chunk_steps = {self.chunk_steps!r}: must be an integer >= 1")
+
+
+# --------------------------------------------------------------------------------------------
+# Set-up on the host (NumPy): masses, stable increment, penalty stiffness, bulk viscosity factors.
+
+def _layer_arrays(ball, geom: AxiGeometry, options: SolverOptions) -> dict[str, Any]:
+    layers = ball.layers
+    rho = np.array([layer.density_kg_m3 for layer in layers])
+    wave = np.array([layer.material.wave_modulus_pa() for layer in layers])
+    c_d = np.sqrt(wave / rho)
+    element_layer = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.layer_slices)])
+    length = geom.characteristic_length_m
+    c_el, rho_el = c_d[element_layer], rho[element_layer]
+    mass = rho @ geom.nodal_volume_m3
+    m_surface = mass[geom.surface_nodes]
+    c_surface = c_d[geom.surface_layer]
+    l_surface = geom.surface_length_m
+    penalty = options.penalty_scale * m_surface * (c_surface / l_surface) ** 2
+    damping = options.contact_damping * 2.0 * np.sqrt(penalty * m_surface)
+    xi = options.bulk_viscosity_linear
+    dt_elements = np.min(length / c_el) * (math.sqrt(1.0 + xi * xi) - xi)
+    dt_contact = np.min(l_surface / c_surface) * 2.0 / math.sqrt(4.0 + options.penalty_scale)
+    dt = options.time_step_scale * min(dt_elements, dt_contact)
+    return {"mass_kg": mass, "penalty_n_m": penalty, "contact_damping_n_s_m": damping,
+            "dt_s": np.float64(dt),
+            "bv_linear_pa_s": options.bulk_viscosity_linear * rho_el * c_el * length,
+            "bv_quadratic_pa_s2": rho_el * (options.bulk_viscosity_quadratic * length) ** 2,
+            "layers": [layer.material.constants() for layer in layers]}
+
+
+def _hertz_contact_time_s(ball, speed: float) -> float:
+    """Contact time of a Hertz sphere with the ball's softest long-term moduli (for time limits)."""
+    e_min = min(9 * m.bulk_modulus_pa(False) * m.shear_modulus_pa(False)
+                / (3 * m.bulk_modulus_pa(False) + m.shear_modulus_pa(False))
+                for m in (layer.material for layer in ball.layers))
+    e_star = e_min / (1 - 0.5 ** 2)
+    return 2.868 * (ball.mass_kg ** 2 / (ball.outer_radius_m * e_star ** 2 * speed)) ** 0.2
+
+
+# --------------------------------------------------------------------------------------------
+# The step (pure JAX).
+
+@dataclass(frozen=True, eq=False)
+class _Kernel:
+    """Static data of one mesh and one ball structure; its methods are traced by JAX."""
+
+    geom: AxiGeometry
+    energies: tuple  # one energy function per layer
+    z_shift_m: float  # reference z of the south pole is -z_shift_m
+
+    def initial_state(self, params, speed):
+        g = self.geom
+        n = len(g.nodes_m)
+        zeros = jnp.zeros((2, n))
+        v0 = zeros.at[1].set(-speed)
+        mats = []
+        for (a, b), consts in zip(g.layer_slices, params["layers"]):
+            shape = (3, 3, 4, b - a)
+            n_terms = consts["prony_g"].shape[-1]
+            mats.append({"s0_dev": jnp.zeros(shape), "s0_vol": jnp.zeros(shape),
+                         "q_dev": jnp.zeros((n_terms,) + shape),
+                         "q_vol": jnp.zeros((n_terms,) + shape)})
+        inf = jnp.array(jnp.inf)
+        return {"u": zeros, "v": v0, "a": zeros, "t": jnp.array(0.0), "f_int": zeros,
+                "f_contact": jnp.zeros(n), "mat": mats, "j0": jnp.ones(g.n_elements),
+                "w_int": jnp.array(0.0), "w_contact": jnp.array(0.0),
+                "d_visc": jnp.array(0.0), "d_bv": jnp.array(0.0),
+                "peak_force": jnp.array(0.0), "t_peak": jnp.array(0.0), "u_peak": zeros,
+                "t_start": inf, "t_separation": inf, "t_bad": inf,
+                "min_j": jnp.array(1.0), "stretch_min": jnp.array(1.0),
+                "stretch_max": jnp.array(1.0)}
+
+    def internal(self, params, u, mats, j0_prev, dt):
+        """Internal nodal forces (2, n_nodes) at displacements u (2, n_nodes), new material
+        states, centre J, viscous and bulk-viscous power (W), min J and the C eigenvalue range."""
+        g = self.geom
+
+        def kinematics(u_e):
+            F2, Fh = deformation(g, u_e)
+            Fb2, Fbh, J = fbar(F2, Fh)
+            return (Fb2, Fbh), J
+
+        (Fb2, Fbh), pull, J = jax.vjp(kinematics, element_values(g, u), has_aux=True)
+        C = right_cauchy_green(Fb2, Fbh)
+        stresses, new_mats, diss = [], [], 0.0
+        for (a, b), energy, consts, mat in zip(g.layer_slices, self.energies, params["layers"],
+                                               mats):
+            s_dev, s_vol = stress_parts(energy, C[..., a:b], consts)
+            tau = consts["prony_tau_s"]
+            q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
+            q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+            stresses.append(s_dev + s_vol - q_dev.sum(axis=0) - q_vol.sum(axis=0))
+            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol, "q_dev": q_dev, "q_vol": q_vol})
+            w = g.volume_weight_m3[:, a:b]
+            diss = diss + _dissipation_rate(q_dev, 2.0 * consts["prony_g"]
+                                            * consts["shear_modulus_pa"], tau, w)
+            diss = diss + _dissipation_rate(q_vol, 3.0 * consts["prony_k"]
+                                            * consts["bulk_modulus_pa"], tau, w)
+        S = jnp.concatenate(stresses, axis=-1)
+        j0 = J[4]
+        rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
+        sigma_bv = rate * (params["bv_linear_pa_s"]
+                           + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
+        P2, Ph = first_piola(Fb2, Fbh, S, sigma_bv * j0)
+        w = g.volume_weight_m3
+        (f_e,) = pull((P2 * w, Ph * w))
+        f = gather_nodal(g, f_e)
+        bv_power = jnp.sum(sigma_bv * rate * j0 * g.element_volume_m3)
+        m_ = 0.5 * (C[0, 0] + C[1, 1])
+        d_ = jnp.sqrt(0.25 * (C[0, 0] - C[1, 1]) ** 2 + C[0, 1] ** 2)
+        lam2_min = jnp.minimum(jnp.min(m_ - d_), jnp.min(C[2, 2]))
+        lam2_max = jnp.maximum(jnp.max(m_ + d_), jnp.max(C[2, 2]))
+        return f, new_mats, j0, diss, bv_power, jnp.min(J), lam2_min, lam2_max
+
+    def step(self, params, state, _):
+        g = self.geom
+        dt = params["dt_s"]
+        mass = params["mass_kg"]
+        off_axis = jnp.asarray(g.nodes_m[:, 0] > 0.0)  # radial motion is zero on the axis
+        v_half = state["v"] + 0.5 * dt * state["a"]
+        u = state["u"] + dt * v_half
+        f_int, mats, j0, diss, bv_power, min_j, lam2_min, lam2_max = self.internal(
+            params, u, state["mat"], state["j0"], dt)
+        s = g.surface_nodes
+        z = g.nodes_m[s, 1] + self.z_shift_m + u[1, s]
+        penetration = jnp.maximum(-z, 0.0)
+        normal = params["penalty_n_m"] * penetration \
+            - params["contact_damping_n_s_m"] * v_half[1, s] * (penetration > 0)
+        normal = jnp.maximum(normal, 0.0)
+        f_contact = jnp.zeros(len(g.nodes_m)).at[s].set(normal)
+        force = (-f_int).at[1].add(f_contact)
+        a = force / mass
+        a = a.at[0].multiply(off_axis)
+        v = v_half + 0.5 * dt * a
+        du = u - state["u"]
+        w_int = state["w_int"] + 0.5 * jnp.sum((state["f_int"] + f_int) * du)
+        w_contact = state["w_contact"] + 0.5 * jnp.sum((state["f_contact"] + f_contact) * du[1])
+        t = state["t"] + dt
+        total = jnp.sum(normal)
+        m_total = jnp.sum(mass)
+        v_cm = jnp.sum(mass * v[1]) / m_total
+        z_cm = jnp.sum(mass * (g.nodes_m[:, 1] + self.z_shift_m + u[1])) / m_total
+        kinetic = 0.5 * jnp.sum(mass * v * v)
+        started = jnp.isfinite(state["t_start"])
+        t_start = jnp.where(~started & (total > 0), t, state["t_start"])
+        separating = started & (total <= 0) & (v_cm > 0) & jnp.isinf(state["t_separation"])
+        t_separation = jnp.where(separating, t, state["t_separation"])
+        new_peak = total > state["peak_force"]
+        bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
+        new = {"u": u, "v": v, "a": a, "t": t, "f_int": f_int, "f_contact": f_contact, "mat": mats,
+               "j0": j0, "w_int": w_int, "w_contact": w_contact,
+               "d_visc": state["d_visc"] + dt * diss, "d_bv": state["d_bv"] + dt * bv_power,
+               "peak_force": jnp.maximum(total, state["peak_force"]),
+               "t_peak": jnp.where(new_peak, t, state["t_peak"]),
+               "u_peak": jnp.where(new_peak, u, state["u_peak"]),
+               "t_start": t_start, "t_separation": t_separation,
+               "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
+               "min_j": jnp.minimum(state["min_j"], min_j),
+               "stretch_min": jnp.minimum(state["stretch_min"], jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
+               "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(lam2_max))}
+        row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, new["d_visc"],
+                         new["d_bv"]])
+        return new, row
+
+    def chunk(self, params, state, n_steps: int):
+        return jax.lax.scan(partial(self.step, params), state, None, length=n_steps)
+
+
+def _dissipation_rate(q, twice_modulus, tau, weight):
+    """Power (W) dissipated by the Prony overstresses q (n_terms, 3, 3, 4, n): sum Q:Q / (2 G tau)
+    dV with 2 G = 2 g_i mu (deviatoric) or 3 k_i K (bulk): exact for small strains."""
+    if q.shape[0] == 0:
+        return 0.0
+    qq = jnp.sum(q * q, axis=(1, 2))
+    denom = twice_modulus * tau
+    scale = jnp.where(denom > 0, 1.0 / jnp.where(denom > 0, denom, 1.0), 0.0)
+    return jnp.sum(scale[:, None, None] * qq * weight)
+
+
+_COMPILED: dict[Any, Any] = {}
+
+
+def _compiled_chunk(kernel: _Kernel, n_steps: int, batched: bool):
+    key = (id(kernel), n_steps, batched)
+    if key not in _COMPILED:
+        fn = partial(kernel.chunk, n_steps=n_steps)
+        init = kernel.initial_state
+        if batched:
+            fn, init = jax.vmap(fn), jax.vmap(init)
+        _COMPILED[key] = (jax.jit(fn), jax.jit(init))
+    return _COMPILED[key]
+
+
+# --------------------------------------------------------------------------------------------
+# The driver (host).
+
+@dataclass(frozen=True, eq=False)
+class FEResult:
+    """One simulated impact (SI). Histories are per step; `record` is an `ImpactRecord`."""
+
+    ball_name: str
+    impact_speed_m_s: float
+    history: dict[str, np.ndarray]
+    cor: float
+    peak_force_n: float
+    time_of_peak_s: float
+    contact_time_s: float
+    energy_balance_error: float
+    stable_time_increment_s: float
+    steps: int
+    elements: int
+    nodes: int
+    mass_kg: float
+    stretch_range: tuple[float, float]
+    nodes_m: np.ndarray = field(repr=False)
+    elements_connectivity: np.ndarray = field(repr=False)
+    displacement_at_peak_m: np.ndarray = field(repr=False)
+    wall_time_s: float = 0.0
+    energies_j: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def rebound_speed_m_s(self) -> float:
+        return self.cor * self.impact_speed_m_s
+
+    def record(self):
+        """The contact-force pulse as an `ImpactRecord` (with zero force before contact)."""
+        from ..records import ImpactRecord
+        t = self.history["time_s"]
+        f = self.history["contact_force_n"]
+        dt = t[1] - t[0]
+        lead = np.arange(-max(3, int(0.05 * len(t))), 0) * dt
+        time = np.concatenate([lead, [0.0], t])
+        force = np.concatenate([np.zeros(len(lead) + 1), f])
+        velocity = np.concatenate([np.full(len(lead) + 1, self.impact_speed_m_s),
+                                   -self.history["centre_velocity_z_m_s"]])
+        return ImpactRecord(time, force, velocity_m_s=velocity, mass_kg=self.mass_kg,
+                            impact_speed_m_s=self.impact_speed_m_s,
+                            rebound_speed_m_s=max(self.rebound_speed_m_s, 0.0),
+                            metadata={"source": "fe", "ball": self.ball_name,
+                                      "contact_time_s": self.contact_time_s})
+
+
+def _structure(ball) -> tuple:
+    return tuple((layer.outer_radius_m, type(layer.material), len(layer.material.prony))
+                 for layer in ball.layers)
+
+
+_KERNELS: dict[Any, _Kernel] = {}
+
+
+def _kernel(ball, options: SolverOptions) -> _Kernel:
+    key = (_structure(ball), options.element_size_m, options.pole_element_size_m,
+           options.pole_zone_deg)
+    if key not in _KERNELS:
+        mesh = layered_sphere_mesh(ball.layer_radii_m, options.element_size_m,
+                                   options.pole_element_size_m, options.pole_zone_deg)
+        geom = geometry(mesh)
+        energies = tuple(type(layer.material).energy for layer in ball.layers)
+        _KERNELS[key] = _Kernel(geom, energies, ball.outer_radius_m)
+    return _KERNELS[key]
+
+
+def _stack(trees: list) -> Any:
+    return jax.tree_util.tree_map(lambda *xs: np.stack(xs), *trees)
+
+
+def _contact_end(time: np.ndarray, force: np.ndarray) -> float:
+    """Time at which the force returns to zero, extrapolated from the last two positive samples."""
+    positive = np.flatnonzero(force > 0)
+    k = positive[-1]
+    if k == 0 or k + 1 >= len(time) or force[k - 1] <= force[k]:
+        return float(time[min(k + 1, len(time) - 1)])
+    slope = (force[k - 1] - force[k]) / (time[k] - time[k - 1])
+    return float(min(time[k] + force[k] / slope, time[k + 1]))
+
+
+def simulate_batch(balls: list, impact_speed_m_s: float,
+                   options: SolverOptions = SolverOptions(), progress=None) -> list[FEResult]:
+    """Normal impacts of several balls with the same layer structure (one compiled run, vmap).
+
+    The balls may differ in every material constant and density, not in the layer radii, material
+    models or number of Prony terms. `progress(t_s)` is called between chunks if given.
+    """
+    import time as _time
+
+    speed = float(impact_speed_m_s)
+    if not (math.isfinite(speed) and speed > 0):
+        raise InputError(f"impact_speed_m_s = {impact_speed_m_s!r}: must be > 0")
+    if not balls:
+        raise InputError("balls: need at least one ball")
+    if any(_structure(b) != _structure(balls[0]) for b in balls):
+        raise InputError("balls: a batch must share layer radii, material models and Prony terms")
+    start = _time.perf_counter()
+    kernel = _kernel(balls[0], options)
+    geom = kernel.geom
+    per_ball = [_layer_arrays(b, geom, options) for b in balls]
+    batched = len(balls) > 1
+    params = _stack(per_ball) if batched else per_ball[0]
+    chunk_fn, init_fn = _compiled_chunk(kernel, options.chunk_steps, batched)
+    with jax.enable_x64(True):
+        params = jax.tree_util.tree_map(jnp.asarray, params)
+        state = init_fn(params, jnp.full((len(balls),), speed) if batched else jnp.asarray(speed))
+        limits = np.array([options.time_limit_s or 6.0 * _hertz_contact_time_s(b, speed)
+                           for b in balls])
+        rows = []
+        while True:
+            state, chunk_rows = chunk_fn(params, state)
+            rows.append(np.asarray(chunk_rows))
+            t = np.atleast_1d(np.asarray(state["t"]))
+            t_bad = np.atleast_1d(np.asarray(state["t_bad"]))
+            t_start = np.atleast_1d(np.asarray(state["t_start"]))
+            t_sep = np.atleast_1d(np.asarray(state["t_separation"]))
+            if np.any(np.isfinite(t_bad)):
+                i = int(np.argmax(np.isfinite(t_bad)))
+                raise SimulationError(
+                    f"ball {balls[i].name}: inverted element or non-finite state at "
+                    f"t = {t_bad[i]:.4g} s (try a smaller time_step_scale or element size)")
+            done = np.isfinite(t_sep) & (t >= t_sep + options.end_margin * (t_sep - t_start))
+            if progress is not None:
+                progress(float(t.min()))
+            if np.all(done | (t >= limits)):
+                break
+        if not np.all(done):
+            i = int(np.argmin(done))
+            raise SimulationError(f"ball {balls[i].name}: no separation within the time limit "
+                                  f"{limits[i]:.4g} s")
+        state = jax.tree_util.tree_map(np.asarray, state)
+    wall = _time.perf_counter() - start
+    history_all = np.concatenate(rows, axis=1 if batched else 0)
+    if not batched:
+        history_all = history_all[None]
+        state = jax.tree_util.tree_map(lambda x: np.asarray(x)[None], state)
+    results = []
+    for i, ball in enumerate(balls):
+        t_end = t_sep[i] + options.end_margin * (t_sep[i] - t_start[i])
+        n = int(np.searchsorted(history_all[i, :, 0], t_end * (1 + 1e-12))) + 1
+        h = {name: history_all[i, :n, j] for j, name in enumerate(HISTORY)}
+        mass = float(np.sum(per_ball[i]["mass_kg"]))
+        ke0 = 0.5 * mass * speed ** 2
+        balance = h["kinetic_energy_j"] + h["internal_work_j"] - h["contact_work_j"] - ke0
+        final = {name: float(h[name][-1]) for name in HISTORY[4:]}
+        final["strain_energy_j"] = (final["internal_work_j"] - final["viscous_dissipation_j"]
+                                    - final["bulk_viscous_dissipation_j"])
+        final["initial_kinetic_energy_j"] = ke0
+        results.append(FEResult(
+            ball_name=ball.name, impact_speed_m_s=speed, history=h,
+            cor=float(h["centre_velocity_z_m_s"][-1] / speed),
+            peak_force_n=float(state["peak_force"][i]), time_of_peak_s=float(state["t_peak"][i]),
+            contact_time_s=_contact_end(h["time_s"], h["contact_force_n"]),
+            energy_balance_error=float(np.max(np.abs(balance)) / ke0),
+            stable_time_increment_s=float(per_ball[i]["dt_s"]), steps=n,
+            elements=geom.n_elements, nodes=len(geom.nodes_m), mass_kg=mass,
+            stretch_range=(float(state["stretch_min"][i]), float(state["stretch_max"][i])),
+            nodes_m=geom.nodes_m, elements_connectivity=geom.elements,
+            displacement_at_peak_m=state["u_peak"][i].T, wall_time_s=wall / len(balls),
+            energies_j=final))
+    return results
+
+
+def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptions(),
+             progress=None) -> FEResult:
+    """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s)."""
+    return simulate_batch([ball], impact_speed_m_s, options, progress)[0]
