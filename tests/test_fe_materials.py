@@ -9,19 +9,28 @@ import pytest
 from scipy.optimize import brentq
 
 from ballimpact.errors import InputError
-from ballimpact.fe.materials import (MooneyRivlin, OgdenHyperfoam, material_from_dict, prony_update,
-                                     relaxation_function, stress_parts)
+from ballimpact.fe.materials import (MooneyRivlin, OgdenHyperfoam, Sym, material_from_dict,
+                                     prony_update, relaxation_function, stress_parts)
 
 STRETCHES = [0.55, 0.7, 0.9, 1.0, 1.1, 1.4, 1.8]
 
 
 def _principal_stress(material, stretches):
     """Nominal (first Piola-Kirchhoff) principal stresses P_i = lambda_i S_ii (Pa), by autodiff."""
+    s_dev, s_vol = _stress(material, stretches)
+    return np.asarray(stretches) * (s_dev[:3] + s_vol[:3])
+
+
+def _diagonal(stretches):
+    return Sym(*(jnp.asarray(s) ** 2 for s in stretches), jnp.asarray(0.0))
+
+
+def _stress(material, stretches):
+    """(S_relaxing, S_volumetric) as arrays (S_xx, S_yy, S_zz, S_xy) at principal stretches."""
     with jax.enable_x64(True):
         consts = {k: jnp.asarray(v) for k, v in material.constants().items()}
-        C = jnp.diag(jnp.asarray(stretches) ** 2)
-        s_dev, s_vol = stress_parts(material.energy, C, consts)
-        return np.asarray(stretches) * np.diag(np.asarray(s_dev + s_vol))
+        s_dev, s_vol = stress_parts(material.energy, _diagonal(stretches), consts)
+        return np.array(s_dev, dtype=float), np.array(s_vol, dtype=float)
 
 
 def _mooney_rivlin_nominal(c10, c01, k, l1, l2):
@@ -101,12 +110,16 @@ def test_hyperfoam_tangent_is_finite_at_equal_stretches():
         {"model": "ogden_hyperfoam", "terms": [{"mu_pa": 70.3e6, "alpha": 4.0, "nu": 0.0}]}).terms)
     with jax.enable_x64(True):
         consts = {k: jnp.asarray(v) for k, v in mat.constants().items()}
-        for C in (jnp.eye(3), jnp.diag(jnp.array([0.8, 0.8, 1.1]))):
-            tangent = jax.jacfwd(lambda c: stress_parts(mat.energy, c, consts)[0])(C)
+
+        def stress(c):
+            return jnp.stack(stress_parts(mat.energy, Sym(*c), consts)[0])
+
+        for c in ((1.0, 1.0, 1.0, 0.0), (0.8, 0.8, 1.1, 0.0)):
+            tangent = jax.jacfwd(stress)(tuple(jnp.asarray(x) for x in c))
             assert np.all(np.isfinite(np.asarray(tangent)))
         # small-strain modulus: dS11/dE11 = E0 = 2 mu0 (1 + nu) for nu = 0
-        tangent = jax.jacfwd(lambda c: stress_parts(mat.energy, c, consts)[0])(jnp.eye(3))
-        assert float(tangent[0, 0, 0, 0]) * 2 == pytest.approx(2 * 70.3e6, rel=1e-9)
+        tangent = jax.jacfwd(stress)(tuple(jnp.asarray(x) for x in (1.0, 1.0, 1.0, 0.0)))
+        assert float(tangent[0][0]) * 2 == pytest.approx(2 * 70.3e6, rel=1e-9)
 
 
 @pytest.mark.parametrize("model", [
@@ -120,20 +133,19 @@ def test_relaxation_after_step_stretch_follows_g_r(model):
     mat = material_from_dict({**model, "prony": prony})
     with jax.enable_x64(True):
         consts = {k: jnp.asarray(v) for k, v in mat.constants().items()}
-        C = jnp.diag(jnp.array([0.7, 1.1, 1.2]) ** 2)
-        s_dev, s_vol = stress_parts(mat.energy, C, consts)
+        s_dev = jnp.stack(stress_parts(mat.energy, _diagonal([0.7, 1.1, 1.2]), consts)[0])
         zero = jnp.zeros_like(s_dev)
         g, tau = consts["prony_g"], consts["prony_tau_s"]
-        q = prony_update(jnp.zeros((2, 3, 3)), zero, s_dev, g, tau, 1e-12)  # the step
+        q = prony_update(jnp.zeros((2, 4)), zero, s_dev, g, tau, 1e-12)  # the step
         t, times, relaxing = 1e-12, [], []
         for dt in np.full(60, 5e-5):
             q = prony_update(q, s_dev, s_dev, g, tau, dt)
             t += dt
             times.append(t)
-            relaxing.append(np.asarray(s_dev - q.sum(0))[0, 0])
-        expected = np.asarray(relaxation_function(np.array(times), g, tau)) * float(s_dev[0, 0])
+            relaxing.append(np.asarray(s_dev - q.sum(0))[0])
+        expected = np.asarray(relaxation_function(np.array(times), g, tau)) * float(s_dev[0])
     np.testing.assert_allclose(relaxing, expected, rtol=1e-3)
-    assert relaxing[-1] < 0.7 * float(s_dev[0, 0]) or float(s_dev[0, 0]) < 0
+    assert abs(relaxing[-1]) < 0.5 * abs(float(s_dev[0]))  # it did relax: g_R(3 ms) = 0.39
 
 
 def test_prony_update_is_exact_for_a_linear_ramp():
@@ -163,14 +175,8 @@ def test_long_term_and_instantaneous_differ_by_one_minus_sum_g(model):
         if model["model"] == "ogden_hyperfoam":  # the whole stress relaxes
             np.testing.assert_allclose(p_inst, p_long * factor, rtol=1e-12)
         else:  # only the deviatoric part; compare the relaxing parts
-            with jax.enable_x64(True):
-                C = jnp.diag(jnp.asarray(stretches) ** 2)
-                d_long = stress_parts(long_term.energy, C, {k: jnp.asarray(v) for k, v in
-                                                             long_term.constants().items()})[0]
-                d_inst = stress_parts(instant.energy, C, {k: jnp.asarray(v) for k, v in
-                                                           instant.constants().items()})[0]
-            np.testing.assert_allclose(np.asarray(d_inst), np.asarray(d_long) * factor,
-                                       rtol=1e-12, atol=1e-9)
+            d_long, d_inst = _stress(long_term, stretches)[0], _stress(instant, stretches)[0]
+            np.testing.assert_allclose(d_inst, d_long * factor, rtol=1e-12, atol=1e-9)
     assert instant.shear_modulus_pa() == pytest.approx(long_term.shear_modulus_pa() * factor,
                                                        rel=1e-12)
 

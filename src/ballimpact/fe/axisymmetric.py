@@ -16,6 +16,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .fastmath import cube_root
+from .materials import Sym
 from .mesh import AxisymmetricMesh
 
 _G = 1.0 / np.sqrt(3.0)
@@ -134,39 +136,39 @@ def element_values(geom: AxiGeometry, nodal: jax.Array) -> jax.Array:
     return nodal[:, geom.elements.T]
 
 
-def deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[jax.Array, jax.Array]:
-    """In-plane F (2, 2, 5, n_el) and hoop stretch (5, n_el) from corner displacements (2, 4, n_el)."""
-    H = jnp.sum(u_e[:, :, None, None, :] * geom.grad_n[None], axis=1)  # du_i/dX_d
-    F2 = H + jnp.eye(2)[:, :, None, None]
-    ur = jnp.sum(geom.shape_values[:, :, None] * u_e[0][None], axis=1)
-    return F2, 1.0 + ur / geom.radius_m
+def deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[tuple, jax.Array]:
+    """In-plane F as components (F_rr, F_rz, F_zr, F_zz), each (5, n_el), and the hoop stretch
+    (5, n_el), from corner displacements (2, 4, n_el)."""
+    ur, uz = u_e[0][:, None, :], u_e[1][:, None, :]       # (4, 1, n_el)
+    gr, gz = geom.grad_n[:, 0], geom.grad_n[:, 1]          # (4, 5, n_el)
+    F2 = (1.0 + jnp.sum(ur * gr, axis=0), jnp.sum(ur * gz, axis=0),
+          jnp.sum(uz * gr, axis=0), 1.0 + jnp.sum(uz * gz, axis=0))
+    hoop = 1.0 + jnp.sum(geom.shape_values[:, :, None] * u_e[0][None], axis=1) / geom.radius_m
+    return F2, hoop
 
 
-def fbar(F2: jax.Array, Fh: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
-    """F-bar at the Gauss points: Fbar2 (2, 2, 4, n_el), Fbar_hoop (4, n_el), J (5, n_el)."""
-    J = (F2[0, 0] * F2[1, 1] - F2[0, 1] * F2[1, 0]) * Fh
-    scale = (J[4] / J[:4]) ** (1.0 / 3.0)
-    return F2[:, :, :4] * scale, Fh[:4] * scale, J
+def fbar(F2: tuple, Fh: jax.Array) -> tuple[tuple, jax.Array, jax.Array]:
+    """F-bar at the Gauss points: components (4, n_el) each, hoop (4, n_el), J (5, n_el)."""
+    J = (F2[0] * F2[3] - F2[1] * F2[2]) * Fh
+    scale = cube_root(J[4] / J[:4])
+    return tuple(f[:4] * scale for f in F2), Fh[:4] * scale, J
 
 
-def right_cauchy_green(Fb2: jax.Array, Fbh: jax.Array) -> jax.Array:
-    """C (3, 3, ...) of a block-diagonal F."""
-    c00 = Fb2[0, 0] ** 2 + Fb2[1, 0] ** 2
-    c11 = Fb2[0, 1] ** 2 + Fb2[1, 1] ** 2
-    c01 = Fb2[0, 0] * Fb2[0, 1] + Fb2[1, 0] * Fb2[1, 1]
-    zero = jnp.zeros_like(c00)
-    return jnp.stack([jnp.stack([c00, c01, zero]), jnp.stack([c01, c11, zero]),
-                      jnp.stack([zero, zero, Fbh * Fbh])])
+def right_cauchy_green(Fb2: tuple, Fbh: jax.Array) -> Sym:
+    """C of a block-diagonal F, as `Sym` components (r, z, hoop)."""
+    frr, frz, fzr, fzz = Fb2
+    return Sym(frr * frr + fzr * fzr, frz * frz + fzz * fzz, Fbh * Fbh, frr * frz + fzr * fzz)
 
 
-def first_piola(Fb2, Fbh, S, pressure_j):
-    """In-plane P = Fbar S + p J Fbar^-T (2, 2, ...) and hoop P (...); `pressure_j` = sigma_bv J."""
-    det = Fb2[0, 0] * Fb2[1, 1] - Fb2[0, 1] * Fb2[1, 0]
-    inv_t = jnp.stack([jnp.stack([Fb2[1, 1], -Fb2[1, 0]]),
-                       jnp.stack([-Fb2[0, 1], Fb2[0, 0]])]) / det  # Fbar^-T
-    P2 = jnp.stack([jnp.stack([Fb2[i, 0] * S[0, j] + Fb2[i, 1] * S[1, j] for j in range(2)])
-                    for i in range(2)])
-    return P2 + pressure_j * inv_t, Fbh * S[2, 2] + pressure_j / Fbh
+def first_piola(Fb2: tuple, Fbh, S: tuple, pressure_j) -> tuple[tuple, jax.Array]:
+    """P = Fbar S + p J Fbar^-T: in-plane components and hoop. S = (S_rr, S_zz, S_hoop, S_rz);
+    `pressure_j` = sigma_bv J (bulk viscosity as a Cauchy pressure)."""
+    frr, frz, fzr, fzz = Fb2
+    s_rr, s_zz, s_hh, s_rz = S
+    p = pressure_j / (frr * fzz - frz * fzr)
+    return ((frr * s_rr + frz * s_rz + p * fzz, frr * s_rz + frz * s_zz - p * fzr,
+             fzr * s_rr + fzz * s_rz - p * frz, fzr * s_rz + fzz * s_zz + p * frr),
+            Fbh * s_hh + pressure_j / Fbh)
 
 
 def gather_nodal(geom: AxiGeometry, f_e: jax.Array) -> jax.Array:

@@ -6,7 +6,7 @@
 from __future__ import annotations
 
 from ...errors import InputError
-from .base import MODULI, Material, PronyTerm, energy_density, stress_parts
+from .base import MODULI, Material, PronyTerm, Sym, energy_and_stress, stress_parts
 from .linear_elastic import LinearElastic
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
@@ -28,5 +28,5 @@ def material_from_dict(d: dict, where: str = "material") -> Material:
 
 
 __all__ = ["MATERIALS", "MODULI", "HyperfoamTerm", "LinearElastic", "Material", "MooneyRivlin",
-           "NeoHookean", "OgdenHyperfoam", "PronyTerm", "energy_density", "material_from_dict",
+           "NeoHookean", "OgdenHyperfoam", "PronyTerm", "Sym", "energy_and_stress", "material_from_dict",
            "prony_update", "relaxation_function", "stress_parts"]

@@ -12,13 +12,14 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ...errors import InputError
+from ..fastmath import cube_root
 
 MODULI = ("long_term", "instantaneous")
 INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0, as ABAQUS/Explicit (nu = 0.475)
@@ -151,9 +152,8 @@ class Material(ABC):
 
     # ---- energy (pure, jnp) ----------------------------------------------------------------
     energy: ClassVar[Callable[[jax.Array, dict], tuple[jax.Array, jax.Array]]]
-    """energy(C, constants) -> (W_relaxing, W_volumetric) per unit reference volume (J/m^3) for
-    right Cauchy-Green tensors C of shape (3, 3, ...) (components first), at the instantaneous
-    constants."""
+    """energy(C: Sym, constants) -> (W_relaxing, W_volumetric) per unit reference volume (J/m^3),
+    at the instantaneous constants, for right Cauchy-Green tensors given by components."""
 
     # ---- specification ---------------------------------------------------------------------
     @classmethod
@@ -178,38 +178,72 @@ class Material(ABC):
         return out
 
 
-def stress_parts(energy, C: jax.Array, constants: dict) -> tuple[jax.Array, jax.Array]:
-    """Second Piola-Kirchhoff stress parts S = 2 dW/dC; C has shape (3, 3, ...) (components first,
-    any number of points after), and so have the results. Each point's energy depends only on its
-    own C, so the gradient of the summed energy is the pointwise stress."""
-    s_dev = jax.grad(lambda c: jnp.sum(energy(c, constants)[0]))(C)
-    s_vol = jax.grad(lambda c: jnp.sum(energy(c, constants)[1]))(C)
-    return 2.0 * s_dev, 2.0 * s_vol
+class Sym(NamedTuple):
+    """Components of a symmetric 3x3 tensor, each an array of any shape (or the float 0.0).
+
+    Materials take C in this form: per-component arrays keep every operation a fused loop over
+    points, and the axisymmetric solver passes yz = zx = 0.0, which XLA folds away.
+    """
+
+    xx: Any
+    yy: Any
+    zz: Any
+    xy: Any
+    yz: Any = 0.0
+    zx: Any = 0.0
+
+    @classmethod
+    def from_matrix(cls, m) -> Sym:
+        return cls(m[0, 0], m[1, 1], m[2, 2], m[0, 1], m[1, 2], m[2, 0])
+
+    def trace(self):
+        return self.xx + self.yy + self.zz
+
+    def det(self):
+        return (self.xx * (self.yy * self.zz - self.yz * self.yz)
+                - self.xy * (self.xy * self.zz - self.yz * self.zx)
+                + self.zx * (self.xy * self.yz - self.yy * self.zx))
+
+    def second_invariant(self):
+        return (self.xx * self.yy + self.yy * self.zz + self.zz * self.xx
+                - self.xy * self.xy - self.yz * self.yz - self.zx * self.zx)
+
+    def double_dot(self, other: Sym):
+        return (self.xx * other.xx + self.yy * other.yy + self.zz * other.zz
+                + 2.0 * (self.xy * other.xy + self.yz * other.yz + self.zx * other.zx))
 
 
-def energy_density(energy, C: jax.Array, constants: dict) -> tuple[jax.Array, jax.Array]:
-    """Energy parts (J/m^3) at each point of C, shape (3, 3, ...)."""
-    return energy(C, constants)
+def energy_and_stress(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
+    """Energy parts (J/m^3) and second Piola-Kirchhoff stress parts S = 2 dW/dC, as
+    ((W_relaxing, S_relaxing), (W_volumetric, S_volumetric)) with S = (S_xx, S_yy, S_zz, S_xy),
+    for C with zero yz and zx components (axisymmetric and material-point states).
+
+    Each point's energy depends only on its own C, so the gradient of the summed energy is the
+    pointwise stress. The xy entry of C stands for both C_xy and C_yx, so dW/dC_xy (the sum of
+    both partial derivatives) is already S_xy."""
+    comps = (C.xx, C.yy, C.zz, C.xy)
+
+    def part_with_energy(i):
+        def total(c):
+            w = energy(Sym(*c), constants)[i]
+            return jnp.sum(w), w
+        grad, w = jax.grad(total, has_aux=True)(comps)
+        return w, (2.0 * grad[0], 2.0 * grad[1], 2.0 * grad[2], grad[3])
+
+    return part_with_energy(0), part_with_energy(1)
 
 
-def identity_like(C: jax.Array) -> jax.Array:
-    """The 3x3 identity broadcast against C of shape (3, 3, ...)."""
-    return jnp.eye(3).reshape((3, 3) + (1,) * (C.ndim - 2))
+def stress_parts(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
+    """(S_relaxing, S_volumetric), each (S_xx, S_yy, S_zz, S_xy); see `energy_and_stress`."""
+    (_, s_dev), (_, s_vol) = energy_and_stress(energy, C, constants)
+    return s_dev, s_vol
 
 
-def det3(C: jax.Array) -> jax.Array:
-    """Determinant of a 3x3 matrix by cofactors (cheaper than an LU under vmap and grad)."""
-    return (C[0, 0] * (C[1, 1] * C[2, 2] - C[1, 2] * C[2, 1])
-            - C[0, 1] * (C[1, 0] * C[2, 2] - C[1, 2] * C[2, 0])
-            + C[0, 2] * (C[1, 0] * C[2, 1] - C[1, 1] * C[2, 0]))
-
-
-def isochoric_invariants(C: jax.Array) -> tuple[jax.Array, jax.Array, jax.Array]:
-    """(I1bar, I2bar, J) of right Cauchy-Green tensors, shape (3, 3, ...)."""
-    J = jnp.sqrt(det3(C))
-    i1 = C[0, 0] + C[1, 1] + C[2, 2]
-    i2 = 0.5 * (i1 * i1 - jnp.sum(C * jnp.swapaxes(C, 0, 1), axis=(0, 1)))
-    return J ** (-2.0 / 3.0) * i1, J ** (-4.0 / 3.0) * i2, J
+def isochoric_invariants(C: Sym) -> tuple[Any, Any, Any]:
+    """(I1bar, I2bar, J) of a right Cauchy-Green tensor."""
+    det = C.det()
+    scale = 1.0 / cube_root(det)  # J^(-2/3)
+    return scale * C.trace(), scale * scale * C.second_invariant(), jnp.sqrt(det)
 
 
 def bulk_from_d1(d1_per_pa: float, mu0_pa: float) -> float:

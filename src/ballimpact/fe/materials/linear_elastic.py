@@ -9,9 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import jax.numpy as jnp
-
-from .base import Material, _number, identity_like
+from .base import Material, Sym, _number
 
 
 @dataclass(frozen=True)
@@ -32,11 +30,11 @@ class LinearElastic(Material):
 
     @staticmethod
     def energy(C, c):
-        eye = identity_like(C)
-        E = 0.5 * (C - eye)
-        tr = E[0, 0] + E[1, 1] + E[2, 2]
-        dev = E - tr / 3.0 * eye
-        return c["mu_pa"] * jnp.sum(dev * dev, axis=(0, 1)), 0.5 * c["k_pa"] * tr * tr
+        E = Sym(0.5 * (C.xx - 1.0), 0.5 * (C.yy - 1.0), 0.5 * (C.zz - 1.0),
+                0.5 * C.xy, 0.5 * C.yz, 0.5 * C.zx)
+        tr = E.trace()
+        dev = E._replace(xx=E.xx - tr / 3.0, yy=E.yy - tr / 3.0, zz=E.zz - tr / 3.0)
+        return c["mu_pa"] * dev.double_dot(dev), 0.5 * c["k_pa"] * tr * tr
 
     @classmethod
     def _from_keys(cls, d, where, **common):

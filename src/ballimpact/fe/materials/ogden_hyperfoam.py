@@ -21,6 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ...errors import InputError
+from ..fastmath import power
 from .base import Material, _check_keys, _number
 
 _SERIES_BELOW = 1e-3  # (gap / mean)^2 below which the 4-term series is exact to ~1e-12
@@ -44,15 +45,15 @@ def _pair_power_sum(m, d2, p):
                         + x * p * (p - 1) * (p - 2) * (p - 3) * (p - 4) * (p - 5) / 720))
     x_safe = jnp.where(x < _SERIES_BELOW, _SERIES_BELOW, x)  # keep the unused branch's grad finite
     root = jnp.sqrt(x_safe)
-    closed = 0.5 * ((1.0 + root) ** p + jnp.abs(1.0 - root) ** p)
-    return 2.0 * m ** p * jnp.where(x < _SERIES_BELOW, series, closed)
+    closed = 0.5 * (power(1.0 + root, p) + power(jnp.abs(1.0 - root) + 1e-300, p))
+    return 2.0 * power(m, p) * jnp.where(x < _SERIES_BELOW, series, closed)
 
 
 def principal_power_sum(C, p):
-    """sum_a lambda_a^(2 p) for a right Cauchy-Green C whose third axis is principal."""
-    m = 0.5 * (C[0, 0] + C[1, 1])
-    d2 = 0.25 * (C[0, 0] - C[1, 1]) ** 2 + C[0, 1] * C[1, 0]
-    return _pair_power_sum(m, d2, p) + C[2, 2] ** p
+    """sum_a lambda_a^(2 p) for a right Cauchy-Green C (`Sym`) whose third axis is principal."""
+    m = 0.5 * (C.xx + C.yy)
+    d2 = 0.25 * (C.xx - C.yy) ** 2 + C.xy * C.xy
+    return _pair_power_sum(m, d2, p) + power(C.zz, p)
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,7 @@ class OgdenHyperfoam(Material):
 
     @staticmethod
     def energy(C, c):
-        J = jnp.sqrt(C[2, 2] * (C[0, 0] * C[1, 1] - C[0, 1] * C[1, 0]))
+        J = jnp.sqrt(C.zz * (C.xx * C.yy - C.xy * C.xy))
         log_j = jnp.log(J)
         mu, alpha, beta = c["mu_pa"], c["alpha"], c["beta"]
         w = 0.0
