@@ -73,7 +73,6 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
     n_layers = len(mesh.layer_radii_m)
     bounds = np.searchsorted(layers, np.arange(n_layers + 1))
     slices = tuple((int(bounds[i]), int(bounds[i + 1])) for i in range(n_layers))
-    n_el = len(elements)
 
     X = np.asarray(mesh.nodes_m, dtype=np.float64)
     xe = X[elements]                                    # (n_el, 4, 2)

@@ -16,7 +16,9 @@ KE0| / KE0 over the run.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
@@ -25,7 +27,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..errors import InputError, SimulationError
+from ..errors import InputError, InputWarning, SimulationError
 from .axisymmetric import (
     AxiGeometry,
     deformation,
@@ -37,6 +39,7 @@ from .axisymmetric import (
     right_cauchy_green,
 )
 from .materials import Sym, energy_and_stress, prony_update
+from .materials.stability import drucker_warnings
 from .mesh import layered_sphere_mesh
 
 HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "kinetic_energy_j",
@@ -47,7 +50,7 @@ HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "
 class SolverOptions:
     """Numerical settings (SI). Defaults follow ABAQUS/Explicit where it has one."""
 
-    element_size_m: float = 1.0e-3
+    element_size_m: float = 1.5e-3   # outer-surface element length; mean element side ~1.2 mm
     pole_element_size_m: float | None = None   # refinement toward the contact pole
     pole_zone_deg: float = 30.0
     bulk_viscosity_linear: float = 0.06
@@ -58,6 +61,7 @@ class SolverOptions:
     end_margin: float = 0.25          # simulated after separation, as a fraction of contact time
     time_limit_s: float | None = None  # default: 6 times a Hertz estimate of the contact time
     chunk_steps: int = 200
+    mesh_radii_m: tuple[float, ...] = ()  # extra node circles (e.g. to mesh like another ball)
 
     def __post_init__(self) -> None:
         checks = {"element_size_m": (self.element_size_m, 0.0, math.inf),
@@ -124,6 +128,7 @@ class _Kernel:
 
     geom: AxiGeometry
     energies: tuple  # one energy function per layer
+    bulk_relaxation: tuple  # per layer: does it have k_i > 0
     z_shift_m: float  # reference z of the south pole is -z_shift_m
 
     def initial_state(self, params, speed):
@@ -132,12 +137,13 @@ class _Kernel:
         zeros = jnp.zeros((2, n))
         v0 = zeros.at[1].set(-speed)
         mats = []
-        for (a, b), consts in zip(g.layer_slices, params["layers"]):
+        for (a, b), consts, bulk in zip(g.layer_slices, params["layers"], self.bulk_relaxation):
             shape = (4, 4, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at 4 Gauss points
             n_terms = consts["prony_g"].shape[-1]
-            mats.append({"s0_dev": jnp.zeros(shape), "s0_vol": jnp.zeros(shape),
+            n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
+            mats.append({"s0_dev": jnp.zeros(shape), "s0_vol": jnp.zeros((n_bulk and 4, 4, b - a)),
                          "q_dev": jnp.zeros((n_terms,) + shape),
-                         "q_vol": jnp.zeros((n_terms,) + shape)})
+                         "q_vol": jnp.zeros((n_bulk,) + shape)})
         inf = jnp.array(jnp.inf)
         return {"u": zeros, "v": v0, "a": zeros, "t": jnp.array(0.0), "f_int": zeros,
                 "f_contact": jnp.zeros(n), "mat": mats, "j0": jnp.ones(g.n_elements),
@@ -169,17 +175,22 @@ class _Kernel:
             s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
             tau = consts["prony_tau_s"]
             q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
-            q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+            if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
+                q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+            else:
+                q_vol = mat["q_vol"]
             stresses.append(s_dev + s_vol - q_dev.sum(axis=0) - q_vol.sum(axis=0))
-            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol, "q_dev": q_dev, "q_vol": q_vol})
+            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
+                             "q_dev": q_dev, "q_vol": q_vol})
             w = g.volume_weight_m3[:, a:b]
             relaxed_dev = 1.0 - jnp.sum(consts["prony_g"])
             relaxed_vol = 1.0 - jnp.sum(consts["prony_k"])
             stored = stored + jnp.sum((relaxed_dev * w_dev + relaxed_vol * w_vol) * w)
             stored = stored + _branch_energy(q_dev, s_dev, consts["prony_g"],
                                              2.0 * consts["shear_modulus_pa"], w)
-            stored = stored + _branch_energy(q_vol, s_vol, consts["prony_k"],
-                                             3.0 * consts["bulk_modulus_pa"], w)
+            if q_vol.shape[0]:
+                stored = stored + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                                 3.0 * consts["bulk_modulus_pa"], w)
         S = tuple(jnp.concatenate(stresses, axis=-1))
         j0 = J[4]
         rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
@@ -330,8 +341,9 @@ class FEResult:
 
 
 def _structure(ball) -> tuple:
-    return tuple((layer.outer_radius_m, type(layer.material), len(layer.material.prony))
-                 for layer in ball.layers)
+    """What a compiled run depends on: radii, material models, Prony terms, bulk relaxation."""
+    return tuple((layer.outer_radius_m, type(layer.material), len(layer.material.prony),
+                  layer.material.sum_k > 0) for layer in ball.layers)
 
 
 _KERNELS: dict[Any, _Kernel] = {}
@@ -339,13 +351,21 @@ _KERNELS: dict[Any, _Kernel] = {}
 
 def _kernel(ball, options: SolverOptions) -> _Kernel:
     key = (_structure(ball), options.element_size_m, options.pole_element_size_m,
-           options.pole_zone_deg)
+           options.pole_zone_deg, tuple(options.mesh_radii_m))
     if key not in _KERNELS:
-        mesh = layered_sphere_mesh(ball.layer_radii_m, options.element_size_m,
+        radii = np.asarray(ball.layer_radii_m)
+        extra = [r for r in options.mesh_radii_m if 0 < r < radii[-1]]
+        mesh_radii = np.unique(np.concatenate([radii, extra]))
+        mesh = layered_sphere_mesh(tuple(mesh_radii), options.element_size_m,
                                    options.pole_element_size_m, options.pole_zone_deg)
+        # mesh rings -> ball layers: a ring belongs to the first layer that reaches its radius
+        ring_layer = np.searchsorted(radii, mesh_radii - 1e-12 * radii[-1])
+        mesh = dataclasses.replace(mesh, element_layer=ring_layer[mesh.element_layer],
+                                   layer_radii_m=tuple(radii))
         geom = geometry(mesh)
         energies = tuple(type(layer.material).energy for layer in ball.layers)
-        _KERNELS[key] = _Kernel(geom, energies, ball.outer_radius_m)
+        bulk = tuple(layer.material.sum_k > 0 for layer in ball.layers)
+        _KERNELS[key] = _Kernel(geom, energies, bulk, ball.outer_radius_m)
     return _KERNELS[key]
 
 
@@ -392,9 +412,7 @@ def simulate_batch(balls: list, impact_speed_m_s: float,
         limits = np.array([options.time_limit_s or 6.0 * _hertz_contact_time_s(b, speed)
                            for b in balls])
         rows = []
-        self_check_chunks = 0
         while True:
-            self_check_chunks += 1
             state, chunk_rows = chunk_fn(params, state)
             rows.append(np.asarray(chunk_rows))
             t = np.atleast_1d(np.asarray(state["t"]))
@@ -411,7 +429,6 @@ def simulate_batch(balls: list, impact_speed_m_s: float,
                 progress(float(t.min()))
             if np.all(done | (t >= limits)):
                 break
-        print("chunks", self_check_chunks, "t", t, "limit", limits)
         if not np.all(done):
             i = int(np.argmin(done))
             raise SimulationError(f"ball {balls[i].name}: no separation within the time limit "
@@ -446,6 +463,10 @@ def simulate_batch(balls: list, impact_speed_m_s: float,
             nodes_m=geom.nodes_m, elements_connectivity=geom.elements,
             displacement_at_peak_m=state["u_peak"][i].T, wall_time_s=wall / len(balls),
             energies_j=final))
+    for result, ball in zip(results, balls):
+        for message in drucker_warnings(ball, *result.stretch_range):
+            warnings.warn(f"{message}: the impact reached these stretches", InputWarning,
+                          stacklevel=2)
     return results
 
 

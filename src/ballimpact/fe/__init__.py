@@ -1,0 +1,1 @@
+"""Explicit finite-element ball models (thesis chapters 5 and 6)."""

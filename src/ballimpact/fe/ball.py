@@ -1,0 +1,371 @@
+"""Layered ball models (DESIGN.md "Files": ball specification) and the built-in presets.
+
+A ball is a stack of concentric spherical layers listed from the centre outwards; each has an outer
+radius, a density and a material (`materials.material_from_dict`). Constants are SI throughout:
+the thesis gives stresses in MPa and densities in T/mm^3 (1 T/mm^3 = 1e12 kg/m^3), converted here.
+
+Presets (usable wherever a ball file is; `describe_presets()` lists them):
+
+- `cricket-3layer`: thesis chapter 5. Radii and densities from table 5-1 (a Kookaburra ball:
+  diameters 40, 62, 72 mm; 8.65, 6.68, 11.32 x 1e-10 T/mm^3), materials from sections 5.2.1-5.2.3.
+  Its mass is 0.170 kg, as table 5-1's layer masses 29 + 61 + 80 g: heavier than the 0.160 kg of
+  the universal model and of a regulation ball (155.9-163 g); the thesis does not comment on it.
+- `cricket-universal`: thesis chapter 7, table 7-3. One homogeneous 72 mm layer whose density
+  gives exactly 0.160 kg; Mooney-Rivlin (D1 = 0) with one Prony term, the four rows (5.5, 10, 20.8,
+  25 m/s) interpolated linearly in impact speed. Outside 5.5-25 m/s the end row is held and an
+  `InputWarning` is emitted. The thesis does not say whether its constants are long-term or
+  instantaneous; `long_term` is the default here (`BallModel.with_moduli` switches).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import numbers
+import re
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, InputWarning
+from .materials import MODULI, Material, material_from_dict
+from .materials.base import _check_keys, _number
+
+_BALL_KEYS = {"name", "layers"}
+_LAYER_KEYS = {"name", "outer_radius_m", "density_kg_m3", "material"}
+
+
+def _shell_volume_m3(inner_m: float, outer_m: float) -> float:
+    return 4.0 / 3.0 * math.pi * (outer_m ** 3 - inner_m ** 3)
+
+
+@dataclass(frozen=True)
+class Layer:
+    """One spherical shell (or the central sphere): its outer radius, density and material."""
+
+    name: str
+    outer_radius_m: float
+    density_kg_m3: float
+    material: Material
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "outer_radius_m": self.outer_radius_m,
+                "density_kg_m3": self.density_kg_m3, "material": self.material.to_dict()}
+
+    @classmethod
+    def from_dict(cls, d: Any, where: str = "layer", previous_radius_m: float = 0.0,
+                  default_name: str = "layer") -> Layer:
+        _check_keys(d, _LAYER_KEYS, where)
+        name = d.get("name", default_name)
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
+        radius = _number(d, "outer_radius_m", where, 0.0, low_open=True)
+        if radius <= previous_radius_m:
+            raise InputError(f"{where}.outer_radius_m = {radius:g}: must be greater than the "
+                             f"previous layer's {previous_radius_m:g}")
+        density = _number(d, "density_kg_m3", where, 0.0, low_open=True)
+        if "material" not in d:
+            raise InputError(f"{where}: missing key 'material'")
+        material = material_from_dict(d["material"], where=f"{where}.material")
+        return cls(name=name, outer_radius_m=radius, density_kg_m3=density, material=material)
+
+
+@dataclass(frozen=True)
+class BallModel:
+    """A layered ball, layers from the centre outwards (bonded at the interfaces)."""
+
+    name: str
+    layers: tuple[Layer, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "layers", tuple(self.layers))
+        if not self.layers:
+            raise InputError(f"ball {self.name!r}: at least one layer is needed")
+        previous = 0.0
+        names = set()
+        for i, layer in enumerate(self.layers):
+            where = f"{self.name}.layers[{i}]"
+            if not isinstance(layer, Layer):
+                raise InputError(f"{where}: expected a Layer, got {type(layer).__name__}")
+            r, rho = layer.outer_radius_m, layer.density_kg_m3
+            if not (math.isfinite(r) and r > previous):
+                raise InputError(f"{where}.outer_radius_m = {r:g}: must be greater than the "
+                                 f"previous layer's {previous:g}")
+            if not (math.isfinite(rho) and rho > 0.0):
+                raise InputError(f"{where}.density_kg_m3 = {rho:g}: allowed range (0, inf)")
+            if layer.name in names:
+                raise InputError(f"{where}.name = {layer.name!r}: layer names must be unique")
+            names.add(layer.name)
+            previous = r
+
+    # ---- geometry and mass -----------------------------------------------------------------
+    @property
+    def outer_radius_m(self) -> float:
+        return self.layers[-1].outer_radius_m
+
+    @property
+    def layer_radii_m(self) -> tuple[float, ...]:
+        """Outer radius of each layer, from the centre out."""
+        return tuple(layer.outer_radius_m for layer in self.layers)
+
+    @property
+    def layer_masses_kg(self) -> tuple[float, ...]:
+        inner = (0.0, *self.layer_radii_m[:-1])
+        return tuple(layer.density_kg_m3 * _shell_volume_m3(r0, layer.outer_radius_m)
+                     for r0, layer in zip(inner, self.layers))
+
+    @property
+    def mass_kg(self) -> float:
+        """Sum of density x shell volume over the layers (exact spheres, not a mesh)."""
+        return float(sum(self.layer_masses_kg))
+
+    @property
+    def moduli(self) -> tuple[str, ...]:
+        """The convention of each layer's constants (`long_term` or `instantaneous`)."""
+        return tuple(layer.material.moduli for layer in self.layers)
+
+    def homogeneous(self) -> bool:
+        """True for one layer, or layers that all share the same density and material."""
+        first = self.layers[0]
+        return all(layer.density_kg_m3 == first.density_kg_m3
+                   and layer.material == first.material for layer in self.layers[1:])
+
+    # ---- variants ----------------------------------------------------------------------------
+    def with_moduli(self, moduli: str) -> BallModel:
+        """The same constants read in another convention (`long_term` or `instantaneous`)."""
+        if moduli not in MODULI:
+            raise InputError(f"moduli = {moduli!r}: allowed {', '.join(MODULI)}")
+        layers = tuple(dataclasses.replace(layer, material=dataclasses.replace(
+            layer.material, moduli=moduli)) for layer in self.layers)
+        return dataclasses.replace(self, layers=layers)
+
+    # ---- specification -----------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "layers": [layer.to_dict() for layer in self.layers]}
+
+    @classmethod
+    def from_dict(cls, d: Any, where: str = "ball", default_name: str = "ball") -> BallModel:
+        """A ball from its specification; every error names the key's path from `where`."""
+        _check_keys(d, _BALL_KEYS, where)
+        name = d.get("name", default_name)
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
+        if "layers" not in d:
+            raise InputError(f"{where}: missing key 'layers'")
+        raw = d["layers"]
+        if not isinstance(raw, list) or not raw:
+            raise InputError(f"{where}.layers: expected a non-empty list of layers "
+                             f"({', '.join(sorted(_LAYER_KEYS))})")
+        layers: list[Layer] = []
+        previous = 0.0
+        for i, item in enumerate(raw):
+            w = f"{where}.layers[{i}]"
+            layer = Layer.from_dict(item, w, previous_radius_m=previous, default_name=f"layer{i}")
+            if any(layer.name == other.name for other in layers):
+                raise InputError(f"{w}.name = {layer.name!r}: layer names must be unique")
+            layers.append(layer)
+            previous = layer.outer_radius_m
+        return cls(name=name, layers=tuple(layers))
+
+
+# ---- presets ---------------------------------------------------------------------------------
+PRESETS: tuple[str, ...] = ("cricket-3layer", "cricket-universal")
+
+_MPA = 1e6
+_T_PER_MM3 = 1e12  # kg/m^3
+
+CRICKET_3LAYER_SPEC: dict[str, Any] = {
+    "name": "cricket-3layer",
+    "layers": [
+        {"name": "core", "outer_radius_m": 0.020, "density_kg_m3": 8.65e-10 * _T_PER_MM3,
+         "material": {"model": "mooney_rivlin", "c10_pa": 4.72 * _MPA, "c01_pa": -0.45 * _MPA,
+                      "d1_per_pa": 0.0, "moduli": "long_term",
+                      "prony": [{"g": 0.41, "k": 0.0, "tau_s": 7e-5}]}},
+        {"name": "midsole", "outer_radius_m": 0.031, "density_kg_m3": 6.68e-10 * _T_PER_MM3,
+         "material": {"model": "ogden_hyperfoam", "moduli": "long_term",
+                      "terms": [{"mu_pa": 70.3 * _MPA, "alpha": 4.0, "nu": 0.0}],
+                      "prony": [{"g": 0.0, "k": 0.0, "tau_s": 4.1e-4}]}},
+        {"name": "cover", "outer_radius_m": 0.036, "density_kg_m3": 11.32e-10 * _T_PER_MM3,
+         "material": {"model": "mooney_rivlin", "c10_pa": 4.5 * _MPA, "c01_pa": -0.5 * _MPA,
+                      "d1_per_pa": 0.0, "moduli": "long_term"}},
+    ],
+}
+
+UNIVERSAL_RADIUS_M = 0.036
+UNIVERSAL_MASS_KG = 0.160
+UNIVERSAL_DENSITY_KG_M3 = UNIVERSAL_MASS_KG / _shell_volume_m3(0.0, UNIVERSAL_RADIUS_M)
+
+# Thesis table 7-3 (MPa converted to Pa): one row per impact speed.
+TABLE_7_3: tuple[dict[str, float], ...] = (
+    {"speed_m_s": 5.5, "c10_pa": 5.24e6, "c01_pa": -0.51e6, "g1": 0.75, "tau1_s": 7e-5},
+    {"speed_m_s": 10.0, "c10_pa": 6.12e6, "c01_pa": -0.35e6, "g1": 0.78, "tau1_s": 7e-5},
+    {"speed_m_s": 20.8, "c10_pa": 4.75e6, "c01_pa": -0.47e6, "g1": 0.78, "tau1_s": 7e-5},
+    {"speed_m_s": 25.0, "c10_pa": 4.02e6, "c01_pa": -0.41e6, "g1": 0.79, "tau1_s": 8e-5},
+)
+_TABLE_KEYS = ("c10_pa", "c01_pa", "g1", "tau1_s")
+
+_DESCRIPTIONS = {
+    "cricket-3layer": (
+        "Three-layer Kookaburra cricket ball (thesis chapter 5): cork-rubber core (Mooney-Rivlin "
+        "with one Prony term), cork-and-twine midsole (one-term Ogden hyperfoam), leather cover "
+        "(Mooney-Rivlin). Mass 0.170 kg, as table 5-1's layer masses 29 + 61 + 80 g."),
+    "cricket-universal": (
+        "Universal (homogeneous) cricket ball, 72 mm and 0.160 kg (thesis chapter 7): "
+        "Mooney-Rivlin (D1 = 0) with one Prony term, table 7-3 interpolated linearly in impact "
+        "speed between 5.5 and 25 m/s (end rows held outside, with a warning). Needs the impact "
+        "speed."),
+}
+_SOURCES = {
+    "cricket-3layer": "thesis table 5-1 (radii, densities); sections 5.2.1-5.2.3 (materials)",
+    "cricket-universal": "thesis table 7-3 (material parameters against impact speed)",
+}
+
+
+def _speed(value: Any, what: str = "impact_speed_m_s") -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+            or not math.isfinite(value) or value <= 0.0:
+        raise InputError(f"{what} = {value!r}: expected a finite number > 0 (m/s)")
+    return float(value)
+
+
+def universal_parameters(impact_speed_m_s: float) -> dict[str, float]:
+    """Table 7-3 interpolated linearly at an impact speed (SI: Pa, s).
+
+    Outside the table's 5.5-25 m/s the end row is held and an `InputWarning` is emitted.
+    Returns impact_speed_m_s, c10_pa, c01_pa, g1, tau1_s.
+    """
+    v = _speed(impact_speed_m_s)
+    speeds = np.array([row["speed_m_s"] for row in TABLE_7_3])
+    if v < speeds[0] or v > speeds[-1]:
+        warnings.warn(f"cricket-universal: impact speed {v:g} m/s is outside the table's "
+                      f"{speeds[0]:g}-{speeds[-1]:g} m/s (thesis table 7-3); the end row is held",
+                      InputWarning, stacklevel=2)
+    out = {"impact_speed_m_s": v}
+    for key in _TABLE_KEYS:
+        out[key] = float(np.interp(v, speeds, [row[key] for row in TABLE_7_3]))
+    return out
+
+
+def _universal(impact_speed_m_s: float) -> BallModel:
+    p = universal_parameters(impact_speed_m_s)
+    material = {"model": "mooney_rivlin", "c10_pa": p["c10_pa"], "c01_pa": p["c01_pa"],
+                "d1_per_pa": 0.0, "moduli": "long_term",
+                "prony": [{"g": p["g1"], "k": 0.0, "tau_s": p["tau1_s"]}]}
+    spec = {"name": f"cricket-universal@{float(p['impact_speed_m_s'])!r}m/s",  # ...@25.0m/s
+            "layers": [{"name": "ball", "outer_radius_m": UNIVERSAL_RADIUS_M,
+                        "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "material": material}]}
+    return BallModel.from_dict(spec, where="cricket-universal")
+
+
+_UNIVERSAL_AT = re.compile(r"^cricket-universal@(.+?)(?:m/s)?$")
+
+
+def _preset(name: str, impact_speed_m_s: float | None) -> BallModel:
+    if name == "cricket-3layer":
+        return BallModel.from_dict(CRICKET_3LAYER_SPEC, where="cricket-3layer")
+    match = _UNIVERSAL_AT.match(name)
+    if match:  # a name as recorded by a loaded universal model, e.g. "cricket-universal@25.0m/s"
+        try:
+            speed = float(match.group(1))
+        except ValueError:
+            raise InputError(f"ball = {name!r}: cannot read the impact speed after '@'") from None
+        if impact_speed_m_s is not None and not math.isclose(speed, impact_speed_m_s):
+            raise InputError(f"ball = {name!r}: the speed in the name disagrees with "
+                             f"impact_speed_m_s = {impact_speed_m_s:g}")
+        return _universal(speed)
+    if impact_speed_m_s is None:
+        raise InputError("cricket-universal needs the impact speed (impact_speed_m_s, "
+                         "e.g. --speed-m-s)")
+    return _universal(impact_speed_m_s)
+
+
+def _read_file(path: Path) -> dict:
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".toml":
+            try:
+                import tomllib
+            except ModuleNotFoundError:  # Python 3.10
+                try:
+                    import tomli as tomllib  # type: ignore[no-redef]
+                except ModuleNotFoundError:
+                    raise InputError(f"{path}: reading TOML needs Python 3.11 or the 'tomli' "
+                                     f"package; use JSON") from None
+            with open(path, "rb") as f:
+                return tomllib.load(f)
+        return json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the ball file ({exc.strerror or exc})") from None
+    except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
+        kind = "TOML" if suffix == ".toml" else "JSON"
+        raise InputError(f"{path}: not valid {kind} ({exc})") from None
+
+
+def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) -> BallModel:
+    """A ball from a preset name, a JSON or TOML file (by suffix; JSON otherwise), or a dict.
+
+    `impact_speed_m_s` is needed by speed-dependent presets (`cricket-universal`) and ignored by
+    the others. A universal model's recorded name ("cricket-universal@25.0m/s") loads again.
+    Errors are `InputError`s naming the key's path ("ball.layers[1].outer_radius_m ...").
+    """
+    if impact_speed_m_s is not None:
+        impact_speed_m_s = _speed(impact_speed_m_s)
+    if isinstance(spec, dict):
+        return BallModel.from_dict(spec)
+    if isinstance(spec, str) and (spec in PRESETS or spec.startswith("cricket-universal@")):
+        return _preset(spec, impact_speed_m_s)
+    if not isinstance(spec, (str, Path)):
+        raise InputError(f"ball: expected a preset name, a file or a dict, got "
+                         f"{type(spec).__name__}")
+    path = Path(spec)
+    if not path.is_file():
+        raise InputError(f"ball = {str(spec)!r}: neither a preset ({', '.join(PRESETS)}) nor an "
+                         f"existing file")
+    data = _read_file(path)
+    try:
+        return BallModel.from_dict(data, default_name=path.stem)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+
+
+def describe_presets() -> list[dict[str, Any]]:
+    """The built-in balls, JSON-able (for `ballimpact balls --json`)."""
+    out = []
+    three = _preset("cricket-3layer", None)
+    out.append({
+        "name": "cricket-3layer", "description": _DESCRIPTIONS["cricket-3layer"],
+        "source": _SOURCES["cricket-3layer"], "needs_impact_speed": False,
+        "outer_radius_m": three.outer_radius_m, "mass_kg": three.mass_kg,
+        "moduli": "long_term",
+        "layers": [{"name": layer.name, "outer_radius_m": layer.outer_radius_m,
+                    "density_kg_m3": layer.density_kg_m3, "mass_kg": m,
+                    "model": layer.material.model, "material": layer.material.to_dict()}
+                   for layer, m in zip(three.layers, three.layer_masses_kg)]})
+    out.append({
+        "name": "cricket-universal", "description": _DESCRIPTIONS["cricket-universal"],
+        "source": _SOURCES["cricket-universal"], "needs_impact_speed": True,
+        "outer_radius_m": UNIVERSAL_RADIUS_M, "mass_kg": UNIVERSAL_MASS_KG,
+        "moduli": "long_term",
+        "layers": [{"name": "ball", "outer_radius_m": UNIVERSAL_RADIUS_M,
+                    "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "mass_kg": UNIVERSAL_MASS_KG,
+                    "model": "mooney_rivlin"}],
+        "speed_range_m_s": [TABLE_7_3[0]["speed_m_s"], TABLE_7_3[-1]["speed_m_s"]],
+        "table_7_3": [dict(row) for row in TABLE_7_3]})
+    return out
+
+
+__all__ = [
+    "CRICKET_3LAYER_SPEC",
+    "PRESETS",
+    "TABLE_7_3",
+    "UNIVERSAL_DENSITY_KG_M3",
+    "BallModel",
+    "Layer",
+    "describe_presets",
+    "load_ball",
+    "universal_parameters",
+]
