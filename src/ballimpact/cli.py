@@ -13,7 +13,6 @@ import os
 import sys
 import time
 import warnings
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -24,9 +23,15 @@ from .filters import FILTER_NAMES
 from .loaders import load_record
 from .pipeline import ProcessedImpact, process
 
-DEMO_FILTER = "loess"
 DEMO_PLOT = "ballimpact-demo.png"
-DEMO_MODEL = "hunt_crossley"
+DEMO_IMPACTS = (("cricket-universal", 25.0), ("cricket-3layer", 20.8))
+
+
+class SolverDefaults:
+    """FE defaults shown in --help (kept equal to `fe.SolverOptions` by a test)."""
+
+    element_size_m = 1.5e-3
+    penalty_scale = 1.0
 
 
 class _Parser(argparse.ArgumentParser):
@@ -81,11 +86,43 @@ def build_parser() -> argparse.ArgumentParser:
                               description="The lumped models, their parameters and SI units.")
     models.add_argument("--json", action="store_true", help="print one JSON object")
 
+    simulate = verbs.add_parser(
+        "simulate", help="FE normal impact of a ball on a rigid plane",
+        description="Explicit FE (axisymmetric, F-bar quads, hyper-viscoelastic layers, penalty "
+                    "contact) of a ball hitting a rigid flat surface at normal incidence: "
+                    "contact force history, COR, contact time, energies and the 19 features.")
+    simulate.add_argument("--ball", required=True,
+                          help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
+    simulate.add_argument("--speed-m-s", type=float, required=True, help="impact speed (m/s)")
+    simulate.add_argument("--angle-deg", type=float, default=0.0,
+                          help="angle from the surface normal (deg); only 0 so far")
+    simulate.add_argument("--spin-rad-s", type=float, default=0.0, help="spin (rad/s); only 0 so far")
+    simulate.add_argument("--friction", type=float, default=0.0,
+                          help="Coulomb coefficient (irrelevant at normal incidence)")
+    simulate.add_argument("--solver", default="axisymmetric", help="axisymmetric (3d: not yet)")
+    simulate.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
+                          help=f"element length on the outer surface (m; default "
+                               f"{SolverDefaults.element_size_m:g})")
+    simulate.add_argument("--pole-element-size-m", type=float,
+                          help="refine toward the contact pole to this element length (m)")
+    simulate.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
+                          help="contact penalty scale (default 1)")
+    simulate.add_argument("--moduli", help="override the balls' moduli convention: long_term or "
+                                           "instantaneous")
+    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    simulate.add_argument("--csv", type=Path, help="write the histories (one row per step)")
+    simulate.add_argument("--plot", type=Path,
+                          help="PNG: force-time curve and deformed shape at peak force")
+
+    balls = verbs.add_parser("balls", help="list the built-in ball presets",
+                             description="The built-in ball presets usable with --ball.")
+    balls.add_argument("--json", action="store_true", help="print one JSON object")
+
     demo = verbs.add_parser(
-        "demo", help="the main job on built-in data",
-        description="Process the built-in sample impact (a synthetic cricket-ball test, see "
-                    "data/sample_impact.csv), identify a Hunt-Crossley lumped model from it, "
-                    "and print the figures.")
+        "demo", help="the main job: FE impacts of the two cricket-ball presets",
+        description="Simulate the cricket-universal ball at 25 m/s and the cricket-3layer ball "
+                    "at 20.8 m/s on a rigid plane; print peak force, contact time, COR and the "
+                    "energy balance error, and write one PNG.")
     demo.add_argument("--json", action="store_true", help="print one JSON object")
     demo.add_argument("--plot", type=Path, default=Path(DEMO_PLOT),
                       help=f"PNG to write (default {DEMO_PLOT})")
@@ -122,7 +159,7 @@ def main(argv: list[str] | None = None) -> int:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             run = {"features": _run_features, "fit": _run_fit, "models": _run_models,
-                   "demo": _run_demo}[args.verb]
+                   "simulate": _run_simulate, "balls": _run_balls, "demo": _run_demo}[args.verb]
             result = run(args)
         notes = list(dict.fromkeys(str(w.message) for w in caught))
     except InputError as error:
@@ -163,30 +200,90 @@ def _run_features(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _run_demo(args: argparse.Namespace) -> dict[str, Any]:
+    from .fe import load_ball, simulate
+    from .plotting import plot_fe
+
     _check_plot_path(args.plot)
-    started = time.perf_counter()
-    data = resources.files("ballimpact") / "data" / "sample_impact.csv"
-    with resources.as_file(data) as path:
-        record = load_record(path)
-    processed = process(record, filter=DEMO_FILTER)
-    from .lumped import fit
-
     _use_compilation_cache()
-
-    fitted = fit(processed, DEMO_MODEL, seed=0)
-    result = _summary(processed, time.perf_counter() - started)
-    result["record"] = "built-in synthetic cricket-ball test (data/sample_impact.csv)"
-    result["lumped_fit"] = fitted.to_dict()
-    _plot(processed, args.plot, title="ballimpact demo: synthetic cricket-ball impact", fit=fitted)
-    result["plot"] = str(args.plot)
+    started = time.perf_counter()
+    results = []
+    for name, speed in DEMO_IMPACTS:
+        print(f"simulating {name} at {speed:g} m/s ...", file=sys.stderr, flush=True)
+        results.append(simulate(load_ball(name, impact_speed_m_s=speed), speed))
+    plot_fe(results, args.plot, title="ballimpact demo: cricket balls on a rigid plane (FE)")
     if not args.json:
-        print("ballimpact demo: built-in synthetic cricket-ball impact test "
-              "(Hunt-Crossley model + load-cell ringing and noise, 200 kHz)")
-        _print_table(processed)
-        print(f"lumped model identified from the test ({DEMO_MODEL}, GA + polish):")
-        _print_fit(fitted, Path("sample_impact.csv"))
+        print("ballimpact demo: explicit FE, normal impact on a rigid plane")
+        print(f"{'ball':<28}{'speed m/s':>10}{'peak kN':>9}{'contact ms':>11}{'COR':>7}"
+              f"{'energy err':>11}{'elements':>9}{'steps':>7}{'wall s':>8}")
+        for r in results:
+            print(f"{r.ball_name:<28}{r.impact_speed_m_s:>10.4g}{r.peak_force_n / 1e3:>9.3f}"
+                  f"{r.contact_time_s * 1e3:>11.4f}{r.cor:>7.3f}{r.energy_balance_error:>11.1e}"
+                  f"{r.elements:>9d}{r.steps:>7d}{r.wall_time_s:>8.2f}")
         print(f"plot written to {args.plot}")
-    return result
+    return {"impacts": [r.summary() for r in results], "plot": str(args.plot),
+            "wall_time_s": time.perf_counter() - started}
+
+
+def _run_simulate(args: argparse.Namespace) -> dict[str, Any]:
+    from .fe import SolverOptions, load_ball, simulate
+
+    _check_plot_path(args.plot)
+    if args.csv is not None and not args.csv.parent.is_dir():
+        raise InputError(f"--csv: folder {args.csv.parent} does not exist")
+    if args.solver != "axisymmetric":
+        raise InputError(f"--solver {args.solver}: only 'axisymmetric' is available so far")
+    for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s)):
+        if value != 0.0:
+            raise InputError(f"{flag} = {value:g}: oblique and spinning impacts need the 3D "
+                             "solver, not available yet; only 0 is allowed")
+    if not (math.isfinite(args.friction) and args.friction >= 0):
+        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    _use_compilation_cache()
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    if args.moduli is not None:
+        ball = ball.with_moduli(args.moduli)
+    options = SolverOptions(element_size_m=args.element_size_m,
+                            pole_element_size_m=args.pole_element_size_m,
+                            penalty_scale=args.penalty_scale)
+    result = simulate(ball, args.speed_m_s, options)
+    from .features import extract_features
+
+    out = result.summary()
+    out["features"] = extract_features(result.record()).to_dict()["features"]
+    out["materials"] = ball.to_dict()
+    if args.csv is not None:
+        import numpy as np
+
+        names = list(result.history)
+        np.savetxt(args.csv, np.column_stack([result.history[n] for n in names]),
+                   delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+        out["csv"] = str(args.csv)
+    if args.plot is not None:
+        from .plotting import plot_fe
+
+        plot_fe([result], args.plot)
+        out["plot"] = str(args.plot)
+    if not args.json:
+        print(f"{result.ball_name} at {args.speed_m_s:g} m/s ({out['moduli']} moduli): "
+              f"peak force {result.peak_force_n:.5g} N at {result.time_of_peak_s * 1e3:.4g} ms, "
+              f"contact time {result.contact_time_s * 1e3:.4g} ms, COR {result.cor:.4f}")
+        e = result.energies_j
+        print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
+              f"{e['viscous_dissipation_j']:.4g} J, bulk viscous "
+              f"{e['bulk_viscous_dissipation_j']:.4g} J of {e['initial_kinetic_energy_j']:.4g} J")
+        print(f"  {result.elements} elements, {result.steps} steps of "
+              f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
+    return out
+
+
+def _run_balls(args: argparse.Namespace) -> dict[str, Any]:
+    from .fe import describe_presets
+
+    presets = describe_presets()
+    if not args.json:
+        for preset in presets:
+            print(f"{preset['name']}: {preset['description']}")
+    return {"balls": presets}
 
 
 def _use_compilation_cache() -> None:

@@ -110,3 +110,38 @@ def _save(figure, path: Path, title: str | None) -> Path:
     figure.savefig(path, dpi=120)
     plt.close(figure)
     return path
+
+
+def plot_fe(results, path: str | Path, *, title: str | None = None) -> Path:
+    """FE impacts: contact force against time for each result, and for each the deformed
+    cross-section at peak force (meridian mirrored about the axis, coloured by layer)."""
+    from matplotlib.collections import PolyCollection
+
+    import numpy as np
+
+    results = list(results)
+    figure, axes = plt.subplots(1, 1 + len(results), figsize=(4.6 * (1 + len(results)), 4.2),
+                                layout="constrained")
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, result in enumerate(results):
+        h = result.history
+        axes[0].plot(h["time_s"] * 1e3, h["contact_force_n"] / 1e3, color=colors[i % 10],
+                     label=f"{result.ball_name}, {result.impact_speed_m_s:g} m/s")
+        ax = axes[1 + i]
+        layer = np.concatenate([np.full(b - a, k) for k, (a, b) in enumerate(result.layer_slices)])
+        for sign in (-1.0, 1.0):
+            xy = (result.nodes_m + result.displacement_at_peak_m)[result.elements_connectivity]
+            xy = xy * np.array([sign, 1.0]) * 1e3
+            xy[..., 1] += result.outer_radius_m * 1e3
+            ax.add_collection(PolyCollection(xy, facecolors=[f"C{k}" for k in layer],
+                                             edgecolors="k", linewidths=0.15, alpha=0.55))
+        r = result.outer_radius_m * 1e3
+        ax.axhline(0.0, color="k", lw=1.5)
+        ax.set(xlim=(-1.1 * r, 1.1 * r), ylim=(-0.1 * r, 2.1 * r), aspect="equal",
+               xlabel="r (mm)", ylabel="z (mm)",
+               title=f"{result.ball_name}: peak {result.peak_force_n / 1e3:.2f} kN "
+                     f"at {result.time_of_peak_s * 1e3:.3f} ms")
+    axes[0].set(xlabel="time (ms)", ylabel="contact force (kN)", title="contact force")
+    axes[0].legend(fontsize=8)
+    axes[0].grid(alpha=0.3)
+    return _save(figure, Path(path), title)

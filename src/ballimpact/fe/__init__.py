@@ -1,1 +1,15 @@
-"""Explicit finite-element ball models (thesis chapters 5 and 6)."""
+"""Explicit finite-element ball models (thesis chapters 5 and 6): layered hyper-viscoelastic
+balls, an axisymmetric mesh and solver for normal impacts on a rigid plane."""
+
+from .ball import (
+           PRESETS,
+           BallModel,
+           Layer,
+           describe_presets,
+           load_ball,
+           universal_parameters,
+)
+from .solver import FEResult, SolverOptions, simulate, simulate_batch
+
+__all__ = ["PRESETS", "BallModel", "FEResult", "Layer", "SolverOptions", "describe_presets",
+           "load_ball", "simulate", "simulate_batch", "universal_parameters"]

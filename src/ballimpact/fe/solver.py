@@ -312,15 +312,32 @@ class FEResult:
     nodes: int
     mass_kg: float
     stretch_range: tuple[float, float]
+    outer_radius_m: float
+    moduli: tuple[str, ...]
     nodes_m: np.ndarray = field(repr=False)
     elements_connectivity: np.ndarray = field(repr=False)
     displacement_at_peak_m: np.ndarray = field(repr=False)
+    layer_slices: tuple = ()
     wall_time_s: float = 0.0
     energies_j: dict[str, float] = field(default_factory=dict)
 
     @property
     def rebound_speed_m_s(self) -> float:
         return self.cor * self.impact_speed_m_s
+
+    def summary(self) -> dict[str, Any]:
+        """The scalar results, JSON-able, with SI unit suffixes."""
+        return {"ball": self.ball_name, "impact_speed_m_s": self.impact_speed_m_s,
+                "peak_force_n": self.peak_force_n, "time_of_peak_s": self.time_of_peak_s,
+                "contact_time_s": self.contact_time_s, "cor": self.cor,
+                "rebound_speed_m_s": self.rebound_speed_m_s,
+                "energy_balance_error": self.energy_balance_error,
+                "energies_j": dict(self.energies_j), "mass_kg": self.mass_kg,
+                "elements": self.elements, "nodes": self.nodes, "steps": self.steps,
+                "stable_time_increment_s": self.stable_time_increment_s,
+                "principal_stretch_range": list(self.stretch_range),
+                "moduli": self.moduli[0] if len(set(self.moduli)) == 1 else list(self.moduli),
+                "wall_time_s": self.wall_time_s}
 
     def record(self):
         """The contact-force pulse as an `ImpactRecord` (with zero force before contact)."""
@@ -460,7 +477,10 @@ def simulate_batch(balls: list, impact_speed_m_s: float,
             stable_time_increment_s=float(per_ball[i]["dt_s"]), steps=n,
             elements=geom.n_elements, nodes=len(geom.nodes_m), mass_kg=mass,
             stretch_range=(float(state["stretch_min"][i]), float(state["stretch_max"][i])),
+            outer_radius_m=ball.outer_radius_m,
+            moduli=tuple(layer.material.moduli for layer in ball.layers),
             nodes_m=geom.nodes_m, elements_connectivity=geom.elements,
+            layer_slices=geom.layer_slices,
             displacement_at_peak_m=state["u_peak"][i].T, wall_time_s=wall / len(balls),
             energies_j=final))
     for result, ball in zip(results, balls):
