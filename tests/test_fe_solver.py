@@ -95,7 +95,9 @@ def test_vmap_batch_equals_single_runs():
                 "prony": [{"g": rng.uniform(0.3, 0.8), "k": 0.0, "tau_s": rng.uniform(5e-5, 2e-4)}]}
         balls.append(_sphere(spec, f"set{i}", density=rng.uniform(780, 860)))
     options = SolverOptions(element_size_m=4e-3)
-    batch = simulate_batch(balls, 10.0, options)
+    batch = simulate_batch(balls, 10.0, options)  # groups of 4 on a CPU, the last one padded
+    assert simulate_batch(balls[:3], 10.0, options, group_size=16)[2].cor == pytest.approx(
+        batch[2].cor, rel=1e-12)
     for ball, together in zip(balls, batch):
         alone = simulate(ball, 10.0, options)
         assert together.steps == alone.steps
