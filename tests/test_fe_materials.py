@@ -201,3 +201,17 @@ def test_mooney_rivlin_d1_zero_means_bulk_twenty_shear():
 def test_bad_material_names_the_key(spec, key):
     with pytest.raises(InputError, match=key):
         material_from_dict(spec)
+
+
+def test_d1_zero_bulk_is_twenty_instantaneous_shear_in_both_conventions():
+    prony = [{"g": 0.79, "k": 0.0, "tau_s": 8e-5}]
+    for moduli in ("long_term", "instantaneous"):
+        mat = material_from_dict({"model": "mooney_rivlin", "c10_pa": 4.02e6, "c01_pa": -0.41e6,
+                                  "prony": prony, "moduli": moduli})
+        assert mat.bulk_modulus_pa() == pytest.approx(20 * mat.shear_modulus_pa(), rel=1e-12)
+
+
+def test_material_errors_carry_the_key_path():
+    with pytest.raises(InputError, match=r"ball.layers\[1\].material: .*c10_pa \+ c01_pa"):
+        material_from_dict({"model": "mooney_rivlin", "c10_pa": 1e6, "c01_pa": -2e6},
+                           where="ball.layers[1].material")

@@ -251,6 +251,10 @@ def _run_simulate(args: argparse.Namespace) -> dict[str, Any]:
     out = result.summary()
     out["features"] = extract_features(result.record()).to_dict()["features"]
     out["materials"] = ball.to_dict()
+    out["material_constants_used"] = [  # instantaneous, as the solver uses them (SI)
+        {"layer": layer.name, "model": layer.material.model,
+         **{k: (v.tolist() if hasattr(v, "tolist") else v)
+            for k, v in layer.material.constants().items()}} for layer in ball.layers]
     if args.csv is not None:
         import numpy as np
 

@@ -239,7 +239,8 @@ class _Kernel:
         started = jnp.isfinite(state["t_start"])
         t_start = jnp.where(~started & (total > 0), t, state["t_start"])
         separating = started & (total <= 0) & (v_cm > 0) & jnp.isinf(state["t_separation"])
-        t_separation = jnp.where(separating, t, state["t_separation"])
+        # a new contact (the ball touching again) cancels a separation
+        t_separation = jnp.where(total > 0, jnp.inf, jnp.where(separating, t, state["t_separation"]))
         new_peak = total > state["peak_force"]
         bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
         new = {"u": u, "v": v, "a": a, "t": t, "f_int": f_int, "f_contact": f_contact, "mat": mats,
@@ -359,8 +360,9 @@ class FEResult:
 
 def _structure(ball) -> tuple:
     """What a compiled run depends on: radii, material models, Prony terms, bulk relaxation."""
-    return tuple((layer.outer_radius_m, type(layer.material), len(layer.material.prony),
-                  layer.material.sum_k > 0) for layer in ball.layers)
+    return tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
+                   tuple((k, np.shape(v)) for k, v in sorted(layer.material.constants().items())))
+                  for layer in ball.layers)
 
 
 _KERNELS: dict[Any, _Kernel] = {}
@@ -490,7 +492,12 @@ def _simulate_group(balls: list, impact_speed_m_s: float, options: SolverOptions
         balance = h["kinetic_energy_j"] + h["internal_work_j"] - h["contact_work_j"] - ke0
         h["viscous_dissipation_j"] = (h["internal_work_j"] - h["strain_energy_j"]
                                       - h["bulk_viscous_dissipation_j"])
+        h["energy_balance_error"] = balance / ke0
         final = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
+        if min(final["viscous_dissipation_j"], final["bulk_viscous_dissipation_j"]) < -1e-3 * ke0:
+            warnings.warn(f"ball {ball.name}: a negative dissipation at the end of the run "
+                          f"({final['viscous_dissipation_j']:.3g} J viscous): the strain-energy "
+                          "split is approximate at large strains", InputWarning, stacklevel=2)
         final["initial_kinetic_energy_j"] = ke0
         results.append(FEResult(
             ball_name=ball.name, impact_speed_m_s=speed, history=h,
@@ -509,8 +516,8 @@ def _simulate_group(balls: list, impact_speed_m_s: float, options: SolverOptions
             energies_j=final))
     for result, ball in zip(results, balls):
         for message in drucker_warnings(ball, *result.stretch_range):
-            warnings.warn(f"{message}: the impact reached these stretches", InputWarning,
-                          stacklevel=2)
+            warnings.warn(f"{message}: principal stretches in this range occurred in the ball "
+                          "(in some layer)", InputWarning, stacklevel=2)
     return results
 
 

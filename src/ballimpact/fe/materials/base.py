@@ -22,7 +22,7 @@ from ...errors import InputError
 from ..fastmath import cube_root
 
 MODULI = ("long_term", "instantaneous")
-INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0, as ABAQUS/Explicit (nu = 0.475)
+INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0 (instantaneous), as ABAQUS/Explicit (nu 0.475)
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,12 @@ class Material(ABC):
         moduli = d.get("moduli", "long_term")
         if moduli not in MODULI:
             raise InputError(f"{where}.moduli = {moduli!r}: allowed {', '.join(MODULI)}")
-        return cls._from_keys(d, where, prony=_prony_from(d, where), moduli=moduli)
+        try:
+            return cls._from_keys(d, where, prony=_prony_from(d, where), moduli=moduli)
+        except InputError as error:  # checks in __post_init__ do not know the key's path
+            if str(error).startswith(where):
+                raise
+            raise InputError(f"{where}: {error}") from None
 
     @classmethod
     @abstractmethod
@@ -246,6 +251,11 @@ def isochoric_invariants(C: Sym) -> tuple[Any, Any, Any]:
     return scale * C.trace(), scale * scale * C.second_invariant(), jnp.sqrt(det)
 
 
-def bulk_from_d1(d1_per_pa: float, mu0_pa: float) -> float:
-    """Bulk modulus K = 2 / D1; D1 = 0 means K0 = 20 mu0 (ABAQUS/Explicit's substitute)."""
-    return INCOMPRESSIBLE_BULK_TO_SHEAR * mu0_pa if d1_per_pa == 0.0 else 2.0 / d1_per_pa
+def bulk_from_d1(material: "Material", d1_per_pa: float, mu0_pa: float) -> float:
+    """Bulk modulus (as given) K = 2 / D1. D1 = 0 means ABAQUS/Explicit's substitute K0 = 20 mu0
+    between the instantaneous moduli (Poisson ratio 0.475 at the instant of loading), whatever
+    convention the constants are given in."""
+    if d1_per_pa != 0.0:
+        return 2.0 / d1_per_pa
+    return (INCOMPRESSIBLE_BULK_TO_SHEAR * mu0_pa * material.deviatoric_factor()
+            / material.volumetric_factor())

@@ -18,7 +18,7 @@ class NeoHookean(Material):
 
     def given_moduli_pa(self) -> tuple[float, float]:
         mu0 = 2.0 * self.c10_pa
-        return mu0, bulk_from_d1(self.d1_per_pa, mu0)
+        return mu0, bulk_from_d1(self, self.d1_per_pa, mu0)
 
     def hyperelastic_constants(self) -> dict[str, Any]:
         return {"c10_pa": self.c10_pa * self.deviatoric_factor(),
