@@ -9,8 +9,15 @@ import pytest
 from scipy.optimize import brentq
 
 from ballimpact.errors import InputError
-from ballimpact.fe.materials import (MooneyRivlin, OgdenHyperfoam, Sym, material_from_dict,
-                                     prony_update, relaxation_function, stress_parts)
+from ballimpact.fe.materials import (
+    MooneyRivlin,
+    OgdenHyperfoam,
+    Sym,
+    material_from_dict,
+    prony_update,
+    relaxation_function,
+    stress_parts,
+)
 
 STRETCHES = [0.55, 0.7, 0.9, 1.0, 1.1, 1.4, 1.8]
 
@@ -54,9 +61,9 @@ def test_mooney_rivlin_uniaxial_stress_matches_closed_form(d1):
     k = mat.hyperelastic_constants()["k_pa"]
     for l1 in STRETCHES:
         # lateral stretch of uniaxial stress from the closed form, then compare both stresses
-        l2 = brentq(lambda x: _mooney_rivlin_nominal(4.72e6, -0.45e6, k, l1, x)[1], 0.3, 3.0,
+        l2 = brentq(lambda x, l1=l1: _mooney_rivlin_nominal(4.72e6, -0.45e6, k, l1, x)[1], 0.3, 3.0,
                     xtol=1e-15, rtol=1e-15)
-        p1, p2 = _mooney_rivlin_nominal(4.72e6, -0.45e6, k, l1, l2)
+        p1, _ = _mooney_rivlin_nominal(4.72e6, -0.45e6, k, l1, l2)
         got = _principal_stress(mat, [l1, l2, l2])
         scale = max(abs(p1), 1e3)
         assert got[0] == pytest.approx(p1, rel=1e-6, abs=1e-6 * scale)
@@ -69,7 +76,7 @@ def test_mooney_rivlin_incompressible_limit():
     mat = MooneyRivlin(c10_pa=c10, c01_pa=c01, d1_per_pa=2.0 / (1e7 * 2 * (c10 + c01)))
     k = mat.hyperelastic_constants()["k_pa"]
     for l1 in STRETCHES:
-        l2 = brentq(lambda x: _mooney_rivlin_nominal(c10, c01, k, l1, x)[1], 0.3, 3.0, xtol=1e-15)
+        l2 = brentq(lambda x, l1=l1: _mooney_rivlin_nominal(c10, c01, k, l1, x)[1], 0.3, 3.0, xtol=1e-15)
         got = _principal_stress(mat, [l1, l2, l2])[0]
         expected = 2 * (l1 - l1 ** -2) * (c10 + c01 / l1)
         assert got == pytest.approx(expected, rel=1e-5, abs=1.0)
@@ -92,7 +99,7 @@ def test_hyperfoam_uniaxial_stress_matches_closed_form(terms):
         return out
 
     for l1 in STRETCHES:
-        l2 = brentq(lambda x: nominal(l1, x)[1], 0.2, 5.0, xtol=1e-15, rtol=1e-15)
+        l2 = brentq(lambda x, l1=l1: nominal(l1, x)[1], 0.2, 5.0, xtol=1e-15, rtol=1e-15)
         p1, _ = nominal(l1, l2)
         got = _principal_stress(mat, [l1, l2, l2])
         scale = max(abs(p1), 1e3)
