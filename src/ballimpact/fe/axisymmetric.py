@@ -53,7 +53,6 @@ class AxiGeometry:
     nodal_volume_m3: np.ndarray  # (n_layers, n_nodes) row-sum lumped volume from each layer
     characteristic_length_m: np.ndarray  # (n_el,) area / longest diagonal
     surface_nodes: np.ndarray
-    surface_area_m2: np.ndarray  # (n_surface,) tributary area of each surface node
     surface_length_m: np.ndarray  # (n_surface,) length of the element under each surface node
     surface_layer: int
 
@@ -108,15 +107,6 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
     char_length = area / diagonal
 
     surface = np.asarray(mesh.surface_nodes)
-    ps = X[surface]
-    seg = np.linalg.norm(np.diff(ps, axis=0), axis=1)
-    half = np.zeros(len(surface))
-    half[:-1] += 0.5 * seg
-    half[1:] += 0.5 * seg
-    # Tributary area on the sphere: a band of half the adjacent segments, a cap at the poles.
-    trib = 2.0 * np.pi * ps[:, 0] * half
-    trib[0] = np.pi * (0.5 * seg[0]) ** 2
-    trib[-1] = np.pi * (0.5 * seg[-1]) ** 2
     # The element under each surface node: the smallest characteristic length among its elements.
     per_node = np.full(n_nodes, np.inf)
     np.minimum.at(per_node, elements.reshape(-1), np.repeat(char_length, 4))
@@ -126,7 +116,7 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
                        radius_m=np.ascontiguousarray(radius.T),
                        volume_weight_m3=np.ascontiguousarray(weight.T), node_table=table,
                        nodal_volume_m3=nodal_volume, characteristic_length_m=char_length,
-                       surface_nodes=surface, surface_area_m2=trib,
+                       surface_nodes=surface,
                        surface_length_m=per_node[surface], surface_layer=n_layers - 1)
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 import warnings
 from dataclasses import dataclass, field
 from functools import partial
@@ -28,6 +29,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
+from ..records import ImpactRecord
 from .axisymmetric import (
     AxiGeometry,
     deformation,
@@ -342,7 +344,6 @@ class FEResult:
 
     def record(self):
         """The contact-force pulse as an `ImpactRecord` (with zero force before contact)."""
-        from ..records import ImpactRecord
         t = self.history["time_s"]
         f = self.history["contact_force_n"]
         dt = t[1] - t[0]
@@ -433,8 +434,6 @@ def simulate_batch(balls: list, impact_speed_m_s: float, options: SolverOptions 
 
 def _simulate_group(balls: list, impact_speed_m_s: float, options: SolverOptions,
                     progress) -> list[FEResult]:
-    import time as _time
-
     speed = float(impact_speed_m_s)
     if not (math.isfinite(speed) and speed > 0):
         raise InputError(f"impact_speed_m_s = {impact_speed_m_s!r}: must be > 0")
@@ -442,7 +441,7 @@ def _simulate_group(balls: list, impact_speed_m_s: float, options: SolverOptions
         raise InputError("balls: need at least one ball")
     if any(_structure(b) != _structure(balls[0]) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
-    start = _time.perf_counter()
+    start = time.perf_counter()
     kernel = _kernel(balls[0], options)
     geom = kernel.geom
     per_ball = [_layer_arrays(b, geom, options) for b in balls]
@@ -477,7 +476,7 @@ def _simulate_group(balls: list, impact_speed_m_s: float, options: SolverOptions
             raise SimulationError(f"ball {balls[i].name}: no separation within the time limit "
                                   f"{limits[i]:.4g} s")
         state = jax.tree_util.tree_map(np.asarray, state)
-    wall = _time.perf_counter() - start
+    wall = time.perf_counter() - start
     history_all = np.concatenate(rows, axis=1 if batched else 0)
     if not batched:
         history_all = history_all[None]

@@ -251,7 +251,7 @@ def isochoric_invariants(C: Sym) -> tuple[Any, Any, Any]:
     return scale * C.trace(), scale * scale * C.second_invariant(), jnp.sqrt(det)
 
 
-def bulk_from_d1(material: "Material", d1_per_pa: float, mu0_pa: float) -> float:
+def bulk_from_d1(material: Material, d1_per_pa: float, mu0_pa: float) -> float:
     """Bulk modulus (as given) K = 2 / D1. D1 = 0 means ABAQUS/Explicit's substitute K0 = 20 mu0
     between the instantaneous moduli (Poisson ratio 0.475 at the instant of loading), whatever
     convention the constants are given in."""
