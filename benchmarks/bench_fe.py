@@ -27,7 +27,7 @@ import numpy as np
 from ballimpact.fe import SolverOptions, load_ball, simulate, simulate_batch
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import MooneyRivlin, PronyTerm
-from ballimpact.fe.solver import CPU_GROUP_SIZE
+from ballimpact.fe.solver import default_group_size
 
 THESIS_S = {"cricket-universal": 25.0, "cricket-3layer": 87.0}
 
@@ -76,14 +76,14 @@ def main():
         print(f"{name}: done", file=sys.stderr, flush=True)
     n = 16 if quick else 64
     balls = universal_sets(n)
-    timed(simulate_batch, balls[:CPU_GROUP_SIZE], 25.0, options)  # compile the batched kernel
+    timed(simulate_batch, balls[:default_group_size(n)], 25.0, options)  # compile the kernel
     wall_batch, results = timed(simulate_batch, balls, 25.0, options)
     singles = [timed(simulate, b, 25.0, options)[0] for b in balls[:8]]
     per_single = statistics.median(singles)
     out["batch"] = {"sets": n, "wall_s": wall_batch, "simulations_per_s": n / wall_batch,
                     "single_run_s_median_of_8": per_single,
                     "speedup_vs_single_runs": per_single * n / wall_batch,
-                    "group_size": CPU_GROUP_SIZE if jax.default_backend() == "cpu" else n,
+                    "group_size": default_group_size(n),
                     "backend": jax.default_backend(), "steps_max": max(r.steps for r in results)}
     print(json.dumps(out, indent=2))
 

@@ -410,6 +410,11 @@ def _contact_end(time: np.ndarray, force: np.ndarray) -> float:
 CPU_GROUP_SIZE = 4
 
 
+def default_group_size(n_balls: int) -> int:
+    """Balls per vmapped group: `CPU_GROUP_SIZE` on a CPU, all of them on an accelerator."""
+    return CPU_GROUP_SIZE if jax.default_backend() == "cpu" else max(n_balls, 1)
+
+
 def simulate_batch(balls: list, impact_speed_m_s: float, options: SolverOptions = SolverOptions(),
                    progress=None, group_size: int | None = None) -> list[FEResult]:
     """Normal impacts of several balls with the same layer structure, vmapped in groups.
@@ -421,7 +426,7 @@ def simulate_batch(balls: list, impact_speed_m_s: float, options: SolverOptions 
     """
     balls = list(balls)
     if group_size is None:
-        group_size = CPU_GROUP_SIZE if jax.default_backend() == "cpu" else max(len(balls), 1)
+        group_size = default_group_size(len(balls))
     if not (isinstance(group_size, int) and group_size >= 1):
         raise InputError(f"group_size = {group_size!r}: must be an integer >= 1")
     if len(balls) <= group_size:
