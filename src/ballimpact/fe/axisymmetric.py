@@ -1,4 +1,5 @@
-"""Axisymmetric 4-node quadrilateral, total Lagrangian, 2x2 Gauss points with F-bar.
+"""Axisymmetric 4-node quadrilateral, total Lagrangian: 2x2 Gauss points with F-bar ("full"), or
+one point at the centre with hourglass control ("reduced", as ABAQUS/Explicit's CAX4R).
 
 Coordinates are (r, z). At a Gauss point the deformation gradient is block diagonal: the in-plane
 2x2 part and the hoop stretch r / R. Volumetric locking at Poisson ratios near 0.5 is avoided by
@@ -6,6 +7,14 @@ F-bar (de Souza Neto et al. 1996): each Gauss point's F is scaled so its determi
 one at the element centre, Fbar = (J0 / J)^(1/3) F. Internal forces are the exact pull-back of
 P : dFbar through the F-bar map (a JAX vector-Jacobian product), so they are consistent with the
 stored energy and the energy balance closes.
+
+Reduced integration evaluates F (and the hoop stretch) at the element centre only, which also
+avoids volumetric locking. Its two spurious modes per direction (the hourglass modes) are held by
+the Flanagan-Belytschko (1981) stiffness: with the hourglass vector gamma_a = h_a - (h . X_d)
+dN_a/dX_d (h = (1, -1, 1, -1), orthogonal to every linear field, so rigid motions and homogeneous
+strains give no hourglass force, also at large rotations in the total Lagrangian frame), the
+generalised hourglass displacement q_i = gamma_a u_ia and the energy 0.5 k_e (q_r^2 + q_z^2),
+k_e = scale x mu x V_e x (dN/dX : dN/dX) with the element's instantaneous shear modulus mu.
 """
 
 from __future__ import annotations
@@ -55,6 +64,8 @@ class AxiGeometry:
     surface_nodes: np.ndarray
     surface_length_m: np.ndarray  # (n_surface,) length of the element under each surface node
     surface_layer: int
+    hourglass_vector: np.ndarray  # (4, n_el) Flanagan-Belytschko gamma_a (dimensionless)
+    hourglass_length_m: np.ndarray  # (n_el,) V_e (dN/dX : dN/dX) at the centre: k_e / (scale mu)
 
     @property
     def n_elements(self) -> int:
@@ -106,6 +117,12 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
                           np.linalg.norm(xe[:, 3] - xe[:, 1], axis=1))
     char_length = area / diagonal
 
+    centre_grad = grad_n[:, 4]                          # (n_el, 4, 2) dN_a/dX_d at the centre
+    h = np.array([1.0, -1.0, 1.0, -1.0])
+    gamma = h[None] - np.einsum("ed,ead->ea", np.einsum("a,ead->ed", h, xe), centre_grad)
+    volume = weight.sum(axis=1)
+    hourglass_length = volume * np.sum(centre_grad ** 2, axis=(1, 2))
+
     surface = np.asarray(mesh.surface_nodes)
     # The element under each surface node: the smallest characteristic length among its elements.
     per_node = np.full(n_nodes, np.inf)
@@ -117,7 +134,9 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
                        volume_weight_m3=np.ascontiguousarray(weight.T), node_table=table,
                        nodal_volume_m3=nodal_volume, characteristic_length_m=char_length,
                        surface_nodes=surface,
-                       surface_length_m=per_node[surface], surface_layer=n_layers - 1)
+                       surface_length_m=per_node[surface], surface_layer=n_layers - 1,
+                       hourglass_vector=np.ascontiguousarray(gamma.T),
+                       hourglass_length_m=hourglass_length)
 
 
 def element_values(geom: AxiGeometry, nodal: jax.Array) -> jax.Array:
@@ -134,6 +153,25 @@ def deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[tuple, jax.Array]:
           jnp.sum(uz * gr, axis=0), 1.0 + jnp.sum(uz * gz, axis=0))
     hoop = 1.0 + jnp.sum(geom.shape_values[:, :, None] * u_e[0][None], axis=1) / geom.radius_m
     return F2, hoop
+
+
+def centre_deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[tuple, jax.Array]:
+    """F at the element centre only (one-point integration): in-plane components and the hoop
+    stretch, each (1, n_el), from corner displacements (2, 4, n_el)."""
+    ur, uz = u_e[0], u_e[1]                                # (4, n_el)
+    gr, gz = geom.grad_n[:, 0, 4], geom.grad_n[:, 1, 4]    # (4, n_el)
+    F2 = (1.0 + jnp.sum(ur * gr, axis=0), jnp.sum(ur * gz, axis=0),
+          jnp.sum(uz * gr, axis=0), 1.0 + jnp.sum(uz * gz, axis=0))
+    hoop = 1.0 + 0.25 * jnp.sum(ur, axis=0) / geom.radius_m[4]
+    return tuple(f[None] for f in F2), hoop[None]
+
+
+def hourglass(geom: AxiGeometry, u_e: jax.Array, stiffness_n_m: jax.Array):
+    """Hourglass corner forces (2, 4, n_el) and energy (J) of corner displacements (2, 4, n_el)
+    with the per-element stiffness k_e (n_el,) (N/m, the 2 pi of the ring included)."""
+    q = jnp.sum(geom.hourglass_vector * u_e, axis=1)       # (2, n_el)
+    kq = stiffness_n_m * q
+    return kq[:, None, :] * geom.hourglass_vector, 0.5 * jnp.sum(kq * q)
 
 
 def fbar(F2: tuple, Fh: jax.Array) -> tuple[tuple, jax.Array, jax.Array]:

@@ -1,0 +1,352 @@
+"""The explicit step of a layered axisymmetric ball on a rigid plane (pure JAX).
+
+The ball's south pole touches the plane z = 0 at t = 0, every node moving at -v_in along z.
+Central difference (velocity form, constant increment) with lumped masses; internal forces from
+`axisymmetric` (reduced integration with hourglass control, or F-bar) and the materials' strain
+energies with Simo's Prony update; linear and quadratic bulk viscosity; node-to-plane penalty
+contact with a stiffness derived from the contacting elements.
+
+A `Kernel` holds what a compiled program depends on (mesh, material models, integration,
+precision); everything that varies between balls of that structure (constants, densities, masses,
+contact and hourglass stiffnesses, the increment, the impact speed) is in `params` and the state,
+so one compiled program serves every speed and parameter set, and `vmap` batches them.
+
+Energies (J): kinetic; internal work (the work of the internal forces, hourglass included,
+accumulated by the trapezoidal rule); contact work; bulk-viscous dissipation; strain energy (the
+long-term strain energy plus the energy held in the Maxwell branches); hourglass energy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .axisymmetric import (
+    AxiGeometry,
+    centre_deformation,
+    deformation,
+    element_values,
+    fbar,
+    first_piola,
+    gather_nodal,
+    hourglass,
+    right_cauchy_green,
+)
+from .materials import Sym, energy_and_stress, prony_update
+from .stable_increment import increment_factor, lanczos_largest
+
+HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "kinetic_energy_j",
+           "internal_work_j", "contact_work_j", "strain_energy_j", "bulk_viscous_dissipation_j",
+           "hourglass_energy_j")
+
+#: Lanczos steps for the largest eigenvalue of the assembled system at the start (the estimate
+#: agrees with ARPACK's to 1e-12 on the default meshes; tests/test_fe_increment.py) and for the
+#: re-estimate before each chunk, started from the previous top Ritz vector
+LANCZOS_STEPS = 40
+REFRESH_LANCZOS_STEPS = 8
+INCREMENT_LEVELS = 32  # per halving of the increment
+
+
+def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
+    """Per-ball parameters of the step (NumPy, float64): masses, contact springs, hourglass and
+    bulk-viscosity factors, increment factor, material constants."""
+    layers = ball.layers
+    rho = np.array([layer.density_kg_m3 for layer in layers])
+    wave = np.array([layer.material.wave_modulus_pa() for layer in layers])
+    shear = np.array([layer.material.shear_modulus_pa() for layer in layers])
+    c_d = np.sqrt(wave / rho)
+    element_layer = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.layer_slices)])
+    length = geom.characteristic_length_m
+    c_el, rho_el = c_d[element_layer], rho[element_layer]
+    mass = rho @ geom.nodal_volume_m3
+    m_surface = mass[geom.surface_nodes]
+    penalty = (options.penalty_scale * m_surface
+               * (c_d[geom.surface_layer] / geom.surface_length_m) ** 2)
+    return {"mass_kg": mass, "penalty_n_m": penalty,
+            "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
+            "hourglass_n_m": options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
+            "bv_linear_pa_s": options.bulk_viscosity_linear * rho_el * c_el * length,
+            "bv_quadratic_pa_s2": rho_el * (options.bulk_viscosity_quadratic * length) ** 2,
+            "energy_error_limit": np.float64(options.energy_error_limit),
+            "increment_factor": np.float64(increment_factor(options.time_step_scale,
+                                                            options.bulk_viscosity_linear)),
+            "layers": [layer.material.constants() for layer in layers]}
+
+
+def cast(tree, dtype):
+    """Floating arrays of a pytree (NumPy) in `dtype`."""
+    return jax.tree_util.tree_map(
+        lambda x: np.asarray(x, dtype) if np.issubdtype(np.asarray(x).dtype, np.floating)
+        else np.asarray(x), tree)
+
+
+@dataclass(frozen=True, eq=False)
+class Kernel:
+    """Static data of one mesh, ball structure, integration and precision; traced by JAX."""
+
+    geom: AxiGeometry      # float arrays in `dtype`
+    energies: tuple        # one energy function per layer
+    bulk_relaxation: tuple  # per layer: does it have k_i > 0
+    reduced: bool          # one-point integration with hourglass control
+    dtype: Any
+
+    @classmethod
+    def build(cls, geom: AxiGeometry, energies, bulk_relaxation, reduced: bool, dtype) -> Kernel:
+        floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
+                  if isinstance(getattr(geom, f.name), np.ndarray)
+                  and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
+        return cls(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
+                   reduced, np.dtype(dtype))
+
+    @property
+    def n_points(self) -> int:
+        return 1 if self.reduced else 4
+
+    @property
+    def point_volume_m3(self) -> np.ndarray:
+        """Volume weight of each integration point (n_points, n_el)."""
+        g = self.geom
+        return g.element_volume_m3[None] if self.reduced else g.volume_weight_m3
+
+    @property
+    def surface_height_m(self) -> np.ndarray:
+        """Reference height of the surface nodes above the plane (south pole at 0)."""
+        g = self.geom
+        return g.nodes_m[g.surface_nodes, 1] - g.nodes_m[:, 1].min()
+
+    def zeros(self, shape) -> jax.Array:
+        return jnp.zeros(shape, self.dtype)
+
+    def initial_materials(self, params) -> list[dict]:
+        mats = []
+        for (a, b), bulk, consts in zip(self.geom.layer_slices, self.bulk_relaxation,
+                                        params["layers"]):
+            shape = (4, self.n_points, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at the points
+            n_terms = consts["prony_g"].shape[-1]
+            n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
+            mats.append({"s0_dev": self.zeros(shape),
+                         "s0_vol": self.zeros(shape if bulk else (0,) + shape[1:]),
+                         "q_dev": self.zeros((n_terms,) + shape),
+                         "q_vol": self.zeros((n_bulk,) + shape)})
+        return mats
+
+    def initial_state(self, params, speed):
+        n = len(self.geom.nodes_m)
+        zeros = self.zeros((2, n))
+        inf = jnp.array(jnp.inf, self.dtype)
+        scalar = partial(jnp.array, dtype=self.dtype)
+        mass = params["mass_kg"]
+        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
+        dt = params["increment_factor"] / jnp.sqrt(omega2)
+        return {"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
+                "dt": dt, "dt0": dt, "x_top": x_top,
+                "f_int": zeros, "f_contact": self.zeros(n), "mat": self.initial_materials(params),
+                "j0": jnp.ones(self.geom.n_elements, self.dtype),
+                "sigma_bv": self.zeros(self.geom.n_elements),
+                "ke0": 0.5 * jnp.sum(mass) * speed * speed,
+                "w_int": scalar(0.0), "w_contact": scalar(0.0), "d_bv": scalar(0.0),
+                "peak_force": scalar(0.0), "t_peak": scalar(0.0), "u_peak": zeros,
+                "t_start": inf, "t_separation": inf, "t_bad": inf, "t_energy": inf,
+                "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)}
+
+    # ---- forces ------------------------------------------------------------------------------
+    def internal(self, params, u, mats, j0_prev, dt):
+        """Internal nodal forces (2, n_nodes) at displacements u (2, n_nodes), new material
+        states, centre J, stored strain energy (J), hourglass energy (J), bulk-viscous Cauchy
+        pressure (Pa, per element), min J and the range of the eigenvalues of C."""
+        g = self.geom
+
+        def kinematics(u_e):
+            if self.reduced:
+                F2, Fh = centre_deformation(g, u_e)
+                return (F2, Fh), (F2[0] * F2[3] - F2[1] * F2[2]) * Fh
+            Fb2, Fbh, J = fbar(*deformation(g, u_e))
+            return (Fb2, Fbh), J
+
+        u_e = element_values(g, u)
+        (Fb2, Fbh), pull, J = jax.vjp(kinematics, u_e, has_aux=True)
+        C = right_cauchy_green(Fb2, Fbh)
+        weight = self.point_volume_m3
+        stresses, new_mats, stored = [], [], 0.0
+        for (a, b), energy, consts, mat in zip(g.layer_slices, self.energies, params["layers"],
+                                               mats):
+            (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
+                energy, Sym(*(c[:, a:b] for c in C[:4])), consts)
+            s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
+            tau = consts["prony_tau_s"]
+            q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
+            if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
+                q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+            else:
+                q_vol = mat["q_vol"]
+            stresses.append(s_dev + s_vol - q_dev.sum(axis=0) - q_vol.sum(axis=0))
+            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
+                             "q_dev": q_dev, "q_vol": q_vol})
+            w = weight[:, a:b]
+            relaxed_dev = 1.0 - jnp.sum(consts["prony_g"])
+            relaxed_vol = 1.0 - jnp.sum(consts["prony_k"])
+            stored = stored + jnp.sum((relaxed_dev * w_dev + relaxed_vol * w_vol) * w)
+            stored = stored + _branch_energy(q_dev, s_dev, consts["prony_g"],
+                                             2.0 * consts["shear_modulus_pa"], w)
+            if q_vol.shape[0]:
+                stored = stored + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                                 3.0 * consts["bulk_modulus_pa"], w)
+        S = tuple(jnp.concatenate(stresses, axis=-1))
+        j0 = J[-1]  # at the centre (the last of the F-bar points; the only reduced one)
+        rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
+        sigma_bv = rate * (params["bv_linear_pa_s"]
+                           + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
+        P2, Ph = first_piola(Fb2, Fbh, S, sigma_bv * j0)
+        (f_e,) = pull((tuple(p * weight for p in P2), Ph * weight))
+        if self.reduced:
+            f_hg, e_hg = hourglass(g, u_e, params["hourglass_n_m"])
+            f_e = f_e + f_hg
+        else:
+            e_hg = jnp.zeros((), self.dtype)
+        f = gather_nodal(g, f_e)
+        m_ = 0.5 * (C.xx + C.yy)
+        d_ = jnp.sqrt(0.25 * (C.xx - C.yy) ** 2 + C.xy ** 2)
+        lam2_min = jnp.minimum(jnp.min(m_ - d_), jnp.min(C.zz))
+        lam2_max = jnp.maximum(jnp.max(m_ + d_), jnp.max(C.zz))
+        return f, new_mats, j0, stored, e_hg, sigma_bv, jnp.min(J), lam2_min, lam2_max
+
+    def contact(self, params, u, v_half):
+        """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0."""
+        s = self.geom.surface_nodes
+        penetration = jnp.maximum(-(self.surface_height_m + u[1, s]), 0.0)
+        normal = params["penalty_n_m"] * penetration \
+            - params["contact_damping_n_s_m"] * v_half[1, s] * (penetration > 0)
+        return jnp.maximum(normal, 0.0)
+
+    # ---- the step ----------------------------------------------------------------------------
+    def step(self, params, t0, state, i):
+        g = self.geom
+        dt = state["dt"]
+        mass = params["mass_kg"]
+        off_axis = g.nodes_m[:, 0] > 0.0  # radial motion is zero on the axis
+        v_half = state["v"] + 0.5 * dt * state["a"]
+        u = state["u"] + dt * v_half
+        f_int, mats, j0, stored, e_hg, sigma_bv, min_j, lam2_min, lam2_max = self.internal(
+            params, u, state["mat"], state["j0"], dt)
+        normal = self.contact(params, u, v_half)
+        f_contact = self.zeros(len(g.nodes_m)).at[g.surface_nodes].set(normal)
+        a = (-f_int).at[1].add(f_contact) / mass
+        a = a.at[0].multiply(off_axis)
+        v = v_half + 0.5 * dt * a
+        du = u - state["u"]
+        w_int = state["w_int"] + 0.5 * jnp.sum((state["f_int"] + f_int) * du)
+        w_contact = state["w_contact"] + 0.5 * jnp.sum((state["f_contact"] + f_contact) * du[1])
+        t = t0 + (i + 1) * dt  # not a running sum over the whole run: accurate in float32 too
+        total = jnp.sum(normal)
+        m_total = jnp.sum(mass)
+        v_cm = jnp.sum(mass * v[1]) / m_total
+        z_cm = jnp.sum(mass * (g.nodes_m[:, 1] - g.nodes_m[:, 1].min() + u[1])) / m_total
+        kinetic = 0.5 * jnp.sum(mass * v * v)
+        started = jnp.isfinite(state["t_start"])
+        t_start = jnp.where(~started & (total > 0), t, state["t_start"])
+        separating = started & (total <= 0) & (v_cm > 0) & jnp.isinf(state["t_separation"])
+        # a new contact (the ball touching again) cancels a separation
+        t_separation = jnp.where(total > 0, jnp.inf, jnp.where(separating, t, state["t_separation"]))
+        new_peak = total > state["peak_force"]
+        bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
+        ke0 = state["ke0"]
+        energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
+        # bulk-viscous work by the trapezoidal rule, as the internal work (power = sigma dJ/dt V)
+        d_bv = state["d_bv"] + 0.5 * jnp.sum((state["sigma_bv"] + sigma_bv) * (j0 - state["j0"])
+                                             * g.element_volume_m3)
+        new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
+               "x_top": state["x_top"], "f_int": f_int, "f_contact": f_contact, "mat": mats,
+               "j0": j0, "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact, "d_bv": d_bv,
+               "peak_force": jnp.maximum(total, state["peak_force"]),
+               "t_peak": jnp.where(new_peak, t, state["t_peak"]),
+               "u_peak": jnp.where(new_peak, u, state["u_peak"]),
+               "t_start": t_start, "t_separation": t_separation,
+               "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
+               "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
+                                     state["t_energy"]),
+               "stretch_min": jnp.minimum(state["stretch_min"], jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
+               "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(lam2_max))}
+        row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
+        return new, row
+
+    def chunk(self, params, state, n_steps: int):
+        """`n_steps` steps, after re-estimating the stable increment at the current state."""
+        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
+                                                   REFRESH_LANCZOS_STEPS)
+        # the increment shrinks in steps of 2^(-1/32) (2%) below its start value, so that
+        # round-off in the estimate (vmapped or not) does not change it
+        level = jnp.ceil(INCREMENT_LEVELS * jnp.log2(
+            state["dt0"] * jnp.sqrt(omega2) / params["increment_factor"]))
+        dt = jnp.minimum(state["dt"], state["dt0"] * jnp.exp2(-level / INCREMENT_LEVELS))
+        state = dict(state, dt=dt, x_top=x_top)
+        steps = jnp.arange(n_steps, dtype=self.dtype)
+        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
+
+    # ---- the stable increment ----------------------------------------------------------------
+    def max_frequency_squared(self, params, u, start, steps: int):
+        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
+        (2, n_nodes), with the instantaneous moduli and every surface node's contact spring
+        active, by `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top
+        Ritz vector."""
+        g = self.geom
+        n = len(g.nodes_m)
+        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
+                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
+        mats = self.initial_materials(params)
+        ones = jnp.ones(g.n_elements, self.dtype)
+        tiny_dt = jnp.asarray(1e-12 * np.min(g.characteristic_length_m), self.dtype)  # no relaxation
+
+        def forces(u):
+            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
+
+        scale = 1.0 / jnp.sqrt(params["mass_kg"])
+        mask = jnp.stack([g.nodes_m[:, 0] > 0.0, jnp.ones(n, bool)]).astype(self.dtype)
+
+        def apply(x):
+            v = x.reshape(2, n) * scale * mask
+            _, kv = jax.jvp(forces, (u,), (v,))
+            kv = kv.at[1, g.surface_nodes].add(params["penalty_n_m"] * v[1, g.surface_nodes])
+            return (kv * scale * mask).reshape(-1)
+
+        if start is None:
+            start = mask * jax.random.uniform(jax.random.PRNGKey(0), (2, n), self.dtype, 0.5, 1.5)
+            # alternating signs weight the top of the spectrum (neighbours out of phase)
+            start = (start * jnp.where(jnp.arange(n) % 2 == 0, 1.0, -1.0)).reshape(-1)
+        value, residual, vector = lanczos_largest(apply, start, steps)
+        return value + residual, vector
+
+
+def _branch_energy(q, s0, g, modulus, weight):
+    """Energy (J) stored in the Maxwell branches, exact for small strains.
+
+    Branch i carries the stress h_i = g_i S0 - Q_i (Q_i (n_terms, 4, n_points, n) is the part of
+    the stress already relaxed) and stores h_i:h_i / (2 M_i) per unit volume, with M_i = g_i 2 mu
+    (deviatoric; `modulus` = 2 mu) or k_i 3 K (bulk; `modulus` = 3 K). Relaxed branches store
+    nothing, so at the end of an impact this term is small whatever its accuracy.
+    """
+    if q.shape[0] == 0:
+        return 0.0
+    h = g.reshape(-1, 1, 1, 1) * s0 - q
+    hh = h[:, 0] ** 2 + h[:, 1] ** 2 + h[:, 2] ** 2 + 2.0 * h[:, 3] ** 2
+    stiffness = g * modulus
+    scale = jnp.where(stiffness > 0, 0.5 / jnp.where(stiffness > 0, stiffness, 1.0), 0.0)
+    return jnp.sum(scale[:, None, None] * hh * weight)
+
+
+def time_limit_default(ball, speed: float) -> float:
+    """6 times the contact time of a Hertz sphere with the ball's softest long-term Young's
+    modulus and nu = 0.5 (the longest plausible contact)."""
+    from ..lumped.hertz import hertz_impact
+
+    e_min = min(9 * m.bulk_modulus_pa(False) * m.shear_modulus_pa(False)
+                / (3 * m.bulk_modulus_pa(False) + m.shear_modulus_pa(False))
+                for m in (layer.material for layer in ball.layers))
+    return 6.0 * hertz_impact(e_min, 0.5, ball.outer_radius_m, ball.mass_kg, speed)[2]
+
+
