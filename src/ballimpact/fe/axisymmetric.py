@@ -58,7 +58,8 @@ class AxiGeometry:
     grad_n: np.ndarray           # (4, 2, 5, n_el) dN_a/dX_d at the points q (1/m)
     radius_m: np.ndarray         # (5, n_el) reference radius R at the points
     volume_weight_m3: np.ndarray  # (4, n_el) 2 pi R det(J) w at the Gauss points
-    node_table: np.ndarray       # (n_nodes, valence) indices into the flat corners a * n_el + e
+    corner_tables: tuple         # per corner a: (slots, n_nodes) elements with the node as
+                                 # corner a, padded with n_el
     nodal_volume_m3: np.ndarray  # (n_layers, n_nodes) row-sum lumped volume from each layer
     characteristic_length_m: np.ndarray  # (n_el,) area / longest diagonal
     surface_nodes: np.ndarray
@@ -98,13 +99,14 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
     weight = 2.0 * np.pi * radius[:, :4] * det[:, :4]
 
     n_nodes = len(X)
-    corner_node = elements.T.reshape(-1)               # flat index a * n_el + e
-    counts = np.bincount(corner_node, minlength=n_nodes)
-    table = np.full((n_nodes, counts.max()), len(corner_node), dtype=np.int64)  # pad -> zero
-    fill = np.zeros(n_nodes, dtype=np.int64)
-    for position, node in enumerate(corner_node):
-        table[node, fill[node]] = position
-        fill[node] += 1
+    corner_tables = []
+    for a in range(4):
+        counts = np.bincount(elements[:, a], minlength=n_nodes)
+        table = np.full((max(counts.max(), 1), n_nodes), len(elements), dtype=np.int64)
+        order = np.argsort(elements[:, a], kind="stable")
+        slot = np.arange(len(elements)) - np.repeat(np.cumsum(counts) - counts, counts)
+        table[slot, elements[order, a]] = order
+        corner_tables.append(table)
 
     nodal_volume = np.zeros((n_layers, n_nodes))
     contrib = np.einsum("qa,eq->ea", shape_values[:4], weight)  # row-sum lumping
@@ -131,7 +133,8 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
                        shape_values=shape_values, grad_n=np.ascontiguousarray(
                            grad_n.transpose(2, 3, 1, 0)),
                        radius_m=np.ascontiguousarray(radius.T),
-                       volume_weight_m3=np.ascontiguousarray(weight.T), node_table=table,
+                       volume_weight_m3=np.ascontiguousarray(weight.T),
+                       corner_tables=tuple(corner_tables),
                        nodal_volume_m3=nodal_volume, characteristic_length_m=char_length,
                        surface_nodes=surface,
                        surface_length_m=per_node[surface], surface_layer=n_layers - 1,
@@ -144,34 +147,50 @@ def element_values(geom: AxiGeometry, nodal: jax.Array) -> jax.Array:
     return nodal[:, geom.elements.T]
 
 
+def element_corners(geom: AxiGeometry, nodal: jax.Array) -> tuple:
+    """Nodal vectors (2, n_nodes) at the element corners as ((r at corners 0..3), (z at corners
+    0..3)), each (n_el,): separate arrays keep XLA's loops simple (no stacking)."""
+    return tuple(tuple(nodal[c, geom.elements[:, a]] for a in range(4)) for c in range(2))
+
+
+def corner_sum(values, weights):
+    """sum_a values[a] weights[a] over the 4 corners (leading axis), written out: XLA fuses it
+    into one elementwise loop, where a reduction over an axis of 4 runs as a slow reduce."""
+    return values[0] * weights[0] + values[1] * weights[1] + values[2] * weights[2] \
+        + values[3] * weights[3]
+
+
 def deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[tuple, jax.Array]:
     """In-plane F as components (F_rr, F_rz, F_zr, F_zz), each (5, n_el), and the hoop stretch
     (5, n_el), from corner displacements (2, 4, n_el)."""
     ur, uz = u_e[0][:, None, :], u_e[1][:, None, :]       # (4, 1, n_el)
     gr, gz = geom.grad_n[:, 0], geom.grad_n[:, 1]          # (4, 5, n_el)
-    F2 = (1.0 + jnp.sum(ur * gr, axis=0), jnp.sum(ur * gz, axis=0),
-          jnp.sum(uz * gr, axis=0), 1.0 + jnp.sum(uz * gz, axis=0))
-    hoop = 1.0 + jnp.sum(geom.shape_values[:, :, None] * u_e[0][None], axis=1) / geom.radius_m
+    F2 = (1.0 + corner_sum(ur, gr), corner_sum(ur, gz), corner_sum(uz, gr),
+          1.0 + corner_sum(uz, gz))
+    hoop = 1.0 + corner_sum(u_e[0][:, None, :], geom.shape_values.T[:, :, None]) / geom.radius_m
     return F2, hoop
 
 
-def centre_deformation(geom: AxiGeometry, u_e: jax.Array) -> tuple[tuple, jax.Array]:
+def centre_deformation(geom: AxiGeometry, u_e) -> tuple[tuple, jax.Array]:
     """F at the element centre only (one-point integration): in-plane components and the hoop
-    stretch, each (1, n_el), from corner displacements (2, 4, n_el)."""
+    stretch, each (1, n_el), from corner displacements u_e[c][a] (`element_corners`)."""
     ur, uz = u_e[0], u_e[1]                                # (4, n_el)
     gr, gz = geom.grad_n[:, 0, 4], geom.grad_n[:, 1, 4]    # (4, n_el)
-    F2 = (1.0 + jnp.sum(ur * gr, axis=0), jnp.sum(ur * gz, axis=0),
-          jnp.sum(uz * gr, axis=0), 1.0 + jnp.sum(uz * gz, axis=0))
-    hoop = 1.0 + 0.25 * jnp.sum(ur, axis=0) / geom.radius_m[4]
+    F2 = (1.0 + corner_sum(ur, gr), corner_sum(ur, gz), corner_sum(uz, gr),
+          1.0 + corner_sum(uz, gz))
+    hoop = 1.0 + 0.25 * (ur[0] + ur[1] + ur[2] + ur[3]) / geom.radius_m[4]
     return tuple(f[None] for f in F2), hoop[None]
 
 
-def hourglass(geom: AxiGeometry, u_e: jax.Array, stiffness_n_m: jax.Array):
-    """Hourglass corner forces (2, 4, n_el) and energy (J) of corner displacements (2, 4, n_el)
-    with the per-element stiffness k_e (n_el,) (N/m, the 2 pi of the ring included)."""
-    q = jnp.sum(geom.hourglass_vector * u_e, axis=1)       # (2, n_el)
-    kq = stiffness_n_m * q
-    return kq[:, None, :] * geom.hourglass_vector, 0.5 * jnp.sum(kq * q)
+def hourglass(geom: AxiGeometry, u_e, stiffness_n_m: jax.Array):
+    """Hourglass corner forces ((f_r at corners 0..3), (f_z at corners 0..3)) and energy (J) of
+    corner displacements u_e[c][a] with the per-element stiffness k_e (n_el,) (N/m, the 2 pi of
+    the ring included)."""
+    gamma = geom.hourglass_vector
+    q = [corner_sum(u_e[c], gamma) for c in range(2)]
+    kq = [stiffness_n_m * q[c] for c in range(2)]
+    energy = 0.5 * jnp.sum(kq[0] * q[0] + kq[1] * q[1])
+    return tuple(tuple(kq[c] * gamma[a] for a in range(4)) for c in range(2)), energy
 
 
 def fbar(F2: tuple, Fh: jax.Array) -> tuple[tuple, jax.Array, jax.Array]:
@@ -198,8 +217,27 @@ def first_piola(Fb2: tuple, Fbh, S: tuple, pressure_j) -> tuple[tuple, jax.Array
             Fbh * s_hh + pressure_j / Fbh)
 
 
-def gather_nodal(geom: AxiGeometry, f_e: jax.Array) -> jax.Array:
-    """Sum corner vectors (2, 4, n_el) to nodes (2, n_nodes): a gather, no scatter."""
-    flat = f_e.reshape(f_e.shape[0], -1)
-    flat = jnp.concatenate([flat, jnp.zeros((flat.shape[0], 1), flat.dtype)], axis=1)
-    return flat[:, geom.node_table].sum(axis=-1)
+def gather_nodal(geom: AxiGeometry, f_e) -> jax.Array:
+    """Sum corner vectors to nodes (2, n_nodes): gathers, no scatter. `f_e[c][a]` is component c
+    at corner a of every element (n_el,): an array (2, 4, n_el) or nested sequences of arrays."""
+    zero = jnp.zeros(1, geom.grad_n.dtype)
+    out = []
+    for c in range(2):
+        total = 0.0
+        for a, table in enumerate(geom.corner_tables):
+            padded = jnp.concatenate([f_e[c][a], zero])
+            for slot in table:
+                total = total + padded[slot]
+        out.append(total)
+    return jnp.stack(out)
+
+
+def centre_forces(geom: AxiGeometry, P2: tuple, Ph, volume_m3) -> tuple:
+    """Corner forces of one-point elements, ((f_r at corners 0..3), (f_z at corners 0..3)), each
+    (n_el,): f_ia = V (P_iJ dN_a/dX_J + delta_ir P_hoop N_a / R) at the centre, written out (the
+    same as the vector-Jacobian product of `centre_deformation`, without its stacking)."""
+    prr, prz, pzr, pzz = (p[0] * volume_m3 for p in P2)
+    hoop = Ph[0] * volume_m3 * 0.25 / geom.radius_m[4]
+    br, bz = geom.grad_n[:, 0, 4], geom.grad_n[:, 1, 4]
+    return (tuple(prr * br[a] + prz * bz[a] + hoop for a in range(4)),
+            tuple(pzr * br[a] + pzz * bz[a] for a in range(4)))
