@@ -279,14 +279,13 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
             i = int(np.argmin(done))
             raise SimulationError(f"ball {balls[i].name}: no separation within the time limit "
                                   f"{limits[i]:.4g} s")
-        state = jax.tree_util.tree_map(lambda x: np.asarray(x, dtype=np.float64), state)
+        final = {k: np.asarray(state[k], dtype=np.float64) for k in _FINAL}
     wall = time.perf_counter() - start
     history_all = np.concatenate(rows, axis=1 if batched else 0)
     if not batched:
         history_all = history_all[None]
-        state = jax.tree_util.tree_map(lambda x: np.asarray(x)[None], state)
-    results = [_result(ball, float(speed), history_all[i], {k: v[i] for k, v in state.items()
-                                                             if k != "mat"},
+        final = {k: v[None] for k, v in final.items()}
+    results = [_result(ball, float(speed), history_all[i], {k: v[i] for k, v in final.items()},
                        per_ball[i], t_end[i], kernel, options, wall / len(balls))
                for i, (ball, speed) in enumerate(zip(balls, speeds))]
     for result, ball in zip(results, balls):
@@ -294,6 +293,9 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
             warnings.warn(f"{message}: principal stretches in this range occurred in the ball "
                           "(in some layer)", InputWarning, stacklevel=3)
     return results
+
+
+_FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch_max")
 
 
 def _check_failure(ball, t_bad: float, t_energy: float, t_end: float, options) -> None:
