@@ -183,13 +183,14 @@ def centre_deformation(geom: AxiGeometry, u_e) -> tuple[tuple, jax.Array]:
 
 
 def hourglass(geom: AxiGeometry, u_e, stiffness_n_m: jax.Array):
-    """Hourglass corner forces ((f_r at corners 0..3), (f_z at corners 0..3)) and energy (J) of
+    """Hourglass corner forces ((f_r at corners 0..3), (f_z at corners 0..3)) and energy (J, per
+    element) of
     corner displacements u_e[c][a] with the per-element stiffness k_e (n_el,) (N/m, the 2 pi of
     the ring included)."""
     gamma = geom.hourglass_vector
     q = [corner_sum(u_e[c], gamma) for c in range(2)]
     kq = [stiffness_n_m * q[c] for c in range(2)]
-    energy = 0.5 * jnp.sum(kq[0] * q[0] + kq[1] * q[1])
+    energy = 0.5 * (kq[0] * q[0] + kq[1] * q[1])
     return tuple(tuple(kq[c] * gamma[a] for a in range(4)) for c in range(2)), energy
 
 

@@ -70,7 +70,7 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
     m_surface = mass[geom.surface_nodes]
     penalty = (options.penalty_scale * m_surface
                * (c_d[geom.surface_layer] / geom.surface_length_m) ** 2)
-    return {"mass_kg": mass, "penalty_n_m": penalty,
+    return {"mass_kg": mass, "mass_total_kg": np.sum(mass), "penalty_n_m": penalty,
             "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
             "hourglass_n_m": options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
             "bv_linear_pa_s": options.bulk_viscosity_linear * rho_el * c_el * length,
@@ -167,9 +167,10 @@ class Kernel:
     # ---- forces ------------------------------------------------------------------------------
     def internal(self, params, u, mats, j0_prev, dt):
         """Internal nodal forces (2, n_nodes) at displacements u (2, n_nodes), new material
-        states, centre J, stored strain energy (J), hourglass energy (J), bulk-viscous Cauchy
-        pressure (Pa, per element), min J, the range of the eigenvalues of C and the element
-        corner forces (2, 4, n_el)."""
+        states, centre J, and per element: stored strain energy (J), hourglass energy (J),
+        bulk-viscous Cauchy pressure (Pa); J and the eigenvalues' range of C at the points; and
+        the element corner forces f_e[c][a]. Per-element values, not sums: the step sums all of
+        them in one pass."""
         g = self.geom
 
         if self.reduced:
@@ -185,7 +186,7 @@ class Kernel:
             (Fb2, Fbh), pull, J = jax.vjp(kinematics, u_e, has_aux=True)
         C = right_cauchy_green(Fb2, Fbh)
         weight = self.point_volume_m3
-        stresses, new_mats, stored = [], [], 0.0
+        stresses, new_mats, stored = [], [], []
         for (a, b), energy, consts, mat in zip(g.layer_slices, self.energies, params["layers"],
                                                mats):
             (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
@@ -197,18 +198,19 @@ class Kernel:
                 q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
             else:
                 q_vol = mat["q_vol"]
-            stresses.append(s_dev + s_vol - q_dev.sum(axis=0) - q_vol.sum(axis=0))
+            # sums over the Prony terms written out (a reduction is a slow pass of its own)
+            stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
             new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
                              "q_dev": q_dev, "q_vol": q_vol})
-            w = weight[:, a:b]
             relaxed_dev = 1.0 - jnp.sum(consts["prony_g"])
             relaxed_vol = 1.0 - jnp.sum(consts["prony_k"])
-            stored = stored + jnp.sum((relaxed_dev * w_dev + relaxed_vol * w_vol) * w)
-            stored = stored + _branch_energy(q_dev, s_dev, consts["prony_g"],
-                                             2.0 * consts["shear_modulus_pa"], w)
+            density = relaxed_dev * w_dev + relaxed_vol * w_vol  # (n_points, n_layer_el) J/m^3
+            density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
+                                               2.0 * consts["shear_modulus_pa"])
             if q_vol.shape[0]:
-                stored = stored + _branch_energy(q_vol, s_vol, consts["prony_k"],
-                                                 3.0 * consts["bulk_modulus_pa"], w)
+                density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                                   3.0 * consts["bulk_modulus_pa"])
+            stored.append(jnp.sum(density * weight[:, a:b], axis=0))
         S = tuple(jnp.concatenate(stresses, axis=-1))
         j0 = J[-1]  # at the centre (the last of the F-bar points; the only reduced one)
         rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
@@ -217,17 +219,17 @@ class Kernel:
         P2, Ph = first_piola(Fb2, Fbh, S, sigma_bv * j0)
         if self.reduced:
             f_p = centre_forces(g, P2, Ph, g.element_volume_m3)
-            f_hg, e_hg = hourglass(g, u_e, params["hourglass_n_m"])
+            f_hg, e_hg = hourglass(g, u_e, params["hourglass_n_m"])  # e_hg per element
             f_e = tuple(tuple(f_p[c][a] + f_hg[c][a] for a in range(4)) for c in range(2))
         else:
             (f_e,) = pull((tuple(p * weight for p in P2), Ph * weight))
-            e_hg = jnp.zeros((), self.dtype)
+            e_hg = self.zeros(g.n_elements)
         f = gather_nodal(g, f_e)
         m_ = 0.5 * (C.xx + C.yy)
         d_ = jnp.sqrt(0.25 * (C.xx - C.yy) ** 2 + C.xy ** 2)
-        lam2_min = jnp.minimum(jnp.min(m_ - d_), jnp.min(C.zz))
-        lam2_max = jnp.maximum(jnp.max(m_ + d_), jnp.max(C.zz))
-        return f, new_mats, j0, stored, e_hg, sigma_bv, jnp.min(J), lam2_min, lam2_max, f_e
+        lam2_min = jnp.minimum(m_ - d_, C.zz)
+        lam2_max = jnp.maximum(m_ + d_, C.zz)
+        return f, new_mats, j0, jnp.concatenate(stored), e_hg, sigma_bv, J, lam2_min, lam2_max, f_e
 
     def contact(self, params, u, v_half):
         """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0."""
@@ -245,7 +247,7 @@ class Kernel:
         off_axis = g.nodes_m[:, 0] > 0.0  # radial motion is zero on the axis
         v_half = state["v"] + 0.5 * dt * state["a"]
         u = state["u"] + dt * v_half
-        f_int, mats, j0, stored, e_hg, sigma_bv, min_j, lam2_min, lam2_max, f_e = self.internal(
+        f_int, mats, j0, stored, e_hg, sigma_bv, J, lam2_min, lam2_max, f_e = self.internal(
             params, u, state["mat"], state["j0"], dt)
         normal = self.contact(params, u, v_half)
         f_contact = self.zeros(len(g.nodes_m)).at[g.surface_nodes].set(normal)
@@ -253,21 +255,31 @@ class Kernel:
         a = a.at[0].multiply(off_axis)
         v = v_half + 0.5 * dt * a
         du = u - state["u"]
-        # internal work summed over elements (the same as over nodes): the corner forces then
+        # Internal work summed over elements (the same as over nodes): the corner forces then
         # have a second reader besides the nodal gather, so XLA computes them once into memory
-        # instead of fusing their whole computation into the gather (4x slower)
+        # instead of fusing their whole computation into the gather (4x slower).
         corners = element_corners if self.reduced else element_values
         new_u, old_u = corners(g, u), corners(g, state["u"])
-        w_int = state["w_int"] + 0.5 * sum(
-            jnp.sum((state["f_e"][c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a]))
-            for c in range(2) for a in range(4))
-        w_contact = state["w_contact"] + 0.5 * jnp.sum((state["f_contact"] + f_contact) * du[1])
+        work_e = 0.5 * sum((state["f_e"][c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a])
+                           for c in range(2) for a in range(4))
+        # bulk-viscous work by the trapezoidal rule, as the internal work (power = sigma dJ/dt V)
+        bv_e = 0.5 * (state["sigma_bv"] + sigma_bv) * (j0 - state["j0"]) * g.element_volume_m3
+        # every sum of the step in two reductions (each reduction is a pass of its own)
+        stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
+        height = g.nodes_m[:, 1] - g.nodes_m[:, 1].min() + u[1]
+        kinetic, momentum_z, moment_z, dw_contact = jnp.sum(jnp.stack([
+            0.5 * mass * (v[0] * v[0] + v[1] * v[1]), mass * v[1], mass * height,
+            0.5 * (state["f_contact"] + f_contact) * du[1]]), axis=1)
+        min_j, lam2_min, neg_lam2_max = jnp.min(jnp.stack([
+            jnp.min(J, axis=0), jnp.min(lam2_min, axis=0), -jnp.max(lam2_max, axis=0)]), axis=1)
+        lam2_max = -neg_lam2_max
+        w_int = state["w_int"] + dw_int
+        w_contact = state["w_contact"] + dw_contact
+        d_bv = state["d_bv"] + dd_bv
         t = t0 + (i + 1) * dt  # not a running sum over the whole run: accurate in float32 too
         total = jnp.sum(normal)
-        m_total = jnp.sum(mass)
-        v_cm = jnp.sum(mass * v[1]) / m_total
-        z_cm = jnp.sum(mass * (g.nodes_m[:, 1] - g.nodes_m[:, 1].min() + u[1])) / m_total
-        kinetic = 0.5 * jnp.sum(mass * v * v)
+        v_cm = momentum_z / params["mass_total_kg"]
+        z_cm = moment_z / params["mass_total_kg"]
         started = jnp.isfinite(state["t_start"])
         t_start = jnp.where(~started & (total > 0), t, state["t_start"])
         separating = started & (total <= 0) & (v_cm > 0) & jnp.isinf(state["t_separation"])
@@ -277,9 +289,6 @@ class Kernel:
         bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
         ke0 = state["ke0"]
         energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
-        # bulk-viscous work by the trapezoidal rule, as the internal work (power = sigma dJ/dt V)
-        d_bv = state["d_bv"] + 0.5 * jnp.sum((state["sigma_bv"] + sigma_bv) * (j0 - state["j0"])
-                                             * g.element_volume_m3)
         new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
                "x_top": state["x_top"], "f_e": f_e, "f_contact": f_contact, "mat": mats,
                "j0": j0, "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact, "d_bv": d_bv,
@@ -342,8 +351,9 @@ class Kernel:
         return value + residual, vector
 
 
-def _branch_energy(q, s0, g, modulus, weight):
-    """Energy (J) stored in the Maxwell branches, exact for small strains.
+def _branch_energy(q, s0, g, modulus):
+    """Energy density (J/m^3, per point (n_points, n)) stored in the Maxwell branches, exact for
+    small strains.
 
     Branch i carries the stress h_i = g_i S0 - Q_i (Q_i (n_terms, 4, n_points, n) is the part of
     the stress already relaxed) and stores h_i:h_i / (2 M_i) per unit volume, with M_i = g_i 2 mu
@@ -356,7 +366,7 @@ def _branch_energy(q, s0, g, modulus, weight):
     hh = h[:, 0] ** 2 + h[:, 1] ** 2 + h[:, 2] ** 2 + 2.0 * h[:, 3] ** 2
     stiffness = g * modulus
     scale = jnp.where(stiffness > 0, 0.5 / jnp.where(stiffness > 0, stiffness, 1.0), 0.0)
-    return jnp.sum(scale[:, None, None] * hh * weight)
+    return sum(scale[i] * hh[i] for i in range(q.shape[0]))
 
 
 def time_limit_default(ball, speed: float) -> float:
