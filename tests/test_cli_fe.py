@@ -84,6 +84,8 @@ def test_balls_lists_presets(capsys):
 def test_cli_defaults_match_the_solver():
     assert SolverDefaults.element_size_m == SolverOptions().element_size_m
     assert SolverDefaults.penalty_scale == SolverOptions().penalty_scale
+    assert SolverDefaults.integration == SolverOptions().integration
+    assert SolverDefaults.precision == SolverOptions().precision
 
 
 def test_demo_json_and_plot(capsys, tmp_path):

@@ -32,6 +32,8 @@ class SolverDefaults:
 
     element_size_m = 1.5e-3
     penalty_scale = 1.0
+    integration = "reduced"
+    precision = "float64"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -105,6 +107,13 @@ def build_parser() -> argparse.ArgumentParser:
                                f"{SolverDefaults.element_size_m:g})")
     simulate.add_argument("--pole-element-size-m", type=float,
                           help="refine toward the contact pole to this element length (m)")
+    simulate.add_argument("--integration", choices=("reduced", "full"),
+                          default=SolverDefaults.integration,
+                          help="reduced: one point with hourglass control (default); full: 2x2 "
+                               "points with F-bar")
+    simulate.add_argument("--precision", choices=("float64", "float32"),
+                          default=SolverDefaults.precision,
+                          help="arithmetic of the explicit steps (default float64)")
     simulate.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
                           help="contact penalty scale (default 1)")
     simulate.add_argument("--moduli", help="override the balls' moduli convention: long_term or "
@@ -244,7 +253,8 @@ def _run_simulate(args: argparse.Namespace) -> dict[str, Any]:
         ball = ball.with_moduli(args.moduli)
     options = SolverOptions(element_size_m=args.element_size_m,
                             pole_element_size_m=args.pole_element_size_m,
-                            penalty_scale=args.penalty_scale)
+                            penalty_scale=args.penalty_scale, integration=args.integration,
+                            precision=args.precision)
     result = simulate(ball, args.speed_m_s, options)
     from .features import extract_features
 

@@ -299,7 +299,7 @@ _FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch
 
 
 def _check_failure(ball, t_bad: float, t_energy: float, t_end: float, options) -> None:
-    if t_bad < t_end:
+    if t_bad < t_end and t_bad < t_energy:
         raise SimulationError(
             f"ball {ball.name}: inverted element or non-finite state at t = {t_bad:.4g} s "
             "(try a smaller time_step_scale or element size)")
