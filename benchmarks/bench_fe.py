@@ -1,25 +1,36 @@
-"""Benchmark: the explicit FE ball (issue: universal ball at 25 m/s, goal < 0.5 s on one core;
-the thesis' ABAQUS/Explicit runs took 25 s (universal) and 87 s (detailed) on a 2008 PC).
+"""Benchmark: the explicit FE engine (issue 9 targets, 2-core CPU: universal ball at 25 m/s
+< 0.5 s a run, >= 3 runs/s in batches, whole `ballimpact simulate` <= 3 s warm).
 
 Prints one JSON object:
-- per ball (`cricket-universal` at 25 m/s, `cricket-3layer` at 20.8 m/s, default mesh): the first
-  call (`first_call_s`, mostly JAX compilation), the median of 3 later calls
-  (`wall_time_per_simulation_s`), elements, steps, element updates per second and the ratio to the
-  thesis' time for the same kind of model;
-- `batch`: 64 universal-ball parameter sets (C10, C01, g1, tau1 spread over table 7-3's range)
-  through `simulate_batch` (vmapped groups of `CPU_GROUP_SIZE` on a CPU, all 64 at once on an
-  accelerator): simulations per second, against single runs of the same sets measured in the same
-  process (`speedup_vs_single_runs`).
+- `single`: per ball and setting (`cricket-universal` at 25 m/s, `cricket-3layer` at 20.8 m/s;
+  reduced integration float64 (the default), float32, and full integration = the F-bar element of
+  the previous engine, with the new increment), the first call (`first_call_s`, mostly
+  compilation), the median of 3 later calls (`wall_time_per_simulation_s`), compile estimate,
+  steps, elements, element updates per second, the figures of the run, and the ratio to the
+  thesis' ABAQUS time;
+- `previous_engine`: the engine before issue 9 (F-bar, element-by-element increment 0.9 L/c_d),
+  emulated in the same run by `integration="full"` with the increment scaled to the old one
+  (`time_step_scale` = old / new increment; the per-chunk re-estimate stays, a few % of a run),
+  and `speedup_vs_previous_engine`;
+- `batch`: universal-ball parameter sets over the table 6-2 ranges (C10 4-7 MPa, C01 -1..1 MPa,
+  g1 0-0.9, tau1 1e-5..1e-4 s) at speeds 5-45 m/s, through `simulate_batch`: runs per second
+  in float64 and float32, and single runs of the same sets for the ratio;
+- `cli`: whole-process time of `ballimpact simulate` (Mooney-Rivlin ball C10 4.72 MPa, C01
+  -0.45 MPa, 160 g, 72 mm, 20 m/s) with a warm compilation cache, against the 122 s of an
+  independent explicit code on the same problem.
 
-Run: python benchmarks/bench_fe.py [--quick]   (--quick: 16 sets in the batch)
+Run: python benchmarks/bench_fe.py [--quick]   (--quick: 16 sets in the batch, no 3-layer ball)
 """
 
 import json
 import os
 import platform
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 import jax
 import numpy as np
@@ -30,6 +41,8 @@ from ballimpact.fe.materials import MooneyRivlin, PronyTerm
 from ballimpact.fe.solver import default_group_size
 
 THESIS_S = {"cricket-universal": 25.0, "cricket-3layer": 87.0}
+INDEPENDENT_CODE_S = 122.0  # the same Mooney-Rivlin impact in an independent explicit code
+OLD_TIME_STEP_SCALE = 0.9   # previous engine: 0.9 x min(L_e / c_d), L_e = area / longest diagonal
 
 
 def timed(fn, *args):
@@ -38,54 +51,126 @@ def timed(fn, *args):
     return time.perf_counter() - start, out
 
 
-def one_ball(name, speed, options):
+def one_ball(name, speed, options, label):
     ball = load_ball(name, impact_speed_m_s=speed)
     first, result = timed(simulate, ball, speed, options)
-    walls = [timed(simulate, ball, speed, options)[0] for _ in range(3)]
-    wall = statistics.median(walls)
-    return {"ball": name, "impact_speed_m_s": speed, "first_call_s": first,
+    wall = statistics.median(timed(simulate, ball, speed, options)[0] for _ in range(3))
+    return {"ball": name, "setting": label, "impact_speed_m_s": speed, "first_call_s": first,
             "compilation_s_estimate": first - wall, "wall_time_per_simulation_s": wall,
             "elements": result.elements, "steps": result.steps,
+            "stable_time_increment_s": result.stable_time_increment_s,
             "element_updates_per_s": result.elements * result.steps / wall,
             "thesis_abaqus_s": THESIS_S[name], "speedup_vs_thesis": THESIS_S[name] / wall,
             "peak_force_n": result.peak_force_n, "contact_time_s": result.contact_time_s,
-            "cor": result.cor, "energy_balance_error": result.energy_balance_error}
+            "cor": result.cor, "energy_balance_error": result.energy_balance_error,
+            "hourglass_fraction_of_peak_internal_energy":
+                result.energies_j["peak_hourglass_energy_j"]
+                / result.energies_j["peak_internal_energy_j"]}
+
+
+def old_increment_s(ball_name, speed):
+    """The previous engine's increment: 0.9 x min(L_e / c_d) (L_e = area / longest diagonal)
+    with the bulk-viscosity factor, and its contact-spring limit."""
+    from ballimpact.fe.solver import _kernel
+
+    ball = load_ball(ball_name, impact_speed_m_s=speed)
+    options = SolverOptions(integration="full")
+    geom = _kernel(ball, options).geom
+    c_d = np.array([np.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
+                    for layer in ball.layers])
+    element_layer = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.layer_slices)])
+    xi = options.bulk_viscosity_linear
+    return OLD_TIME_STEP_SCALE * min(
+        np.min(geom.characteristic_length_m / c_d[element_layer]) * (np.sqrt(1 + xi * xi) - xi),
+        np.min(geom.surface_length_m / c_d[-1]) * 2.0 / np.sqrt(5.0))
 
 
 def universal_sets(n, seed=0):
+    """Parameter sets over the table 6-2 ranges (g1 capped at 0.9) and speeds 5-45 m/s."""
     rng = np.random.default_rng(seed)
     radius = 0.036
     density = 0.16 / (4.0 / 3.0 * np.pi * radius ** 3)
     balls = []
     for i in range(n):
-        material = MooneyRivlin(c10_pa=rng.uniform(4.0e6, 6.1e6), c01_pa=rng.uniform(-0.51e6, -0.35e6),
-                                prony=(PronyTerm(g=rng.uniform(0.75, 0.79), k=0.0,
-                                                 tau_s=rng.uniform(7e-5, 8e-5)),))
+        material = MooneyRivlin(c10_pa=rng.uniform(4.0e6, 7.0e6), c01_pa=rng.uniform(-1.0e6, 1.0e6),
+                                prony=(PronyTerm(g=rng.uniform(0.0, 0.9), k=0.0,
+                                                 tau_s=rng.uniform(1e-5, 1e-4)),))
         balls.append(BallModel(f"set{i}", (Layer("ball", radius, density, material),)))
-    return balls
+    return balls, rng.uniform(5.0, 45.0, n)
+
+
+def batch(n, precision):
+    balls, speeds = universal_sets(n)
+    options = SolverOptions(precision=precision)
+    group = default_group_size(n)
+    timed(simulate_batch, balls[:group], speeds[:group], options)  # compile
+    wall, results = timed(simulate_batch, balls, speeds, options)
+    singles = [timed(simulate, b, s, options)[0] for b, s in zip(balls[:4], speeds[:4])]
+    return {"sets": n, "precision": precision, "wall_s": wall, "simulations_per_s": n / wall,
+            "single_runs_per_s_first_4": 4 / sum(singles), "group_size": group,
+            "backend": jax.default_backend(), "steps_max": max(r.steps for r in results),
+            "steps_median": float(np.median([r.steps for r in results]))}
+
+
+def cli_whole_process():
+    spec = {"name": "mr-72mm-160g", "layers": [{
+        "name": "ball", "outer_radius_m": 0.036,
+        "density_kg_m3": 0.16 / (4.0 / 3.0 * np.pi * 0.036 ** 3),
+        "material": {"model": "mooney_rivlin", "c10_pa": 4.72e6, "c01_pa": -0.45e6}}]}
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "ball.json"
+        path.write_text(json.dumps(spec))
+        script = Path(sys.executable).parent / "ballimpact"  # the installed command
+        launcher = [str(script)] if script.exists() else [sys.executable, "-m", "ballimpact.cli"]
+        command = launcher + ["simulate", "--ball", str(path), "--speed-m-s", "20", "--json"]
+        env = dict(os.environ, BALLIMPACT_CACHE_DIR=str(Path(folder) / "cache"))
+        def run():
+            return subprocess.run(command, capture_output=True, env=env, check=True)
+
+        cold = timed(run)
+        walls = [timed(run)[0] for _ in range(3)]
+    out = json.loads(cold[1].stdout)
+    wall = statistics.median(walls)
+    return {"cold_cache_s": cold[0], "warm_cache_s": wall, "steps": out["steps"],
+            "peak_force_n": out["peak_force_n"], "cor": out["cor"],
+            "independent_code_s": INDEPENDENT_CODE_S, "speedup_vs_independent_code":
+                INDEPENDENT_CODE_S / wall}
 
 
 def main():
     quick = "--quick" in sys.argv
-    options = SolverOptions()
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
-                       "cpu_count": os.cpu_count(), "python": platform.python_version()},
-           "element_size_m": options.element_size_m, "balls": []}
-    for name, speed in (("cricket-universal", 25.0), ("cricket-3layer", 20.8)):
-        out["balls"].append(one_ball(name, speed, options))
-        print(f"{name}: done", file=sys.stderr, flush=True)
-    n = 16 if quick else 64
-    balls = universal_sets(n)
-    timed(simulate_batch, balls[:default_group_size(n)], 25.0, options)  # compile the kernel
-    wall_batch, results = timed(simulate_batch, balls, 25.0, options)
-    singles = [timed(simulate, b, 25.0, options)[0] for b in balls[:8]]
-    per_single = statistics.median(singles)
-    out["batch"] = {"sets": n, "wall_s": wall_batch, "simulations_per_s": n / wall_batch,
-                    "single_run_s_median_of_8": per_single,
-                    "speedup_vs_single_runs": per_single * n / wall_batch,
-                    "group_size": default_group_size(n),
-                    "backend": jax.default_backend(), "steps_max": max(r.steps for r in results)}
+                       "cpu_count": os.cpu_count(), "python": platform.python_version(),
+                       "jax": jax.__version__, "backend": jax.default_backend()},
+           "single": []}
+    balls = [("cricket-universal", 25.0)] + ([] if quick else [("cricket-3layer", 20.8)])
+    for name, speed in balls:
+        for label, options in (("reduced float64 (default)", SolverOptions()),
+                               ("reduced float32", SolverOptions(precision="float32")),
+                               ("full float64", SolverOptions(integration="full"))):
+            out["single"].append(one_ball(name, speed, options, label))
+            print(f"{name} {label}: done", file=sys.stderr, flush=True)
+    out["previous_engine"] = previous_engine()
+    for precision in ("float64", "float32"):
+        out.setdefault("batch", []).append(batch(16 if quick else 64, precision))
+        print(f"batch {precision}: done", file=sys.stderr, flush=True)
+    out["cli"] = cli_whole_process()
     print(json.dumps(out, indent=2))
+
+
+def previous_engine():
+    """The universal ball at 25 m/s with the previous engine's element and increment, and the
+    new default's speed-up over it, measured in this run."""
+    name, speed = "cricket-universal", 25.0
+    ball = load_ball(name, impact_speed_m_s=speed)
+    old_dt = old_increment_s(name, speed)
+    probe = simulate(ball, speed, SolverOptions(integration="full"))
+    scale = SolverOptions().time_step_scale * old_dt / probe.stable_time_increment_s
+    old = one_ball(name, speed, SolverOptions(integration="full", time_step_scale=scale),
+                   "previous engine (F-bar, 0.9 L_e/c_d)")
+    new = one_ball(name, speed, SolverOptions(), "reduced float64 (default)")
+    return {"run": old, "speedup_vs_previous_engine":
+            old["wall_time_per_simulation_s"] / new["wall_time_per_simulation_s"]}
 
 
 if __name__ == "__main__":

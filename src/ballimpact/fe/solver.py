@@ -307,8 +307,9 @@ def _check_failure(ball, t_bad: float, t_energy: float, t_end: float, options) -
         raise SimulationError(
             f"ball {ball.name}: energy balance error above energy_error_limit = "
             f"{options.energy_error_limit:g} of the impact energy at t = {t_energy:.4g} s: the "
-            f"increment is unstable (time_step_scale = {options.time_step_scale:g}; "
-            "1 is the stability limit, 0.8 the default)")
+            "run is unstable (an increment too large for the ball: time_step_scale = "
+            f"{options.time_step_scale:g}, 1 the stability limit; or elements crushed by a ball "
+            "too soft for the speed)")
 
 
 def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:
