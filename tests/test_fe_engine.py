@@ -75,6 +75,11 @@ def test_increment_shrinks_as_the_ball_stiffens():
     result = simulate(_sphere(UNIVERSAL), 45.0, SolverOptions(element_size_m=3e-3))
     assert result.final_time_increment_s < result.stable_time_increment_s
     assert result.energy_balance_error < 0.01
+    # the pulse comes back uniformly sampled, so the 19 features can be taken from it
+    from ballimpact.features import extract_features
+
+    features = extract_features(result.record()).values
+    assert features["P6"] == pytest.approx(result.peak_force_n, rel=0.01)
 
 
 def test_hourglass_energy_small_and_point_load_controlled():

@@ -87,15 +87,18 @@ class FEResult:
                 "wall_time_s": self.wall_time_s}
 
     def record(self):
-        """The contact-force pulse as an `ImpactRecord` (with zero force before contact)."""
-        t = self.history["time_s"]
-        f = self.history["contact_force_n"]
-        dt = t[1] - t[0]
+        """The contact-force pulse as an `ImpactRecord` (with zero force before contact),
+        uniformly sampled at the run's final increment (the increment may shrink during a run;
+        linear interpolation between steps)."""
+        steps = self.history["time_s"]
+        dt = self.final_time_increment_s
+        t = np.arange(1, int(np.floor(steps[-1] / dt * (1 + 1e-9))) + 1) * dt
+        f = np.interp(t, steps, self.history["contact_force_n"])
         lead = np.arange(-max(3, int(0.05 * len(t))), 0) * dt
         time = np.concatenate([lead, [0.0], t])
         force = np.concatenate([np.zeros(len(lead) + 1), f])
         velocity = np.concatenate([np.full(len(lead) + 1, self.impact_speed_m_s),
-                                   -self.history["centre_velocity_z_m_s"]])
+                                   -np.interp(t, steps, self.history["centre_velocity_z_m_s"])])
         return ImpactRecord(time, force, velocity_m_s=velocity, mass_kg=self.mass_kg,
                             impact_speed_m_s=self.impact_speed_m_s,
                             rebound_speed_m_s=max(self.rebound_speed_m_s, 0.0),
@@ -255,7 +258,6 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
     with jax.enable_x64(True), np.errstate(invalid="ignore"):
         params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
         state = init_fn(params, jnp.asarray(speeds if batched else speeds[0], kernel.dtype))
-        dts = np.atleast_1d(np.asarray(state["dt"], dtype=np.float64))
         rows = []
         while True:
             state, chunk_rows = chunk_fn(params, state)
