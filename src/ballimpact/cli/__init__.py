@@ -1,0 +1,60 @@
+"""The `ballimpact` command (DESIGN.md "Command line contract").
+
+Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run.
+With `--json` one JSON object goes to stdout; warnings and progress go to stderr.
+One module per verb (or verb group) adds its parser and runs it; this module owns the
+conventions: the error-to-exit-code mapping, the warnings list and the JSON output.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+
+from .. import __version__
+from ..errors import InputError, SimulationError
+from . import features, fit, simulate
+from .common import Parser, json_safe
+from .simulate import SolverDefaults
+
+__all__ = ["SolverDefaults", "build_parser", "main"]
+
+#: verb -> runner; each runner returns the JSON object of the verb
+RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_models,
+           "simulate": simulate.run_simulate, "balls": simulate.run_balls,
+           "demo": simulate.run_demo}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = Parser(prog="ballimpact", description="Sports-ball impact modelling (SI units).")
+    parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
+    verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
+    for module in (features, fit, simulate):
+        module.add_parser(verbs)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    try:
+        args = build_parser().parse_args(argv)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = RUNNERS[args.verb](args)
+        notes = list(dict.fromkeys(str(w.message) for w in caught))
+    except InputError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
+    except SimulationError as error:
+        print(f"error: failed run: {error}", file=sys.stderr)
+        return 1
+    except Exception as error:  # noqa: BLE001 - a failed run, reported in one line
+        print(f"error: failed run: {type(error).__name__}: {error}", file=sys.stderr)
+        return 1
+    for note in notes:
+        print(f"warning: {note}", file=sys.stderr)
+    result["warnings"] = notes
+    if args.json:
+        print(json.dumps(json_safe(result), indent=2))
+    return 0

@@ -1,0 +1,116 @@
+"""Conventions shared by every verb: the parser that fails in one line, the record and processing
+options, plot-path checks, the JSON clean-up and JAX's compilation cache."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..features import DEFAULT_IMPULSE_TOLERANCE
+from ..filters import FILTER_NAMES
+from ..loaders import load_record
+from ..pipeline import ProcessedImpact, process
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2, no usage dump
+        raise InputError(f"{self.prog}: {message}")
+
+
+def add_record_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--mass-kg", type=float, help="ball mass (kg)")
+    parser.add_argument("--impact-speed-m-s", type=float, help="impact speed (m/s)")
+    parser.add_argument("--rebound-speed-m-s", type=float,
+                        help="measured rebound speed (m/s); from the impulse if not given")
+    parser.add_argument("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
+    parser.add_argument("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
+    parser.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
+    parser.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
+
+
+def add_processing(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--filter", default="none",
+                        help=f"one of {', '.join(FILTER_NAMES)}, or cfc<N> (default none)")
+    parser.add_argument("--filter-window-s", type=float,
+                        help="window of savgol/lowess/loess (s); default 10%% of contact time")
+    parser.add_argument("--resample-hz", type=float, help="resample to this uniform rate first")
+    parser.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
+                        help="relative misfit allowed between impulse and m(v_in + v_out) "
+                             f"(default {DEFAULT_IMPULSE_TOLERANCE})")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--plot", type=Path, help="write force-time and force-displacement PNG")
+
+
+def load(path: Path, args: argparse.Namespace):
+    return load_record(
+        path, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
+        rebound_speed_m_s=args.rebound_speed_m_s, sensitivity_v_per_n=args.sensitivity_v_per_n,
+        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel)
+
+
+def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
+    return process(record, filter=args.filter, window_s=args.filter_window_s,
+                   resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance)
+
+
+def check_plot_path(path: Path | None) -> None:
+    if path is None:
+        return
+    if path.suffix.lower() != ".png":
+        raise InputError(f"--plot: {path} must be a .png file")
+    if not path.parent.is_dir():
+        raise InputError(f"--plot: folder {path.parent} does not exist")
+
+
+def check_output_folder(path: Path | None, flag: str) -> None:
+    if path is not None and not path.parent.is_dir():
+        raise InputError(f"{flag}: folder {path.parent} does not exist")
+
+
+def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:
+    """Parse NAME=VALUE (or NAME=LOW:HIGH) flags into a dict of floats (or float pairs)."""
+    parsed: dict[str, Any] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            if not sep or not name:
+                raise ValueError
+            parsed[name] = (tuple(float(x) for x in value.split(":", 1)) if bounds
+                            else float(value))
+            if bounds and len(parsed[name]) != 2:
+                raise ValueError
+        except ValueError:
+            form = "NAME=LOW:HIGH" if bounds else "NAME=VALUE"
+            raise InputError(f"{flag}: expected {form} with numbers in SI, got {item!r}") from None
+    return parsed
+
+
+def use_compilation_cache() -> None:
+    """Keep JAX's compiled programs between runs of the command (about 2 s saved per run after
+    the first): in $BALLIMPACT_CACHE_DIR, else ~/.cache/ballimpact/jax. Set for this process by
+    the command only; the library leaves JAX's configuration alone."""
+    import jax
+
+    folder = os.environ.get("BALLIMPACT_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "ballimpact", "jax")
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError:
+        return  # no writable cache: compile every time
+    jax.config.update("jax_compilation_cache_dir", folder)
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+
+
+def json_safe(value: Any) -> Any:
+    """Replace non-finite floats (invalid in JSON) by None."""
+    if isinstance(value, dict):
+        return {key: json_safe(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(item) for item in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

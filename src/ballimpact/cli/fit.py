@@ -1,0 +1,135 @@
+"""`ballimpact fit` and `ballimpact models`: lumped models identified from tests."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import (
+    add_processing,
+    add_record_options,
+    assignments,
+    check_output_folder,
+    check_plot_path,
+    load,
+    process_record,
+    use_compilation_cache,
+)
+
+
+def add_parser(verbs) -> None:
+    fit = verbs.add_parser(
+        "fit", help="identify a lumped model from a test, or from tests at several speeds",
+        description="Fit a lumped model (see `ballimpact models`) to the force pulse of a test by "
+                    "a genetic algorithm or differential evolution and a least-squares polish. "
+                    "With several files (one per impact speed) the parameters form a table "
+                    "against speed, as thesis tables 7-1 and 7-2.")
+    fit.add_argument("files", type=Path, nargs="+", metavar="FILE",
+                     help="test record(s): CSV with unit headers or WAV")
+    fit.add_argument("--model", required=True, help="lumped model name (see `ballimpact models`)")
+    fit.add_argument("--method", default="ga",
+                     help="ga (genetic algorithm) or de (differential evolution); default ga")
+    fit.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    fit.add_argument("--population", type=int,
+                     help="population size (default 4 per searched quantity, at least 32)")
+    fit.add_argument("--generations", type=int,
+                     help="generations (default 8 per searched quantity, at least 40)")
+    fit.add_argument("--no-polish", action="store_true", help="skip the least-squares polish")
+    fit.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
+                     help="search bounds of a parameter in SI (repeatable)")
+    fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
+                     help="hold a parameter at a value in SI (repeatable)")
+    fit.add_argument("--cor-weight", type=float, default=0.0,
+                     help="weight of the COR error in the fitness (default 0)")
+    fit.add_argument("--contact-time-weight", type=float, default=0.0,
+                     help="weight of the relative contact-time error in the fitness (default 0)")
+    fit.add_argument("--table", type=Path, help="with several files: write the speed table CSV")
+    add_record_options(fit)
+    add_processing(fit)
+
+    models = verbs.add_parser("models", help="list the lumped models and their parameters",
+                              description="The lumped models, their parameters and SI units.")
+    models.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run_fit(args: argparse.Namespace) -> dict[str, Any]:
+    from .. import lumped  # JAX and pymoo load only for the verbs that need them
+
+    use_compilation_cache()
+    check_plot_path(args.plot)
+    check_output_folder(args.table, "--table")
+    if args.table is not None and len(args.files) < 2:
+        raise InputError("--table: needs several files (one per impact speed)")
+    model = lumped.get_model(args.model)
+    options = dict(method=args.method, seed=args.seed, population=args.population,
+                   generations=args.generations, polish=not args.no_polish,
+                   bounds=assignments(args.bound, "--bound", bounds=True),
+                   fixed=assignments(args.fix, "--fix", bounds=False),
+                   cor_weight=args.cor_weight, contact_time_weight=args.contact_time_weight)
+    started = time.perf_counter()
+    processed = [process_record(load(path, args), args) for path in args.files]
+    if len(processed) == 1:
+        fitted = lumped.fit(processed[0], model, **options)
+        result = {**fitted.to_dict(), "file": str(args.files[0])}
+        if not args.json:
+            _print_fit(fitted, args.files[0])
+        if args.plot:
+            from ..plotting import plot_fit
+
+            plot_fit(fitted, args.plot, title=str(args.files[0].name))
+            result["plot"] = str(args.plot)
+        result["wall_time_s"] = time.perf_counter() - started
+        return result
+    table, fits = lumped.fit_speed_table(processed, model, **options)
+    files = [str(path) for path in args.files]
+    order = sorted(range(len(files)), key=lambda i: processed[i].features.values["P15"])
+    result = {"model": model.name, "units": model.units, "table": table.to_dict(),
+              "fits": [{**f.to_dict(), "file": files[i]} for f, i in zip(fits, order)]}
+    if args.table is not None:
+        args.table.write_text(table.to_csv())
+        result["table_csv"] = str(args.table)
+    if not args.json:
+        for f, i in zip(fits, order):
+            _print_fit(f, Path(files[i]))
+        print(table.to_csv(), end="")
+    if args.plot:
+        from ..plotting import plot_speed_fits
+
+        plot_speed_fits(fits, args.plot)
+        result["plot"] = str(args.plot)
+    result["wall_time_s"] = time.perf_counter() - started
+    return result
+
+
+def _print_fit(fitted, path: Path) -> None:
+    m = fitted.measured
+    print(f"{path.name}: {fitted.model} by {fitted.method.upper()} (seed {fitted.seed}), "
+          f"{fitted.evaluations} model runs, {fitted.wall_time_s:.2f} s")
+    for name, value in fitted.params.items():
+        error = fitted.standard_errors.get(name, 0.0)
+        spread = f" +/- {error:.3g}" if error > 0 else " (fixed)" if name not in fitted.bounds \
+            else ""
+        print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}")
+    print(f"  RMSE {fitted.rmse_n:.4g} N, NRMSE {fitted.nrmse:.2%} of the measured peak")
+    print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact {fitted.contact_time_s * 1e3:.4g} "
+          f"ms, COR {fitted.cor:.4f}")
+    print(f"  measured: peak {m['peak_force_n']:.5g} N, contact {m['contact_time_s'] * 1e3:.4g} ms, "
+          f"COR {m['cor']:.4f}")
+    if fitted.reproduction:
+        print("  note: a reproduction of the thesis' appendix code, not a recommended model")
+
+
+def run_models(args: argparse.Namespace) -> dict[str, Any]:
+    from ..lumped import describe_models
+
+    models = describe_models()
+    if not args.json:
+        for model in models:
+            print(f"{model['name']}: {model['summary']}")
+            for name, spec in model["params"].items():
+                fixed = f" (fixed, default {spec['default']:g})" if "default" in spec else ""
+                print(f"    {name:<18} [{spec['unit']}] {spec['description']}{fixed}")
+    return {"models": models}

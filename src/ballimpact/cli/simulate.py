@@ -1,0 +1,175 @@
+"""`ballimpact simulate`, `ballimpact balls` and `ballimpact demo`: FE impacts of ball models."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import check_output_folder, check_plot_path, use_compilation_cache
+
+DEMO_PLOT = "ballimpact-demo.png"
+DEMO_IMPACTS = (("cricket-universal", 25.0), ("cricket-3layer", 20.8))
+
+
+class SolverDefaults:
+    """FE defaults shown in --help (kept equal to `fe.SolverOptions` by a test)."""
+
+    element_size_m = 1.5e-3
+    penalty_scale = 1.0
+    integration = "reduced"
+    precision = "float64"
+
+
+def add_parser(verbs) -> None:
+    simulate = verbs.add_parser(
+        "simulate", help="FE normal impact of a ball on a rigid plane",
+        description="Explicit FE (axisymmetric, F-bar quads, hyper-viscoelastic layers, penalty "
+                    "contact) of a ball hitting a rigid flat surface at normal incidence: "
+                    "contact force history, COR, contact time, energies and the 19 features.")
+    simulate.add_argument("--ball", required=True,
+                          help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
+    simulate.add_argument("--speed-m-s", type=float, required=True, help="impact speed (m/s)")
+    simulate.add_argument("--angle-deg", type=float, default=0.0,
+                          help="angle from the surface normal (deg); only 0 so far")
+    simulate.add_argument("--spin-rad-s", type=float, default=0.0, help="spin (rad/s); only 0 so far")
+    simulate.add_argument("--friction", type=float, default=0.0,
+                          help="Coulomb coefficient (irrelevant at normal incidence)")
+    simulate.add_argument("--solver", default="axisymmetric", help="axisymmetric (3d: not yet)")
+    add_solver_options(simulate)
+    simulate.add_argument("--moduli", help="override the balls' moduli convention: long_term or "
+                                           "instantaneous")
+    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    simulate.add_argument("--csv", type=Path, help="write the histories (one row per step)")
+    simulate.add_argument("--plot", type=Path,
+                          help="PNG: force-time curve and deformed shape at peak force")
+
+    balls = verbs.add_parser("balls", help="list the built-in ball presets",
+                             description="The built-in ball presets usable with --ball.")
+    balls.add_argument("--json", action="store_true", help="print one JSON object")
+
+    demo = verbs.add_parser(
+        "demo", help="the main job: FE impacts of the two cricket-ball presets",
+        description="Simulate the cricket-universal ball at 25 m/s and the cricket-3layer ball "
+                    "at 20.8 m/s on a rigid plane; print peak force, contact time, COR and the "
+                    "energy balance error, and write one PNG.")
+    demo.add_argument("--json", action="store_true", help="print one JSON object")
+    demo.add_argument("--plot", type=Path, default=Path(DEMO_PLOT),
+                      help=f"PNG to write (default {DEMO_PLOT})")
+
+
+def add_solver_options(parser: argparse.ArgumentParser) -> None:
+    """The mesh and solver flags of every verb that runs the FE engine."""
+    parser.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
+                        help=f"element length on the outer surface (m; default "
+                             f"{SolverDefaults.element_size_m:g})")
+    parser.add_argument("--pole-element-size-m", type=float,
+                        help="refine toward the contact pole to this element length (m)")
+    parser.add_argument("--integration", choices=("reduced", "full"),
+                        default=SolverDefaults.integration,
+                        help="reduced: one point with hourglass control (default); full: 2x2 "
+                             "points with F-bar")
+    parser.add_argument("--precision", choices=("float64", "float32"),
+                        default=SolverDefaults.precision,
+                        help="arithmetic of the explicit steps (default float64)")
+    parser.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
+                        help="contact penalty scale (default 1)")
+
+
+def solver_options(args: argparse.Namespace):
+    from ..fe import SolverOptions
+
+    return SolverOptions(element_size_m=args.element_size_m,
+                         pole_element_size_m=args.pole_element_size_m,
+                         penalty_scale=args.penalty_scale, integration=args.integration,
+                         precision=args.precision)
+
+
+def run_demo(args: argparse.Namespace) -> dict[str, Any]:
+    from ..fe import load_ball, simulate
+    from ..plotting import plot_fe
+
+    check_plot_path(args.plot)
+    use_compilation_cache()
+    started = time.perf_counter()
+    results = []
+    for name, speed in DEMO_IMPACTS:
+        print(f"simulating {name} at {speed:g} m/s ...", file=sys.stderr, flush=True)
+        results.append(simulate(load_ball(name, impact_speed_m_s=speed), speed))
+    plot_fe(results, args.plot, title="ballimpact demo: cricket balls on a rigid plane (FE)")
+    if not args.json:
+        print("ballimpact demo: explicit FE, normal impact on a rigid plane")
+        print(f"{'ball':<28}{'speed m/s':>10}{'peak kN':>9}{'contact ms':>11}{'COR':>7}"
+              f"{'energy err':>11}{'elements':>9}{'steps':>7}{'wall s':>8}")
+        for r in results:
+            print(f"{r.ball_name:<28}{r.impact_speed_m_s:>10.4g}{r.peak_force_n / 1e3:>9.3f}"
+                  f"{r.contact_time_s * 1e3:>11.4f}{r.cor:>7.3f}{r.energy_balance_error:>11.1e}"
+                  f"{r.elements:>9d}{r.steps:>7d}{r.wall_time_s:>8.2f}")
+        print(f"plot written to {args.plot}")
+    return {"impacts": [r.summary() for r in results], "plot": str(args.plot),
+            "wall_time_s": time.perf_counter() - started}
+
+
+def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
+    from ..fe import load_ball, simulate
+    from ..features import extract_features
+
+    check_plot_path(args.plot)
+    check_output_folder(args.csv, "--csv")
+    if args.solver != "axisymmetric":
+        raise InputError(f"--solver {args.solver}: only 'axisymmetric' is available so far")
+    for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s)):
+        if value != 0.0:
+            raise InputError(f"{flag} = {value:g}: oblique and spinning impacts need the 3D "
+                             "solver, not available yet; only 0 is allowed")
+    if not (math.isfinite(args.friction) and args.friction >= 0):
+        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    use_compilation_cache()
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    if args.moduli is not None:
+        ball = ball.with_moduli(args.moduli)
+    result = simulate(ball, args.speed_m_s, solver_options(args))
+    out = result.summary()
+    out["features"] = extract_features(result.record()).to_dict()["features"]
+    out["materials"] = ball.to_dict()
+    out["material_constants_used"] = [  # instantaneous, as the solver uses them (SI)
+        {"layer": layer.name, "model": layer.material.model,
+         **{k: (v.tolist() if hasattr(v, "tolist") else v)
+            for k, v in layer.material.constants().items()}} for layer in ball.layers]
+    if args.csv is not None:
+        import numpy as np
+
+        names = list(result.history)
+        np.savetxt(args.csv, np.column_stack([result.history[n] for n in names]),
+                   delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+        out["csv"] = str(args.csv)
+    if args.plot is not None:
+        from ..plotting import plot_fe
+
+        plot_fe([result], args.plot)
+        out["plot"] = str(args.plot)
+    if not args.json:
+        print(f"{result.ball_name} at {args.speed_m_s:g} m/s ({out['moduli']} moduli): "
+              f"peak force {result.peak_force_n:.5g} N at {result.time_of_peak_s * 1e3:.4g} ms, "
+              f"contact time {result.contact_time_s * 1e3:.4g} ms, COR {result.cor:.4f}")
+        e = result.energies_j
+        print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
+              f"{e['viscous_dissipation_j']:.4g} J, bulk viscous "
+              f"{e['bulk_viscous_dissipation_j']:.4g} J of {e['initial_kinetic_energy_j']:.4g} J")
+        print(f"  {result.elements} elements, {result.steps} steps of "
+              f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
+    return out
+
+
+def run_balls(args: argparse.Namespace) -> dict[str, Any]:
+    from ..fe import describe_presets
+
+    presets = describe_presets()
+    if not args.json:
+        for preset in presets:
+            print(f"{preset['name']}: {preset['description']}")
+    return {"balls": presets}
