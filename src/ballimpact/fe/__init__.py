@@ -9,7 +9,7 @@ from .ball import (
            load_ball,
            universal_parameters,
 )
-from .solver import FEResult, SolverOptions, simulate, simulate_batch
+from .solver import FailedRun, FEResult, SolverOptions, simulate, simulate_batch
 
-__all__ = ["PRESETS", "BallModel", "FEResult", "Layer", "SolverOptions", "describe_presets",
+__all__ = ["PRESETS", "BallModel", "FailedRun", "FEResult", "Layer", "SolverOptions", "describe_presets",
            "load_ball", "simulate", "simulate_batch", "universal_parameters"]

@@ -106,6 +106,15 @@ class FEResult:
                                       "contact_time_s": self.contact_time_s})
 
 
+@dataclass(frozen=True)
+class FailedRun:
+    """A run of a batch that failed (`simulate_batch(..., on_failure="return")`): why, in words."""
+
+    ball_name: str
+    impact_speed_m_s: float
+    reason: str
+
+
 def _structure(ball) -> tuple:
     """What a compiled run depends on: radii, material models, Prony terms, bulk relaxation."""
     return tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
@@ -201,7 +210,8 @@ def _expected_steps(ball, speed: float, kernel: Kernel) -> float:
 
 
 def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = SolverOptions(),
-                   progress=None, group_size: int | None = None) -> list[FEResult]:
+                   progress=None, group_size: int | None = None,
+                   on_failure: str = "raise") -> list:
     """Normal impacts of several balls with the same layer structure, vmapped in groups.
 
     `impact_speeds_m_s` (m/s) is one speed for all, or one per ball. The balls may differ in every
@@ -210,7 +220,13 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     close together; each group of `group_size` balls (default `default_group_size`) is one
     vmapped run, the last padded so that every group uses the same compiled program. Results come
     back in the order of `balls`. `progress(t_s)` is called between chunks.
+
+    `on_failure`: "raise" (a `SimulationError` for the first failed ball) or "return" (a failed
+    ball gets a `FailedRun` with the reason in its place, and the others run on: a design of
+    experiments keeps the runs that did not fail and records the reason of those that did).
     """
+    if on_failure not in ("raise", "return"):
+        raise InputError(f"on_failure = {on_failure!r}: allowed 'raise' or 'return'")
     balls = list(balls)
     if not balls:
         raise InputError("balls: need at least one ball")
@@ -222,7 +238,7 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     if any(_structure(b) != _structure(balls[0]) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
     if len(balls) <= group_size:
-        return _simulate_group(balls, speeds, options, progress)
+        return _simulate_group(balls, speeds, options, progress, on_failure)
     kernel = _kernel(balls[0], options)
     order = np.argsort([_expected_steps(b, s, kernel) for b, s in zip(balls, speeds)],
                        kind="stable")
@@ -230,7 +246,8 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     for start in range(0, len(balls), group_size):
         members = list(order[start:start + group_size])
         padded = members + [members[-1]] * (group_size - len(members))
-        group = _simulate_group([balls[i] for i in padded], speeds[padded], options, progress)
+        group = _simulate_group([balls[i] for i in padded], speeds[padded], options, progress,
+                                on_failure)
         for i, result in zip(members, group):
             results[i] = result
     return results
@@ -243,7 +260,7 @@ def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptio
 
 
 def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
-                    progress) -> list[FEResult]:
+                    progress, on_failure: str = "raise") -> list:
     """One vmapped run of balls of one structure (checked by the caller)."""
     start = time.perf_counter()
     kernel = _kernel(balls[0], options)
@@ -258,6 +275,7 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
         params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
         state = init_fn(params, jnp.asarray(speeds if batched else speeds[0], kernel.dtype))
         rows = []
+        failed: dict[int, str] = {}
         while True:
             state, chunk_rows = chunk_fn(params, state)
             rows.append(np.asarray(chunk_rows, dtype=np.float64))
@@ -270,26 +288,36 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
             # a failure counts only before the member's own end (members that are done keep
             # stepping until the whole group is)
             for i in range(len(balls)):
-                _check_failure(balls[i], flags["t_bad"][i], flags["t_energy"][i],
-                               t_end[i] if done[i] else np.inf, options)
+                if i not in failed:
+                    reason = _failure(balls[i], flags["t_bad"][i], flags["t_energy"][i],
+                                      t_end[i] if done[i] else np.inf, options)
+                    if reason is not None:
+                        failed[i] = reason
+            if failed and on_failure == "raise":
+                raise SimulationError(failed[min(failed)])
             if progress is not None:
                 progress(float(t.min()))
-            if np.all(done | (t >= limits)):
+            finished = done | np.isin(np.arange(len(balls)), list(failed))
+            if np.all(finished | (t >= limits)):
                 break
-        if not np.all(done):
-            i = int(np.argmin(done))
-            raise SimulationError(f"ball {balls[i].name}: no separation within the time limit "
-                                  f"{limits[i]:.4g} s")
+        for i in np.flatnonzero(~finished):
+            failed[int(i)] = (f"ball {balls[i].name}: no separation within the time limit "
+                              f"{limits[i]:.4g} s")
+        if failed and on_failure == "raise":
+            raise SimulationError(failed[min(failed)])
         final = {k: np.asarray(state[k], dtype=np.float64) for k in _FINAL}
     wall = time.perf_counter() - start
     history_all = np.concatenate(rows, axis=1 if batched else 0)
     if not batched:
         history_all = history_all[None]
         final = {k: v[None] for k, v in final.items()}
-    results = [_result(ball, float(speed), history_all[i], {k: v[i] for k, v in final.items()},
+    results = [FailedRun(ball.name, float(speed), failed[i]) if i in failed else
+               _result(ball, float(speed), history_all[i], {k: v[i] for k, v in final.items()},
                        per_ball[i], t_end[i], kernel, options, wall / len(balls))
                for i, (ball, speed) in enumerate(zip(balls, speeds))]
     for result, ball in zip(results, balls):
+        if isinstance(result, FailedRun):
+            continue
         for message in drucker_warnings(ball, *result.stretch_range):
             warnings.warn(f"{message}: principal stretches in this range occurred in the ball "
                           "(in some layer)", InputWarning, stacklevel=3)
@@ -299,18 +327,20 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
 _FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch_max")
 
 
-def _check_failure(ball, t_bad: float, t_energy: float, t_end: float, options) -> None:
+def _failure(ball, t_bad: float, t_energy: float, t_end: float, options) -> str | None:
+    """Why a run failed before `t_end`, or None."""
     if t_bad < t_end and t_bad < t_energy:
-        raise SimulationError(
+        return (
             f"ball {ball.name}: inverted element or non-finite state at t = {t_bad:.4g} s "
             "(try a smaller time_step_scale or element size)")
     if t_energy < t_end:
-        raise SimulationError(
+        return (
             f"ball {ball.name}: energy balance error above energy_error_limit = "
             f"{options.energy_error_limit:g} of the impact energy at t = {t_energy:.4g} s: the "
             "run is unstable (an increment too large for the ball: time_step_scale = "
             f"{options.time_step_scale:g}, 1 the stability limit; or elements crushed by a ball "
             "too soft for the speed)")
+    return None
 
 
 def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:
