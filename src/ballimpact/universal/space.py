@@ -82,7 +82,9 @@ def from_unit(unit: np.ndarray, ranges: dict[str, tuple[float, float]],
     for j, name in enumerate(names):
         low, high = ranges[name]
         if name in LOG_SCALED:
-            out[..., j] = np.exp(math.log(low) + unit[..., j] * (math.log(high) - math.log(low)))
+            u = unit[..., j]
+            value = np.exp(math.log(low) + u * (math.log(high) - math.log(low)))
+            out[..., j] = np.where(u == 0, low, np.where(u == 1, high, value))  # ends exact
         else:
             out[..., j] = low + unit[..., j] * (high - low)
     return out

@@ -26,6 +26,10 @@ from .dataset import (
 )
 
 CONFIG_FILE = "study.json"
+#: the dataset's columns, in order
+COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "warnings",
+           *FEATURE_NAMES, "cor", "peak_force_n", "contact_time_s", "energy_balance_error",
+           "steps", "wall_time_s")
 #: configuration keys and defaults (SI); `ranges` and `template` are filled in by `make_config`
 DEFAULTS: dict[str, Any] = {"runs": 600, "seed": 0, "method": "sobol", "batch_size": 32,
                             "group_size": 4, "element_size_m": 1.5e-3, "precision": "float64",
@@ -106,10 +110,8 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
         rows.append(row)
         shapes.append(shape)
         pulses.append(pulse)
-    for row in rows:  # every row has every column (failed runs: NaN)
-        for key in (*FEATURE_NAMES, "cor", "peak_force_n", "contact_time_s",
-                    "energy_balance_error", "steps", "wall_time_s"):
-            row.setdefault(key, math.nan)
+    # every row has every column, in one order (failed runs: NaN)
+    rows = [{key: row.get(key, math.nan) for key in COLUMNS} for row in rows]
     return rows, {"run_id": np.array(ids), "force_shape": np.array(shapes),
                   "force_n_100khz": np.array(pulses)}
 

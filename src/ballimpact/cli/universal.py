@@ -1,0 +1,190 @@
+"""`ballimpact universal run|train|report`: the design of experiments, the training of the
+universal model and its held-out figures."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import assignments, check_output_folder, check_plot_path, use_compilation_cache
+
+
+def add_parser(verbs) -> None:
+    universal = verbs.add_parser(
+        "universal", help="universal FE ball: design of experiments, training, report",
+        description="The universal (homogeneous Mooney-Rivlin + one Prony term) FE ball of "
+                    "thesis chapter 6: run a design of experiments through the FE engine, train "
+                    "the inverse and forward surrogates on it, and report their held-out figures.")
+    steps = universal.add_subparsers(dest="step", required=True, metavar="STEP")
+
+    run = steps.add_parser("run", help="run (or resume) a design of experiments into DIR",
+                           description="Sample the parameter space (seeded Sobol or LHS), run "
+                                       "each point through the batched FE engine, and append "
+                                       "each batch atomically to DIR (Parquet + NPZ).")
+    run.add_argument("dir", type=Path, help="study folder")
+    run.add_argument("--runs", type=int, help="number of runs (default 600)")
+    run.add_argument("--seed", type=int, help="random seed of the design (default 0)")
+    run.add_argument("--method", choices=("sobol", "lhs"), help="design (default sobol)")
+    run.add_argument("--range", action="append", default=[], metavar="NAME=LOW:HIGH",
+                     help="range of c10_pa, c01_pa, g1, tau1_s or impact_speed_m_s in SI "
+                          "(repeatable; defaults: table 6-2, g1 0-0.9, 5-45 m/s)")
+    run.add_argument("--template", help="ball preset or file giving radius, mass and moduli "
+                                        "convention (default cricket-universal)")
+    run.add_argument("--batch-size", type=int, help="runs per batch: the unit of checkpointing "
+                                                    "and of Dask tasks (default 32)")
+    run.add_argument("--element-size-m", type=float, help="FE element size (m; default 1.5e-3)")
+    run.add_argument("--precision", choices=("float64", "float32"), help="default float64")
+    run.add_argument("--resume", action="store_true", help="continue the study stored in DIR")
+    run.add_argument("--workers", type=int, help="run on a local Dask cluster of N processes")
+    run.add_argument("--scheduler", help="run on the Dask scheduler at ADDRESS")
+    run.add_argument("--json", action="store_true", help="print one JSON object")
+
+    train = steps.add_parser("train", help="train the universal model on the study in DIR",
+                             description="Train the inverse (features -> parameters with 90%% "
+                                         "intervals) and forward (parameters -> features and "
+                                         "pulse shape) deep ensembles; hold out 20%% of the runs "
+                                         "for the report.")
+    train.add_argument("dir", type=Path, help="study folder")
+    train.add_argument("--out", type=Path, required=True,
+                       help="model path: writes OUT.json and OUT.npz")
+    train.add_argument("--seed", type=int, default=0, help="split and initialisation seed")
+    train.add_argument("--steps", type=int, default=4000, help="optimiser steps (default 4000)")
+    train.add_argument("--width", type=int, default=128, help="hidden width (default 128)")
+    train.add_argument("--members", type=int, default=5, help="ensemble members (default 5)")
+    train.add_argument("--json", action="store_true", help="print one JSON object")
+
+    report = steps.add_parser("report", help="held-out figures of a model, with plots",
+                              description="Per parameter median and 90th-percentile errors, "
+                                          "R^2 and 90%% interval coverage on the held-out runs; "
+                                          "with --closed-loop, re-simulate held-out runs from "
+                                          "their identified parameters.")
+    report.add_argument("model", nargs="?", help="model path (default: the built-in model)")
+    report.add_argument("--plot", type=Path, help="PNG: predicted vs true per parameter")
+    report.add_argument("--closed-loop", type=Path, metavar="DIR",
+                        help="the model's study folder: identify held-out runs and re-simulate")
+    report.add_argument("--runs", type=int, default=60, help="closed-loop runs (default 60)")
+    report.add_argument("--noise", type=float, default=0.0,
+                        help="closed loop: white noise as a fraction of the peak force, on the "
+                             "pulses sampled at 100 kHz (e.g. 0.01)")
+    report.add_argument("--refine", choices=("none", "surrogate"), default="none",
+                        help="refine on the forward surrogate, or not (default)")
+    report.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    return {"run": _run, "train": _train, "report": _report}[args.step](args)
+
+
+def _run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.study import make_config, progress_bar, run_study
+
+    use_compilation_cache()
+    settings = dict(runs=args.runs, seed=args.seed, method=args.method,
+                    batch_size=args.batch_size, element_size_m=args.element_size_m,
+                    precision=args.precision)
+    given = {k: v for k, v in settings.items() if v is not None}
+    ranges = assignments(args.range, "--range", bounds=True)
+    config = None
+    if not args.resume or given or ranges or args.template:
+        config = make_config(template=args.template or "cricket-universal", ranges=ranges,
+                             **settings)
+        if args.resume:  # compare only what was given on the command line
+            config = {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
+                                             *(["template"] if args.template else []))}
+    summary = run_study(args.dir, config, resume=args.resume, workers=args.workers,
+                        scheduler=args.scheduler, progress=progress_bar)
+    from ..universal.dataset import load_dataset
+
+    columns, _ = load_dataset(args.dir)
+    failed = [(int(i), r) for i, s, r in zip(columns["run_id"], columns["status"],
+                                               columns["reason"]) if s != "ok"]
+    summary["failed_runs"] = len(failed)
+    summary["failures"] = [{"run_id": i, "reason": r} for i, r in failed[:20]]
+    summary["runs_per_s"] = summary["new_runs"] / summary["wall_time_s"] \
+        if summary["wall_time_s"] > 0 else None
+    if not args.json:
+        print(f"{args.dir}: {summary['finished_runs']}/{summary['runs']} runs finished "
+              f"({summary['new_runs']} now, {summary['wall_time_s']:.1f} s), "
+              f"{len(failed)} failed")
+        for i, reason in failed[:20]:
+            print(f"  run {i}: {reason}")
+    return summary
+
+
+def _train(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.training import train
+
+    check_output_folder(args.out, "--out")
+    use_compilation_cache()
+    model, report = train(args.dir, seed=args.seed, steps=args.steps, width=args.width,
+                          members=args.members)
+    npz, meta = model.save(args.out)
+    out = {"model_json": str(meta), "model_npz": str(npz), "held_out": report,
+           "runs": model.metadata["runs"],
+           "wall_time_s": model.metadata["training"]["wall_time_s"]}
+    if not args.json:
+        print(f"model written to {meta} and {npz} "
+              f"({model.metadata['training']['wall_time_s']:.1f} s)")
+        _print_report(model.metadata)
+    return out
+
+
+def _report(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.model import load_model
+
+    check_plot_path(args.plot)
+    if not (0.0 <= args.noise < 0.5):
+        raise InputError(f"--noise = {args.noise:g}: allowed range [0, 0.5)")
+    started = time.perf_counter()
+    model = load_model(args.model)
+    out = {"model": args.model or "built-in", "held_out": model.metadata["held_out"],
+           "runs": model.metadata["runs"], "study": model.metadata["study"]}
+    if not args.json:
+        _print_report(model.metadata)
+    if args.closed_loop is not None:
+        from ..universal.evaluate import closed_loop
+
+        use_compilation_cache()
+        loop = closed_loop(model, args.closed_loop, runs=args.runs, noise=args.noise,
+                           refine=args.refine)
+        out["closed_loop"] = loop
+        if not args.json:
+            s = loop["summary"]
+            print(f"closed loop on {s['runs']} held-out runs (noise {s['noise_of_peak']:.0%} of "
+                  f"peak, refine {s['refine']}), {s['failed']} failed:")
+            for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
+                        "peak_force_relative_error"):
+                print(f"  |{key}|: median {s[key]['median']:.4g}, 90th percentile "
+                      f"{s[key]['p90']:.4g}, max {s[key]['max']:.4g}")
+    if args.plot is not None:
+        from ..universal.plots import plot_held_out
+
+        plot_held_out(model, args.plot)
+        out["plot"] = str(args.plot)
+    out["wall_time_s"] = time.perf_counter() - started
+    return out
+
+
+def _print_report(metadata: dict) -> None:
+    report = metadata["held_out"]
+    print(f"held-out runs: {report['runs']} (never used in training or early stopping)")
+    print(f"{'parameter':<10}{'median err':>12}{'p90 err':>10}{'R^2':>8}{'90% cover':>11}"
+          f"{'width/range':>13}")
+    for name, entry in report["inverse"].items():
+        err = entry["relative_error"] or entry["range_relative_error"]
+        kind = "" if entry["relative_error"] else " (of range)"
+        print(f"{name:<10}{err['median']:>12.2%}{err['p90']:>10.2%}"
+              f"{entry['range_relative_error']['r2']:>8.3f}{entry['interval_90_coverage']:>11.1%}"
+              f"{entry['interval_90_mean_width_of_range']:>13.2f}{kind}")
+    change = report["identifiability"]["median_rms_change_standardised"]
+    print("impact change for a 10% step of the range (standardised RMS): " +
+          ", ".join(f"{k} {v:.3f}" for k, v in change.items()))
+    fwd = report["forward"]
+    print(f"forward surrogate: force shape RMS {fwd['force_shape_rms_of_peak']['median']:.2%} of "
+          f"peak (median), COR error {fwd['cor_absolute_error']['median']:.4f} (median); "
+          f"peak force error {fwd['P6']['median']:.2%}, contact time error {fwd['P1']['median']:.2%}",
+          file=sys.stdout)

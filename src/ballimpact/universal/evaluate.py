@@ -1,0 +1,156 @@
+"""Held-out figures of a universal model: accuracy of both surrogates, interval coverage, what is
+identifiable from one impact, and the closed loop through the FE engine (clean and noisy)."""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+import numpy as np
+
+from . import space
+from .model import FEATURES, TARGETS, UniversalModel, target_ranges
+
+PERCENTILE = 90
+
+
+def _r2(true: np.ndarray, pred: np.ndarray) -> float:
+    return float(1 - np.sum((true - pred) ** 2) / np.sum((true - true.mean()) ** 2))
+
+
+def _errors(true: np.ndarray, pred: np.ndarray, scale: float | None = None) -> dict[str, float]:
+    rel = np.abs(pred - true) / (np.abs(true) if scale is None else scale)
+    return {"median": float(np.median(rel)), f"p{PERCENTILE}": float(np.percentile(rel, PERCENTILE)),
+            "r2": _r2(true, pred)}
+
+
+def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndarray,
+                    shapes: np.ndarray, run_ids: np.ndarray) -> tuple[dict, dict]:
+    """Figures on held-out runs: `params` (n, 5) SI incl. speed, `features` (n, 19), `shapes`."""
+    ranges = target_ranges(model.ranges)
+    truth = np.column_stack([params[:, :4], 2 * (params[:, 0] + params[:, 1])])
+    est = model.estimate(features)
+    inverse = {}
+    for j, name in enumerate(TARGETS):
+        low, high = ranges[name]
+        t, p = truth[:, j], est["values"][:, j]
+        inside = (est["low"][:, j] <= t) & (t <= est["high"][:, j])
+        entry = {"relative_error": _errors(t, p) if name not in ("c01_pa", "g1") else None,
+                 "range_relative_error": _errors(t, p, high - low),
+                 "interval_90_coverage": float(inside.mean()),
+                 "interval_90_mean_width_of_range": float(np.mean(est["high"][:, j] - est["low"][:, j])
+                                                          / (high - low))}
+        inverse[name] = entry
+    fwd = model.simulate(params)
+    forward = {key: _errors(features[:, j], fwd["features"][:, j])
+               for j, key in enumerate(FEATURES) if key != "P15"}
+    shape_rms = np.sqrt(np.mean((fwd["force_shape"] - shapes) ** 2, axis=1))
+    forward["force_shape_rms_of_peak"] = {"median": float(np.median(shape_rms)),
+                                          f"p{PERCENTILE}": float(np.percentile(shape_rms, PERCENTILE))}
+    forward["cor_absolute_error"] = {
+        "median": float(np.median(np.abs(fwd["features"][:, 16] - features[:, 16]))),
+        f"p{PERCENTILE}": float(np.percentile(np.abs(fwd["features"][:, 16] - features[:, 16]),
+                                              PERCENTILE))}
+    report = {"runs": int(len(run_ids)), "inverse": inverse, "forward": forward,
+              "identifiability": identifiability(model, params)}
+    held = {"run_id": run_ids, "truth": truth, "estimate": est["values"], "low": est["low"],
+            "high": est["high"]}
+    return report, held
+
+
+def identifiability(model: UniversalModel, params: np.ndarray, step: float = 0.1) -> dict:
+    """How much the impact changes (forward surrogate, standardised features and shape, RMS)
+    for a step of `step` of each parameter's range, and for C10 up with C01 down at constant
+    mu0 = 2 (C10 + C01). A direction that barely changes the impact cannot be identified."""
+    ranges = model.ranges
+    names = list(space.PARAMETERS)
+    unit = np.clip(space.to_unit(params, ranges), step, 1 - step)
+    base = _standardised_outputs(model, space.from_unit(unit, ranges))
+    width = {k: ranges[k][1] - ranges[k][0] for k in names}
+    directions = {name: np.eye(len(names))[j] for j, name in enumerate(names[:4])}
+    # equal and opposite changes in Pa: C10 + d, C01 - d with d = step of C10's range
+    directions["c10_up_c01_down_same_mu0"] = np.array(
+        [1.0, -width["c10_pa"] / width["c01_pa"], 0, 0, 0])
+    out = {}
+    for name, direction in directions.items():
+        moved = space.from_unit(unit + step * direction, ranges)
+        change = np.sqrt(np.mean((_standardised_outputs(model, moved) - base) ** 2, axis=1))
+        out[name] = float(np.median(change))
+    return {"step_of_range": step, "median_rms_change_standardised": out}
+
+
+def _standardised_outputs(model: UniversalModel, params: np.ndarray) -> np.ndarray:
+    fwd = model.simulate(params)
+    return np.column_stack([model.feature_scaler.forward(fwd["features"]),
+                            model.shape_scaler.forward(fwd["force_shape"])])
+
+
+def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float = 0.0,
+                refine: str = "none", seed: int = 0, options=None) -> dict[str, Any]:
+    """Identify held-out runs of the study in `folder` from their pulses and re-simulate them.
+
+    With `noise` > 0, white noise of that fraction of the peak force is added to the held-out
+    pulse sampled at 100 kHz (with 0.5 ms of baseline before contact) and the noisy record is
+    processed as a measured test (impact and rebound speeds given, as light gates give them).
+    Returns per-run errors and their median and 90th percentile."""
+    from ..fe import SolverOptions, load_ball, simulate_batch
+    from ..features import extract_features
+    from ..pipeline import process
+    from ..records import ImpactRecord
+    from .compare import pulse_nrmse
+    from .dataset import load_dataset
+    from .identify import estimate
+
+    columns, curves = load_dataset(folder)
+    index = {rid: i for i, rid in enumerate(columns["run_id"])}
+    ids = [int(r) for r in model.held_out["run_id"][:runs]]
+    rng = np.random.default_rng(seed)
+    template = model.metadata["template"]
+    t = curves["pulse_time_s"]
+    specs, speeds, truths = [], [], []
+    for rid in ids:
+        i = index[rid]
+        pulse = curves["force_n_100khz"][i]
+        speed = float(columns["impact_speed_m_s"][i])
+        values = {k: float(columns[k][i]) for k in FEATURES}
+        if noise > 0:
+            lead = 50
+            time_s = np.concatenate([(np.arange(-lead, 0)) / 1e5, t])
+            force = np.concatenate([np.zeros(lead), pulse])
+            force = force + rng.normal(0.0, noise * pulse.max(), force.size)
+            record = ImpactRecord(time_s, force, mass_kg=template["mass_kg"],
+                                  impact_speed_m_s=speed,
+                                  rebound_speed_m_s=float(columns["cor"][i]) * speed)
+            values = process(record).features.values
+        params, _ = estimate(model, values, refine)
+        specs.append(space.universal_ball_spec(params, template["radius_m"],
+                                               template["density_kg_m3"], template["moduli"],
+                                               name=f"identified-{rid}"))
+        speeds.append(speed)
+        truths.append((pulse, values, i))
+        print(f"\rclosed loop{' (noisy)' if noise else ''}: identified {len(specs)}/{len(ids)}",
+              end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    results = simulate_batch([load_ball(s) for s in specs], speeds, options or SolverOptions(),
+                             on_failure="return")
+    rows = []
+    for rid, result, (pulse, values, i) in zip(ids, results, truths):
+        if not hasattr(result, "history"):
+            rows.append({"run_id": rid, "failed": result.reason})
+            continue
+        sim = extract_features(result.record()).values
+        h = result.history
+        rows.append({"run_id": rid,
+                     "force_nrmse": pulse_nrmse(t, pulse, h["time_s"], h["contact_force_n"]),
+                     "cor_error": sim["P17"] - float(columns["P17"][i]),
+                     "contact_time_relative_error": sim["P1"] / float(columns["P1"][i]) - 1,
+                     "peak_force_relative_error": sim["P6"] / float(columns["P6"][i]) - 1})
+    ok = [r for r in rows if "failed" not in r]
+    summary = {"runs": len(rows), "failed": len(rows) - len(ok), "noise_of_peak": noise,
+               "refine": refine}
+    for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
+                "peak_force_relative_error"):
+        v = np.abs([r[key] for r in ok])
+        summary[key] = {"median": float(np.median(v)), f"p{PERCENTILE}": float(np.percentile(v, PERCENTILE)),
+                        "max": float(v.max())}
+    return {"summary": summary, "rows": rows}

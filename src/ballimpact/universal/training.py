@@ -1,0 +1,124 @@
+"""Train the universal model on a study: split, scale, fit both ensembles, calibrate the
+intervals, and measure everything on runs never seen in training or early stopping."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import __version__
+from ..errors import InputError
+from . import space
+from .dataset import SHAPE_GRID, load_dataset
+from .model import (
+    FEATURES,
+    FORMAT,
+    INTERVAL_LEVEL,
+    TARGETS,
+    Scaler,
+    UniversalModel,
+    target_ranges,
+)
+from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
+from .study import CONFIG_FILE
+
+#: shares of the finished runs: held out for the report (never seen in training or early
+#: stopping), and validation (early stopping and the interval calibration)
+TEST_SHARE = 0.2
+VALIDATION_SHARE = 0.15
+#: features learned in log scale when positive in every run (times, forces, rates, speeds)
+LOG_FEATURES = np.array([key not in ("P11", "P12", "P13", "P14", "P17") for key in FEATURES])
+
+
+def split(run_ids: np.ndarray, seed: int) -> dict[str, np.ndarray]:
+    """Seeded random split of row indices into train, validation and test."""
+    order = np.random.default_rng(seed).permutation(len(run_ids))
+    n_test = int(round(TEST_SHARE * len(order)))
+    n_val = int(round(VALIDATION_SHARE * len(order)))
+    return {"test": np.sort(order[:n_test]), "validation": np.sort(order[n_test:n_test + n_val]),
+            "train": np.sort(order[n_test + n_val:])}
+
+
+def train(folder: Path, *, seed: int = 0, steps: int = 4000, width: int = 128, depth: int = 3,
+          members: int = 5) -> tuple[UniversalModel, dict[str, Any]]:
+    """Train on the finished, successful runs of the study in `folder`."""
+    folder = Path(folder)
+    started = time.perf_counter()
+    config = json.loads((folder / CONFIG_FILE).read_text())
+    columns, curves = load_dataset(folder)
+    ok = columns["status"] == "ok"
+    if ok.sum() < 40:
+        raise InputError(f"{folder}: {int(ok.sum())} successful runs; training needs at least 40")
+    ranges = {k: tuple(v) for k, v in config["ranges"].items()}
+    params = np.column_stack([columns[k][ok] for k in space.PARAMETERS])
+    features = np.column_stack([columns[k][ok] for k in FEATURES])
+    shapes = curves["force_shape"][ok]
+    targets = space.to_unit(np.column_stack([columns[k][ok] for k in TARGETS]),
+                            target_ranges(ranges), TARGETS)
+    parts = split(columns["run_id"][ok], seed)
+    tr, va, te = parts["train"], parts["validation"], parts["test"]
+
+    feature_scaler = Scaler.fit(features[tr], LOG_FEATURES)
+    target_scaler = Scaler.fit(targets[tr])
+    shape_scaler = Scaler.fit(shapes[tr])
+    x_inv = feature_scaler.forward(features)
+    y_inv = target_scaler.forward(targets)
+    inv_arch = Architecture(len(FEATURES), len(TARGETS), width, depth, members)
+    inverse, inv_fig = train_ensemble(inv_arch, x_inv[tr], y_inv[tr], x_inv[va], y_inv[va],
+                                      seed=seed, steps=steps, label="inverse")
+
+    model = UniversalModel(inverse, None, feature_scaler, target_scaler, shape_scaler,
+                           np.ones(len(TARGETS)), {"ranges": ranges})
+    x_fwd = model.forward_inputs(params)
+    y_fwd = np.column_stack([x_inv, shape_scaler.forward(shapes)])
+    fwd_arch = Architecture(x_fwd.shape[1], y_fwd.shape[1], width, depth, members)
+    forward, fwd_fig = train_ensemble(fwd_arch, x_fwd[tr], y_fwd[tr], x_fwd[va], y_fwd[va],
+                                      seed=seed + 100, steps=steps, label="forward")
+    model.forward = forward
+
+    # split conformal calibration on the validation runs: scale each target's sigma so that the
+    # 90% intervals hold 90% of the validation truths
+    mean, sigma = (np.asarray(a, np.float64) for a in predict(inverse, x_inv[va].astype(np.float32)))
+    z = np.abs(y_inv[va] - mean) / np.maximum(sigma, 1e-12)
+    level = min(1.0, INTERVAL_LEVEL * (1 + 1 / len(va)))
+    model.interval_scale = np.quantile(z, level, axis=0) / gaussian_interval_scale(INTERVAL_LEVEL)
+
+    import jax
+    import equinox
+    import optax
+
+    model.metadata = {
+        "format": FORMAT, "ballimpact_version": __version__,
+        "versions": {"jax": jax.__version__, "equinox": equinox.__version__,
+                     "optax": optax.__version__, "numpy": np.__version__},
+        "ranges": {k: list(v) for k, v in ranges.items()}, "template": config["template"],
+        "features": list(FEATURES), "targets": list(TARGETS),
+        "log_scaled_parameters": list(space.LOG_SCALED), "shape_grid_points": len(SHAPE_GRID),
+        "feature_range": {k: [float(features[:, j].min()), float(features[:, j].max())]
+                          for j, k in enumerate(FEATURES)},
+        "architecture": {"inverse": inv_arch.to_dict(), "forward": fwd_arch.to_dict()},
+        "interval_level": INTERVAL_LEVEL,
+        "interval_scale": dict(zip(TARGETS, model.interval_scale.tolist())),
+        "study": {k: config[k] for k in ("runs", "seed", "method", "element_size_m",
+                                         "precision", "integration")},
+        "study_folder": folder.name,
+        "runs": {"finished": int(len(ok)), "successful": int(ok.sum()),
+                 "failed": int((~ok).sum()), "train": len(tr), "validation": len(va),
+                 "test": len(te)},
+        "split_seed": seed,
+        "training": {"inverse": inv_fig, "forward": fwd_fig, "steps": steps},
+    }
+    from .evaluate import held_out_report
+
+    report, held = held_out_report(model, params[te], features[te], shapes[te],
+                                   columns["run_id"][ok][te])
+    model.held_out = held
+    model.metadata["held_out"] = report
+    model.metadata["training"]["wall_time_s"] = time.perf_counter() - started
+    print(f"trained in {model.metadata['training']['wall_time_s']:.1f} s", file=sys.stderr)
+    return model, report

@@ -1,0 +1,190 @@
+"""The universal model: design, resumable and distributed studies, ensembles, model files, and
+the command line from a study to an identified ball (small, coarse studies; the built-in model's
+held-out figures are checked in test_universal_builtin.py and in the closing commands)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from ballimpact.cli import main
+from ballimpact.errors import InputError
+from ballimpact.fe import FailedRun, SolverOptions, load_ball, simulate_batch
+from ballimpact.universal import space
+from ballimpact.universal.dataset import load_dataset
+from ballimpact.universal.model import load_model
+from ballimpact.universal.networks import Architecture, predict, train_ensemble
+from ballimpact.universal.study import make_config, run_study
+
+COARSE = 4e-3  # m: a coarse mesh keeps these studies to seconds
+
+
+def run(capsys, *argv):
+    code = main([str(arg) for arg in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def small_config(runs=8, **kw):
+    return make_config(runs=runs, batch_size=2, element_size_m=COARSE, **kw)
+
+
+def rows(folder):
+    columns, curves = load_dataset(folder)
+    columns.pop("wall_time_s")
+    return columns, curves
+
+
+def test_design_is_seeded_within_ranges_and_log_scaled_tau():
+    ranges = space.check_ranges({"impact_speed_m_s": (10, 30)})
+    for method in space.METHODS:
+        a = space.sample(64, 3, method, ranges)
+        assert np.array_equal(a, space.sample(64, 3, method, ranges))
+        assert not np.array_equal(a, space.sample(64, 4, method, ranges))
+        for j, (low, high) in enumerate(ranges.values()):
+            assert low <= a[:, j].min() and a[:, j].max() <= high
+        # tau1 uniform in log: half the points below the geometric mean of the range
+        assert np.mean(a[:, 3] < np.sqrt(1e-5 * 1e-4)) == pytest.approx(0.5, abs=0.1)
+    unit = space.to_unit(a, ranges)
+    assert np.allclose(space.from_unit(unit, ranges), a)
+
+
+@pytest.mark.parametrize("ranges, words", [({"c99": (1, 2)}, "unknown"),
+                                           ({"g1": (0.0, 1.0)}, "allowed within 0:0.99"),
+                                           ({"tau1_s": (2e-4, 1e-4)}, "LOW <= HIGH"),
+                                           ({"impact_speed_m_s": "fast"}, "LOW:HIGH")])
+def test_bad_ranges_name_the_problem(ranges, words):
+    with pytest.raises(InputError, match=words):
+        space.check_ranges(ranges)
+
+
+def test_failed_runs_come_back_with_their_reason():
+    ball = load_ball("cricket-universal", impact_speed_m_s=25.0)
+    results = simulate_batch([ball, ball], [25.0, 1e5], SolverOptions(element_size_m=COARSE),
+                             on_failure="return")
+    assert not isinstance(results[0], FailedRun) and 0.3 < results[0].cor < 0.6
+    assert isinstance(results[1], FailedRun) and "energy balance" in results[1].reason
+
+
+def test_interrupted_study_resumes_to_the_uninterrupted_one(tmp_path):
+    config = small_config()
+    run_study(tmp_path / "whole", config)
+    first = run_study(tmp_path / "cut", config, max_batches=2)   # killed after 2 batches
+    assert first["finished_runs"] == 4
+    with pytest.raises(InputError, match="--resume"):
+        run_study(tmp_path / "cut", config)
+    second = run_study(tmp_path / "cut", resume=True)
+    assert second["new_runs"] == 4 and second["finished_runs"] == 8
+    (a, curves_a), (b, curves_b) = rows(tmp_path / "whole"), rows(tmp_path / "cut")
+    assert list(a["run_id"]) == list(range(8))
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+    np.testing.assert_array_equal(curves_a["force_shape"], curves_b["force_shape"])
+    ok = a["status"] == "ok"
+    assert ok.sum() >= 6 and all(a["reason"][~ok])  # failed runs keep their reason
+    # the stored shape is the pulse over its contact time, peak 1 (to the 64-point grid)
+    assert np.allclose(curves_a["force_shape"][ok].max(axis=1), 1.0, atol=0.05)
+    with pytest.raises(InputError, match="differs in runs"):
+        run_study(tmp_path / "cut", {**config, "runs": 9}, resume=True)
+
+
+def test_dask_local_cluster_equals_local_run(tmp_path):
+    pytest.importorskip("dask.distributed")
+    config = small_config(runs=4)
+    run_study(tmp_path / "local", config)
+    run_study(tmp_path / "dask", config, workers=2)
+    (a, curves_a), (b, curves_b) = rows(tmp_path / "local"), rows(tmp_path / "dask")
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+    np.testing.assert_array_equal(curves_a["force_n_100khz"], curves_b["force_n_100khz"])
+
+
+def test_ensemble_learns_a_function_and_its_noise():
+    rng = np.random.default_rng(0)
+    x = rng.uniform(-2, 2, size=(1200, 2))
+    noise = 0.1
+    y = (np.sin(2 * x[:, 0]) * x[:, 1] + noise * rng.normal(size=1200))[:, None]
+    ensemble, figures = train_ensemble(Architecture(2, 1, width=64, depth=2, members=5),
+                                       x[:800], y[:800], x[800:1000], y[800:1000], steps=1500)
+    mean, sigma = (np.asarray(a) for a in predict(ensemble, x[1000:].astype(np.float32)))
+    rmse = np.sqrt(np.mean((mean - y[1000:]) ** 2))
+    assert rmse < 1.3 * noise
+    assert np.median(sigma) == pytest.approx(noise, rel=0.35)
+    inside = np.abs(mean - y[1000:]) <= 1.645 * sigma
+    assert 0.8 <= inside.mean() <= 0.98
+    assert len(figures["validation_nll"]) == 5
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    """A 96-run coarse study trained briefly: the plumbing, not the accuracy."""
+    folder = tmp_path_factory.mktemp("study")
+    assert main(["universal", "run", str(folder / "s"), "--runs", "96", "--batch-size", "32",
+                 "--element-size-m", str(COARSE), "--json"]) == 0
+    assert main(["universal", "train", str(folder / "s"), "--out", str(folder / "m"),
+                 "--steps", "300", "--width", "32", "--json"]) == 0
+    return folder
+
+
+def test_model_files_round_trip_and_refuse_foreign_files(trained, tmp_path):
+    model = load_model(trained / "m.json")
+    again = load_model(trained / "m.npz")
+    x = model.held_out["truth"][:3]
+    features = model.simulate(np.column_stack([x[:, :4], np.full(3, 20.0)]))["features"]
+    assert np.array_equal(model.estimate(features)["values"], again.estimate(features)["values"])
+    meta = json.loads((trained / "m.json").read_text())
+    assert {"ranges", "features", "template", "held_out", "versions", "architecture"} <= set(meta)
+    (tmp_path / "bad.json").write_text(json.dumps({**meta, "format": "other"}))
+    (tmp_path / "bad.npz").write_bytes((trained / "m.npz").read_bytes())
+    with pytest.raises(InputError, match="format"):
+        load_model(tmp_path / "bad.json")
+    np.savez(tmp_path / "obj.npz", inverse_000=np.array([{"a": 1}], dtype=object))
+    (tmp_path / "obj.json").write_text(json.dumps(meta))
+    with pytest.raises(InputError, match="not a universal model"):
+        load_model(tmp_path / "obj.json")  # object arrays (pickles) are refused
+
+
+def test_cli_report_and_identify_give_a_ball_simulate_accepts(trained, capsys, tmp_path):
+    code, out, err = run(capsys, "universal", "report", trained / "m.json", "--plot",
+                         tmp_path / "r.png", "--json")
+    assert code == 0, err
+    report = json.loads(out)["held_out"]
+    assert report["runs"] >= 15 and set(report["inverse"]) == {"c10_pa", "c01_pa", "g1",
+                                                                "tau1_s", "mu0_pa"}
+    assert (tmp_path / "r.png").stat().st_size > 10_000
+    # a simulated test of a ball inside the ranges, identified with the small model
+    from ballimpact.fe import simulate
+
+    test = simulate(load_ball("cricket-universal", impact_speed_m_s=20.8), 20.8,
+                    SolverOptions(element_size_m=COARSE)).record()
+    np.savetxt(tmp_path / "t.csv", np.column_stack([test.time_s, test.force_n]), delimiter=",",
+               header="time_s,force_n", comments="")
+    code, out, err = run(capsys, "identify", tmp_path / "t.csv", "--model", trained / "m.json",
+                         "--mass-kg", 0.16, "--impact-speed-m-s", 20.8, "--json",
+                         "--plot", tmp_path / "i.png")
+    assert code == 0, err
+    found = json.loads(out)
+    assert {"params", "params_interval_90", "ball", "verification", "wall_time_s"} <= set(found)
+    ranges = load_model(trained / "m.json").ranges
+    for name in ("c10_pa", "c01_pa", "g1", "tau1_s"):
+        low, high = found["params_interval_90"][name]
+        assert ranges[name][0] <= low <= high <= ranges[name][1]
+        assert ranges[name][0] <= found["params"][name] <= ranges[name][1]
+    check = found["verification"]  # the FE run of the identified ball against this test
+    assert check["cor_measured"] == pytest.approx(test.rebound_speed_m_s / 20.8, rel=0.01)
+    assert np.isfinite(check["force_nrmse"]) and check["force_nrmse"] > 0
+    (tmp_path / "ball.json").write_text(json.dumps(found["ball"]))
+    code, out, err = run(capsys, "simulate", "--ball", tmp_path / "ball.json", "--speed-m-s",
+                         20.8, "--element-size-m", COARSE, "--json")
+    assert code == 0, err
+
+
+def test_cli_bad_input_exits_2(capsys, tmp_path):
+    code, _, err = run(capsys, "universal", "run", tmp_path / "s", "--range", "g1=0:2")
+    assert code == 2 and "g1" in err
+    code, _, err = run(capsys, "universal", "run", tmp_path / "s", "--resume")
+    assert code == 2 and "holds no study" in err
+    code, _, err = run(capsys, "identify", "nothere.csv", "--model", tmp_path / "none.json")
+    assert code == 2 and "none" in err
+    code, _, err = run(capsys, "universal", "report", "--noise", "0.7")
+    assert code == 2 and "--noise" in err
