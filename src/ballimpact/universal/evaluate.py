@@ -86,20 +86,21 @@ def _standardised_outputs(model: UniversalModel, params: np.ndarray) -> np.ndarr
 
 
 def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float = 0.0,
-                refine: str = "none", seed: int = 0, options=None) -> dict[str, Any]:
+                refine: str = "none", filter: str = "none", seed: int = 0,
+                options=None) -> dict[str, Any]:
     """Identify held-out runs of the study in `folder` from their pulses and re-simulate them.
 
     With `noise` > 0, white noise of that fraction of the peak force is added to the held-out
     pulse sampled at 100 kHz (with 0.5 ms of baseline before contact) and the noisy record is
-    processed as a measured test (impact and rebound speeds given, as light gates give them).
+    processed as a measured test (impact and rebound speeds given, as light gates give them)
+    with `filter` (see `filters`).
     Returns per-run errors and their median and 90th percentile."""
     from ..fe import SolverOptions, load_ball, simulate_batch
     from ..features import extract_features
-    from ..pipeline import process
-    from ..records import ImpactRecord
     from .compare import pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
+    from .measurement import noisy_features
 
     columns, curves = load_dataset(folder)
     index = {rid: i for i, rid in enumerate(columns["run_id"])}
@@ -114,14 +115,8 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         speed = float(columns["impact_speed_m_s"][i])
         values = {k: float(columns[k][i]) for k in FEATURES}
         if noise > 0:
-            lead = 50
-            time_s = np.concatenate([(np.arange(-lead, 0)) / 1e5, t])
-            force = np.concatenate([np.zeros(lead), pulse])
-            force = force + rng.normal(0.0, noise * pulse.max(), force.size)
-            record = ImpactRecord(time_s, force, mass_kg=template["mass_kg"],
-                                  impact_speed_m_s=speed,
-                                  rebound_speed_m_s=float(columns["cor"][i]) * speed)
-            values = process(record).features.values
+            values = noisy_features(pulse, speed, float(columns["cor"][i]), template["mass_kg"],
+                                    noise, rng, filter)
         params, _ = estimate(model, values, refine)
         specs.append(space.universal_ball_spec(params, template["radius_m"],
                                                template["density_kg_m3"], template["moduli"],
@@ -147,7 +142,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
                      "peak_force_relative_error": sim["P6"] / float(columns["P6"][i]) - 1})
     ok = [r for r in rows if "failed" not in r]
     summary = {"runs": len(rows), "failed": len(rows) - len(ok), "noise_of_peak": noise,
-               "refine": refine}
+               "refine": refine, "filter": filter if noise > 0 else "none"}
     for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
                 "peak_force_relative_error"):
         v = np.abs([r[key] for r in ok])

@@ -32,7 +32,7 @@ COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "
            "steps", "wall_time_s")
 #: configuration keys and defaults (SI); `ranges` and `template` are filled in by `make_config`
 DEFAULTS: dict[str, Any] = {"runs": 600, "seed": 0, "method": "sobol", "batch_size": 32,
-                            "group_size": 4, "element_size_m": 1.5e-3, "precision": "float64",
+                            "group_size": 4, "element_size_m": 1.5e-3, "precision": "float32",
                             "integration": "reduced"}
 
 

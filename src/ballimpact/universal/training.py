@@ -25,12 +25,15 @@ from .model import (
     target_ranges,
 )
 from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
+from .measurement import noisy_features
 from .study import CONFIG_FILE
 
 #: shares of the finished runs: held out for the report (never seen in training or early
 #: stopping), and validation (early stopping and the interval calibration)
 TEST_SHARE = 0.2
 VALIDATION_SHARE = 0.15
+#: default noise augmentation of the inverse's training (fraction of the peak force)
+NOISE_AUGMENT = 0.02
 #: features learned in log scale when positive in every run (times, forces, rates, speeds)
 LOG_FEATURES = np.array([key not in ("P11", "P12", "P13", "P14", "P17") for key in FEATURES])
 
@@ -44,9 +47,14 @@ def split(run_ids: np.ndarray, seed: int) -> dict[str, np.ndarray]:
             "train": np.sort(order[n_test + n_val:])}
 
 
-def train(folder: Path, *, seed: int = 0, steps: int = 4000, width: int = 128, depth: int = 3,
-          members: int = 5) -> tuple[UniversalModel, dict[str, Any]]:
-    """Train on the finished, successful runs of the study in `folder`."""
+def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, depth: int = 3,
+          members: int = 5, noise_augment: float = NOISE_AUGMENT) -> tuple[UniversalModel, dict[str, Any]]:
+    """Train on the finished, successful runs of the study in `folder`.
+
+    With `noise_augment` > 0 the inverse also learns from one noisy copy of each training and
+    validation run: its pulse at 100 kHz with white noise of a level drawn uniformly up to
+    `noise_augment` times the peak force, processed as a measured test (so that measured,
+    noisy features do not fall outside what the network has seen). Held-out runs stay clean."""
     folder = Path(folder)
     started = time.perf_counter()
     config = json.loads((folder / CONFIG_FILE).read_text())
@@ -68,8 +76,27 @@ def train(folder: Path, *, seed: int = 0, steps: int = 4000, width: int = 128, d
     shape_scaler = Scaler.fit(shapes[tr])
     x_inv = feature_scaler.forward(features)
     y_inv = target_scaler.forward(targets)
+    x_tr, y_tr, x_va, y_va = x_inv[tr], y_inv[tr], x_inv[va], y_inv[va]
+    if noise_augment > 0:
+        mass = config["template"]["mass_kg"]
+        pulses = curves["force_n_100khz"][ok]
+        rng = np.random.default_rng(seed)
+        extra = {}
+        for name, rows in (("train", tr), ("validation", va)):
+            noisy, kept = [], []
+            for i in rows:
+                try:
+                    values = noisy_features(pulses[i], params[i, 4], features[i, 16], mass,
+                                            rng.uniform(0.0, noise_augment), rng)
+                except InputError:  # a pulse the processing refuses: no noisy copy
+                    continue
+                noisy.append([values[k] for k in FEATURES])
+                kept.append(i)
+            extra[name] = (feature_scaler.forward(np.array(noisy)), y_inv[kept])
+        x_tr, y_tr = np.concatenate([x_tr, extra["train"][0]]), np.concatenate([y_tr, extra["train"][1]])
+        x_va, y_va = np.concatenate([x_va, extra["validation"][0]]), np.concatenate([y_va, extra["validation"][1]])
     inv_arch = Architecture(len(FEATURES), len(TARGETS), width, depth, members)
-    inverse, inv_fig = train_ensemble(inv_arch, x_inv[tr], y_inv[tr], x_inv[va], y_inv[va],
+    inverse, inv_fig = train_ensemble(inv_arch, x_tr, y_tr, x_va, y_va,
                                       seed=seed, steps=steps, label="inverse")
 
     model = UniversalModel(inverse, None, feature_scaler, target_scaler, shape_scaler,
@@ -83,9 +110,9 @@ def train(folder: Path, *, seed: int = 0, steps: int = 4000, width: int = 128, d
 
     # split conformal calibration on the validation runs: scale each target's sigma so that the
     # 90% intervals hold 90% of the validation truths
-    mean, sigma = (np.asarray(a, np.float64) for a in predict(inverse, x_inv[va].astype(np.float32)))
-    z = np.abs(y_inv[va] - mean) / np.maximum(sigma, 1e-12)
-    level = min(1.0, INTERVAL_LEVEL * (1 + 1 / len(va)))
+    mean, sigma = (np.asarray(a, np.float64) for a in predict(inverse, x_va.astype(np.float32)))
+    z = np.abs(y_va - mean) / np.maximum(sigma, 1e-12)
+    level = min(1.0, INTERVAL_LEVEL * (1 + 1 / len(y_va)))
     model.interval_scale = np.quantile(z, level, axis=0) / gaussian_interval_scale(INTERVAL_LEVEL)
 
     import jax
@@ -110,7 +137,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 4000, width: int = 128, d
         "runs": {"finished": int(len(ok)), "successful": int(ok.sum()),
                  "failed": int((~ok).sum()), "train": len(tr), "validation": len(va),
                  "test": len(te)},
-        "split_seed": seed,
+        "split_seed": seed, "noise_augment_of_peak": noise_augment,
         "training": {"inverse": inv_fig, "forward": fwd_fig, "steps": steps},
     }
     from .evaluate import held_out_report
