@@ -168,6 +168,8 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
                         "peak_force_relative_error"):
                 print(f"  |{key}|: median {s[key]['median']:.4g}, 90th percentile "
                       f"{s[key]['p90']:.4g}, max {s[key]['max']:.4g}")
+            print("  90% interval coverage: " + ", ".join(
+                f"{k} {v:.0%}" for k, v in s["interval_90_coverage"].items()))
     if args.plot is not None:
         from ..universal.plots import plot_held_out
 

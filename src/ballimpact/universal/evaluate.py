@@ -108,7 +108,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     rng = np.random.default_rng(seed)
     template = model.metadata["template"]
     t = curves["pulse_time_s"]
-    specs, speeds, truths = [], [], []
+    specs, speeds, truths, covered = [], [], [], []
     for rid in ids:
         i = index[rid]
         pulse = curves["force_n_100khz"][i]
@@ -117,7 +117,9 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         if noise > 0:
             values = noisy_features(pulse, speed, float(columns["cor"][i]), template["mass_kg"],
                                     noise, rng, filter)
-        params, _ = estimate(model, values, refine)
+        params, interval = estimate(model, values, refine)
+        true = {k: float(columns[k][i]) for k in TARGETS}
+        covered.append([interval[k][0] <= true[k] <= interval[k][1] for k in TARGETS])
         specs.append(space.universal_ball_spec(params, template["radius_m"],
                                                template["density_kg_m3"], template["moduli"],
                                                name=f"identified-{rid}"))
@@ -142,7 +144,8 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
                      "peak_force_relative_error": sim["P6"] / float(columns["P6"][i]) - 1})
     ok = [r for r in rows if "failed" not in r]
     summary = {"runs": len(rows), "failed": len(rows) - len(ok), "noise_of_peak": noise,
-               "refine": refine, "filter": filter if noise > 0 else "none"}
+               "refine": refine, "filter": filter if noise > 0 else "none",
+               "interval_90_coverage": dict(zip(TARGETS, np.mean(covered, axis=0).tolist()))}
     for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
                 "peak_force_relative_error"):
         v = np.abs([r[key] for r in ok])

@@ -152,7 +152,8 @@ def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: boo
     continues the study stored in `folder` (a `config` given too must equal the stored one).
     `workers` starts a local Dask cluster of that many processes; `scheduler` connects to a
     running one; neither: runs here. `max_batches` stops after that many batches (the rest are
-    left for `resume`). `progress(done_runs, total_runs, elapsed_s)` is called after each batch.
+    left for `resume`). `progress(done_runs, total_runs, elapsed_s, new_runs)` is called after
+    each batch. On a Dask scheduler the workers need ballimpact installed.
     """
     folder = Path(folder)
     stored = folder / CONFIG_FILE

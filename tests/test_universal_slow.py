@@ -1,0 +1,39 @@
+"""The universal model end to end at the issue's scale (slow: about 8 minutes on 2 cores): a
+600-run study at the default mesh, training, and the closed loop through the FE engine on 50
+held-out runs, clean and with 1% white noise at 100 kHz."""
+
+import pytest
+
+from ballimpact.universal.evaluate import closed_loop
+from ballimpact.universal.study import make_config, run_study
+from ballimpact.universal.training import train
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("universal") / "study"
+    summary = run_study(folder, make_config(runs=600, seed=7))
+    assert summary["finished_runs"] == 600
+    model, report = train(folder)
+    return folder, model, report
+
+
+def test_held_out_figures(trained):
+    _, _, report = trained
+    assert report["runs"] >= 90  # >= 15% of the runs
+    assert report["inverse"]["mu0_pa"]["relative_error"]["median"] < 0.02
+    for name, entry in report["inverse"].items():
+        assert 0.8 <= entry["interval_90_coverage"] <= 0.98, name
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_closed_loop_on_held_out_runs(trained, noise):
+    folder, model, _ = trained
+    summary = closed_loop(model, folder, runs=50, noise=noise)["summary"]
+    assert summary["runs"] == 50 and summary["failed"] == 0
+    assert summary["force_nrmse"]["median"] < 0.02
+    assert summary["force_nrmse"]["p90"] < 0.04
+    assert summary["cor_error"]["median"] < 0.01
+    assert summary["contact_time_relative_error"]["median"] < 0.02
