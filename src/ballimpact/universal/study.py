@@ -144,7 +144,7 @@ def pulse_100khz(result) -> np.ndarray:
 
 def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: bool = False,
               workers: int | None = None, scheduler: str | None = None,
-              progress: Callable[[int, int, float], None] | None = None,
+              progress: Callable[[int, int, float, int], None] | None = None,
               max_batches: int | None = None) -> dict[str, Any]:
     """Run (or resume) the study in `folder`; returns a summary.
 
