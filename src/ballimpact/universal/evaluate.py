@@ -95,7 +95,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     processed as a measured test (impact and rebound speeds given, as light gates give them)
     with `filter` (see `filters`).
     Returns per-run errors and their median and 90th percentile."""
-    from ..fe import SolverOptions, load_ball, simulate_batch
+    from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
     from ..features import extract_features
     from .compare import pulse_nrmse
     from .dataset import load_dataset
@@ -132,7 +132,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
                              on_failure="return")
     rows = []
     for rid, result, (pulse, values, i) in zip(ids, results, truths):
-        if not hasattr(result, "history"):
+        if isinstance(result, FailedRun):
             rows.append({"run_id": rid, "failed": result.reason})
             continue
         sim = extract_features(result.record()).values
