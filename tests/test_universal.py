@@ -189,3 +189,52 @@ def test_cli_bad_input_exits_2(capsys, tmp_path):
     assert code == 2 and "none" in err
     code, _, err = run(capsys, "universal", "report", "--noise", "0.7")
     assert code == 2 and "--noise" in err
+
+
+def test_speed_table_ball_interpolates_as_the_universal_preset(tmp_path):
+    from ballimpact.fe.ball import TABLE_7_3, UNIVERSAL_DENSITY_KG_M3, UNIVERSAL_RADIUS_M
+
+    rows = [dict(row) for row in reversed(TABLE_7_3)]  # any order
+    path = tmp_path / "table.json"
+    path.write_text(json.dumps({"name": "mine", "speed_table": {
+        "outer_radius_m": UNIVERSAL_RADIUS_M, "density_kg_m3": UNIVERSAL_DENSITY_KG_M3,
+        "moduli": "long_term", "rows": rows}}))
+    for speed in (5.5, 15.4, 25.0):
+        mine = load_ball(path, impact_speed_m_s=speed).to_dict()["layers"]
+        preset = load_ball("cricket-universal", impact_speed_m_s=speed).to_dict()["layers"]
+        assert mine == preset
+    with pytest.warns(Warning, match="outside the table"):
+        load_ball(path, impact_speed_m_s=40.0)
+    with pytest.raises(InputError, match="needs the impact speed"):
+        load_ball(path)
+    bad = json.loads(path.read_text())
+    bad["speed_table"]["rows"][0]["g1"] = "high"
+    path.write_text(json.dumps(bad))
+    with pytest.raises(InputError, match=r"rows\[0\].g1"):
+        load_ball(path, impact_speed_m_s=20.0)
+
+
+def test_identify_several_tests_writes_a_speed_table_ball(trained, capsys, tmp_path):
+    from ballimpact.fe import simulate
+
+    files = []
+    for speed in (15.0, 25.0):
+        test = simulate(load_ball("cricket-universal", impact_speed_m_s=speed), speed,
+                        SolverOptions(element_size_m=COARSE)).record()
+        path = tmp_path / f"t{speed:g}.csv"
+        np.savetxt(path, np.column_stack([test.time_s, test.force_n]), delimiter=",",
+                   header="time_s,force_n", comments="")
+        (tmp_path / f"t{speed:g}.json").write_text(json.dumps(
+            {"mass_kg": 0.16, "impact_speed_m_s": speed,
+             "rebound_speed_m_s": test.rebound_speed_m_s}))
+        files.append(path)
+    code, out, err = run(capsys, "identify", *files, "--model", trained / "m.json",
+                         "--no-verify", "--table", tmp_path / "t.csv",
+                         "--ball-out", tmp_path / "ball.json", "--json")
+    assert code == 0, err
+    table = json.loads(out)["table"]
+    assert [row["speed_m_s"] for row in table] == [15.0, 25.0]
+    ball = load_ball(tmp_path / "ball.json", impact_speed_m_s=20.0)
+    c10 = ball.layers[0].material.to_dict()["c10_pa"]
+    assert c10 == pytest.approx(0.5 * (table[0]["c10_pa"] + table[1]["c10_pa"]))
+    assert (tmp_path / "t.csv").read_text().startswith("speed_m_s,c10_pa,c01_pa,g1,tau1_s")

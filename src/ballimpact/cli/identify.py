@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import time
 from pathlib import Path
 from typing import Any
@@ -35,6 +36,10 @@ def add_parser(verbs) -> None:
                           help="least squares on the forward surrogate after the inverse "
                                "estimate; default none: on held-out runs it made the closed loop worse, see docs/universal.md")
     identify.add_argument("--table", type=Path, help="with several files: write the speed table")
+    identify.add_argument("--ball-out", type=Path, metavar="FILE.json",
+                          help="write the identified ball for `simulate --ball`: with several "
+                               "files, a ball holding the speed table, interpolated at the "
+                               "impact speed as the cricket-universal preset")
     add_record_options(identify)
     add_processing(identify)
 
@@ -46,6 +51,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
     check_plot_path(args.plot)
     check_output_folder(args.table, "--table")
+    check_output_folder(args.ball_out, "--ball-out")
     started = time.perf_counter()
     model = load_model(args.model)
     if args.verify:
@@ -63,9 +69,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if len(results) == 1 else {"identifications": [
             {**f.to_dict(), "file": str(p)} for p, _, f in results]}
     if len(results) > 1:
-        rows = sorted(({"speed_m_s": f.impact_speed_m_s, **{k: f.params[k] for k in
-                        ("c10_pa", "c01_pa", "g1", "tau1_s")}} for _, _, f in results),
-                      key=lambda r: r["speed_m_s"])
+        rows = speed_table_ball([f for _, _, f in results], model)["speed_table"]["rows"]
         out["table"] = rows
         if args.table is not None:
             lines = [",".join(rows[0])] + [",".join(f"{v:.6g}" for v in r.values()) for r in rows]
@@ -75,6 +79,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             print("speed_m_s,c10_pa,c01_pa,g1,tau1_s")
             for r in rows:
                 print(",".join(f"{v:.6g}" for v in r.values()))
+    if args.ball_out is not None:
+        ball = results[0][2].ball if len(results) == 1 else speed_table_ball(
+            [f for _, _, f in results], model)
+        args.ball_out.write_text(json.dumps(ball, indent=2))
+        out["ball_file"] = str(args.ball_out)
     if args.plot is not None:
         from ..universal.plots import plot_identification
 
@@ -82,6 +91,17 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         out["plot"] = str(args.plot)
     out["wall_time_s"] = time.perf_counter() - started
     return out
+
+
+def speed_table_ball(found: list, model) -> dict[str, Any]:
+    """A ball file holding the identified parameters against impact speed."""
+    template = model.metadata["template"]
+    rows = sorted(({"speed_m_s": f.impact_speed_m_s, **{k: f.params[k] for k in
+                   ("c10_pa", "c01_pa", "g1", "tau1_s")}} for f in found),
+                  key=lambda r: r["speed_m_s"])
+    return {"name": "identified-universal", "speed_table": {
+        "outer_radius_m": template["radius_m"], "density_kg_m3": template["density_kg_m3"],
+        "moduli": template["moduli"], "rows": rows}}
 
 
 def _print(path: Path, found) -> None:

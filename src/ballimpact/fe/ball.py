@@ -232,33 +232,75 @@ def _speed(value: Any, what: str = "impact_speed_m_s") -> float:
     return float(value)
 
 
-def universal_parameters(impact_speed_m_s: float) -> dict[str, float]:
-    """Table 7-3 interpolated linearly at an impact speed (SI: Pa, s).
+def universal_parameters(impact_speed_m_s: float, table=TABLE_7_3,
+                         name: str = "cricket-universal") -> dict[str, float]:
+    """A universal-ball table (default: thesis table 7-3) interpolated linearly at an impact
+    speed (SI: Pa, s). Rows hold speed_m_s, c10_pa, c01_pa, g1, tau1_s, by increasing speed.
 
-    Outside the table's 5.5-25 m/s the end row is held and an `InputWarning` is emitted.
+    Outside the table's speeds the end row is held and an `InputWarning` is emitted.
     Returns impact_speed_m_s, c10_pa, c01_pa, g1, tau1_s.
     """
     v = _speed(impact_speed_m_s)
-    speeds = np.array([row["speed_m_s"] for row in TABLE_7_3])
+    speeds = np.array([row["speed_m_s"] for row in table])
     if v < speeds[0] or v > speeds[-1]:
-        warnings.warn(f"cricket-universal: impact speed {v:g} m/s is outside the table's "
-                      f"{speeds[0]:g}-{speeds[-1]:g} m/s (thesis table 7-3); the end row is held",
+        source = " (thesis table 7-3)" if table is TABLE_7_3 else ""
+        warnings.warn(f"{name}: impact speed {v:g} m/s is outside the table's "
+                      f"{speeds[0]:g}-{speeds[-1]:g} m/s{source}; the end row is held",
                       InputWarning, stacklevel=2)
     out = {"impact_speed_m_s": v}
     for key in _TABLE_KEYS:
-        out[key] = float(np.interp(v, speeds, [row[key] for row in TABLE_7_3]))
+        out[key] = float(np.interp(v, speeds, [row[key] for row in table]))
     return out
+
+
+def universal_spec(params: dict[str, float], radius_m: float, density_kg_m3: float,
+                   moduli: str = "long_term", name: str = "universal") -> dict[str, Any]:
+    """The ball specification of a universal ball: one homogeneous Mooney-Rivlin layer (D1 = 0)
+    with one Prony term (`params`: c10_pa, c01_pa, g1, tau1_s)."""
+    material = {"model": "mooney_rivlin", "c10_pa": float(params["c10_pa"]),
+                "c01_pa": float(params["c01_pa"]), "d1_per_pa": 0.0, "moduli": moduli,
+                "prony": [{"g": float(params["g1"]), "k": 0.0, "tau_s": float(params["tau1_s"])}]}
+    return {"name": name, "layers": [{"name": "ball", "outer_radius_m": float(radius_m),
+                                      "density_kg_m3": float(density_kg_m3),
+                                      "material": material}]}
 
 
 def _universal(impact_speed_m_s: float) -> BallModel:
     p = universal_parameters(impact_speed_m_s)
-    material = {"model": "mooney_rivlin", "c10_pa": p["c10_pa"], "c01_pa": p["c01_pa"],
-                "d1_per_pa": 0.0, "moduli": "long_term",
-                "prony": [{"g": p["g1"], "k": 0.0, "tau_s": p["tau1_s"]}]}
-    spec = {"name": f"cricket-universal@{float(p['impact_speed_m_s'])!r}m/s",  # ...@25.0m/s
-            "layers": [{"name": "ball", "outer_radius_m": UNIVERSAL_RADIUS_M,
-                        "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "material": material}]}
+    spec = universal_spec(p, UNIVERSAL_RADIUS_M, UNIVERSAL_DENSITY_KG_M3,
+                          name=f"cricket-universal@{float(p['impact_speed_m_s'])!r}m/s")  # @25.0m/s
     return BallModel.from_dict(spec, where="cricket-universal")
+
+
+_SPEED_TABLE_KEYS = {"outer_radius_m", "density_kg_m3", "moduli", "rows"}
+
+
+def _speed_table_ball(data: dict, name: str, impact_speed_m_s: float | None) -> BallModel:
+    """A ball file holding a universal-ball table against speed (as `identify` writes it):
+    {"name": ..., "speed_table": {"outer_radius_m", "density_kg_m3", "moduli", "rows": [{speed_m_s,
+    c10_pa, c01_pa, g1, tau1_s}, ...]}}, interpolated at the impact speed as `cricket-universal`."""
+    table = data["speed_table"]
+    where = f"{name}.speed_table"
+    _check_keys(table, _SPEED_TABLE_KEYS, where)
+    for key in ("outer_radius_m", "density_kg_m3"):
+        _number(table, key, where, 0.0, low_open=True)
+    rows = table.get("rows")
+    if not isinstance(rows, list) or not rows:
+        raise InputError(f"{where}.rows: expected a non-empty list of rows")
+    for i, row in enumerate(rows):  # each row's constants are checked again as a material
+        _check_keys(row, {"speed_m_s", *_TABLE_KEYS}, f"{where}.rows[{i}]")
+        for key in ("speed_m_s", *_TABLE_KEYS):
+            _number(row, key, f"{where}.rows[{i}]")
+        _speed(row["speed_m_s"], f"{where}.rows[{i}].speed_m_s")
+    rows = sorted(rows, key=lambda r: r["speed_m_s"])
+    if impact_speed_m_s is None:
+        raise InputError(f"{name}: a ball with a speed table needs the impact speed "
+                         "(impact_speed_m_s, e.g. --speed-m-s)")
+    p = universal_parameters(impact_speed_m_s, rows, name)
+    spec = universal_spec(p, table["outer_radius_m"], table["density_kg_m3"],
+                          table.get("moduli", "long_term"),
+                          name=f"{name}@{float(p['impact_speed_m_s'])!r}m/s")
+    return BallModel.from_dict(spec, where=where)
 
 
 _UNIVERSAL_AT = re.compile(r"^cricket-universal@(.+?)(?:m/s)?$")
@@ -327,6 +369,9 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) ->
                          f"existing file")
     data = _read_file(path)
     try:
+        if isinstance(data, dict) and "speed_table" in data:
+            _check_keys(data, {"name", "speed_table"}, path.stem)
+            return _speed_table_ball(data, str(data.get("name", path.stem)), impact_speed_m_s)
         return BallModel.from_dict(data, default_name=path.stem)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
@@ -368,4 +413,5 @@ __all__ = [
     "describe_presets",
     "load_ball",
     "universal_parameters",
+    "universal_spec",
 ]

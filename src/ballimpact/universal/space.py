@@ -113,12 +113,9 @@ def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, flo
 def universal_ball_spec(params: dict[str, float], radius_m: float, density_kg_m3: float,
                         moduli: str = "long_term", name: str = "universal") -> dict[str, Any]:
     """A ball specification (the JSON form `simulate --ball` reads) of the universal ball."""
-    material = {"model": "mooney_rivlin", "c10_pa": float(params["c10_pa"]),
-                "c01_pa": float(params["c01_pa"]), "d1_per_pa": 0.0, "moduli": moduli,
-                "prony": [{"g": float(params["g1"]), "k": 0.0, "tau_s": float(params["tau1_s"])}]}
-    return {"name": name, "layers": [{"name": "ball", "outer_radius_m": float(radius_m),
-                                      "density_kg_m3": float(density_kg_m3),
-                                      "material": material}]}
+    from ..fe.ball import universal_spec
+
+    return universal_spec(params, radius_m, density_kg_m3, moduli, name)
 
 
 def template_geometry(ball) -> dict[str, Any]:
