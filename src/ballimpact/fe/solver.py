@@ -297,7 +297,8 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
                 raise SimulationError(failed[min(failed)])
             if progress is not None:
                 progress(float(t.min()))
-            finished = done | np.isin(np.arange(len(balls)), list(failed))
+            finished = done.copy()
+            finished[list(failed)] = True
             if np.all(finished | (t >= limits)):
                 break
         for i in np.flatnonzero(~finished):

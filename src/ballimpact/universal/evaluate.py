@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from . import space
-from .model import FEATURES, TARGETS, UniversalModel, target_ranges
+from .model import COR_COLUMN, FEATURES, TARGETS, UniversalModel, target_ranges
 
 PERCENTILE = 90
 
@@ -47,10 +47,9 @@ def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndar
     shape_rms = np.sqrt(np.mean((fwd["force_shape"] - shapes) ** 2, axis=1))
     forward["force_shape_rms_of_peak"] = {"median": float(np.median(shape_rms)),
                                           f"p{PERCENTILE}": float(np.percentile(shape_rms, PERCENTILE))}
-    forward["cor_absolute_error"] = {
-        "median": float(np.median(np.abs(fwd["features"][:, 16] - features[:, 16]))),
-        f"p{PERCENTILE}": float(np.percentile(np.abs(fwd["features"][:, 16] - features[:, 16]),
-                                              PERCENTILE))}
+    cor_error = np.abs(fwd["features"][:, COR_COLUMN] - features[:, COR_COLUMN])
+    forward["cor_absolute_error"] = {"median": float(np.median(cor_error)),
+                                     f"p{PERCENTILE}": float(np.percentile(cor_error, PERCENTILE))}
     report = {"runs": int(len(run_ids)), "inverse": inverse, "forward": forward,
               "identifiability": identifiability(model, params)}
     held = {"run_id": run_ids, "truth": truth, "estimate": est["values"], "low": est["low"],
@@ -97,7 +96,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     Returns per-run errors and their median and 90th percentile."""
     from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
     from ..features import extract_features
-    from .compare import pulse_nrmse
+    from .compare import compare, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
     from .measurement import noisy_features
@@ -113,35 +112,29 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         i = index[rid]
         pulse = curves["force_n_100khz"][i]
         speed = float(columns["impact_speed_m_s"][i])
-        values = {k: float(columns[k][i]) for k in FEATURES}
-        if noise > 0:
-            values = noisy_features(pulse, speed, float(columns["cor"][i]), template["mass_kg"],
-                                    noise, rng, filter)
+        clean = {k: float(columns[k][i]) for k in FEATURES}
+        values = clean if noise == 0 else noisy_features(
+            pulse, speed, float(columns["cor"][i]), template["mass_kg"], noise, rng, filter)
         params, interval = estimate(model, values, refine)
         true = {k: float(columns[k][i]) for k in TARGETS}
         covered.append([interval[k][0] <= true[k] <= interval[k][1] for k in TARGETS])
-        specs.append(space.universal_ball_spec(params, template["radius_m"],
-                                               template["density_kg_m3"], template["moduli"],
-                                               name=f"identified-{rid}"))
+        specs.append(space.universal_ball_spec(params, template, f"identified-{rid}"))
         speeds.append(speed)
-        truths.append((pulse, values, i))
+        truths.append((pulse, clean))
         print(f"\rclosed loop{' (noisy)' if noise else ''}: identified {len(specs)}/{len(ids)}",
               end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     results = simulate_batch([load_ball(s) for s in specs], speeds, options or SolverOptions(),
                              on_failure="return")
     rows = []
-    for rid, result, (pulse, values, i) in zip(ids, results, truths):
+    for rid, result, (pulse, clean) in zip(ids, results, truths):
         if isinstance(result, FailedRun):
             rows.append({"run_id": rid, "failed": result.reason})
             continue
-        sim = extract_features(result.record()).values
         h = result.history
-        rows.append({"run_id": rid,
-                     "force_nrmse": pulse_nrmse(t, pulse, h["time_s"], h["contact_force_n"]),
-                     "cor_error": sim["P17"] - float(columns["P17"][i]),
-                     "contact_time_relative_error": sim["P1"] / float(columns["P1"][i]) - 1,
-                     "peak_force_relative_error": sim["P6"] / float(columns["P6"][i]) - 1})
+        nrmse = pulse_nrmse(t, pulse, h["time_s"], h["contact_force_n"])
+        rows.append({"run_id": rid, **compare(clean, extract_features(result.record()).values,
+                                              nrmse)})
     ok = [r for r in rows if "failed" not in r]
     summary = {"runs": len(rows), "failed": len(rows) - len(ok), "noise_of_peak": noise,
                "refine": refine, "filter": filter if noise > 0 else "none",

@@ -105,8 +105,7 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
                       "kg) by more than 2%: the identified ball keeps the model's mass",
                       InputWarning, stacklevel=2)
     params, interval = estimate(model, values, refine)
-    spec = space.universal_ball_spec(params, template["radius_m"], template["density_kg_m3"],
-                                     template["moduli"], name="identified-universal")
+    spec = space.universal_ball_spec(params, template, "identified-universal")
     load_ball(spec)  # checked as `simulate --ball` will check it
     result = Identification(params, interval, spec, float(values["P15"]), refine)
     if verify:

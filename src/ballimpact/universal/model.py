@@ -19,11 +19,11 @@ import numpy as np
 from ..errors import InputError
 from ..features import FEATURE_NAMES
 from . import space
-from .dataset import SHAPE_POINTS
 from .networks import Architecture, from_leaves, gaussian_interval_scale, leaves, predict
 
 FORMAT = "ballimpact-universal-model/1"
 FEATURES = tuple(FEATURE_NAMES)  # P1..P19
+COR_COLUMN = FEATURES.index("P17")
 #: what the inverse ensemble predicts: the four parameters and mu0 = 2 (C10 + C01), each in the
 #: unit scale of its range (mu0: the range implied by C10's and C01's)
 TARGETS = (*space.MATERIAL_PARAMETERS, "mu0_pa")
@@ -95,8 +95,7 @@ class UniversalModel:
         unit = [np.clip(self.target_scaler.inverse(v), 0.0, 1.0)
                 for v in (mean, mean - half, mean + half)]
         values, low, high = (space.from_unit(u, ranges, TARGETS) for u in unit)
-        return {"values": values, "low": low, "high": high,
-                "unit_sigma": sigma * self.target_scaler.std}
+        return {"values": values, "low": low, "high": high}
 
     # -- forward ---------------------------------------------------------------------------------
     def forward_inputs(self, params_si: np.ndarray) -> np.ndarray:
@@ -162,6 +161,3 @@ def load_model(name_or_path: str | Path | None = None) -> UniversalModel:
                           Scaler.from_arrays(arrays, "shape"), arrays["interval_scale"], metadata,
                           held_out)
 
-
-def forward_output_size() -> int:
-    return len(FEATURES) + SHAPE_POINTS

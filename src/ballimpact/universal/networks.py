@@ -84,14 +84,11 @@ def train_ensemble(arch: Architecture, x_train, y_train, x_val, y_val, *, seed: 
     n = x_train.shape[0]
     batch = min(batch, n)
 
-    # one member's non-array part (activation, shapes): members share it
-    member_static = eqx.partition(jax.tree_util.tree_map(lambda a: a[0], params), eqx.is_array)[0]
-    member_static = eqx.partition(eqx.combine(member_static, static), eqx.is_array)[1]
-
+    # `static` (activations, sizes) holds no arrays: it completes one member's parameters too
     def member_step(p, state, key):
         idx = jax.random.choice(key, n, (batch,), replace=False)
         loss, grads = jax.value_and_grad(
-            lambda q: _nll(eqx.combine(q, member_static), x_train[idx], y_train[idx]))(p)
+            lambda q: _nll(eqx.combine(q, static), x_train[idx], y_train[idx]))(p)
         updates, state = optimiser.update(grads, state, p)
         return optax.apply_updates(p, updates), state, loss
 
@@ -106,7 +103,7 @@ def train_ensemble(arch: Architecture, x_train, y_train, x_val, y_val, *, seed: 
 
     @jax.jit
     def validation_loss(p):
-        return jax.vmap(lambda q: _nll(eqx.combine(q, member_static), x_val, y_val))(p)
+        return jax.vmap(lambda q: _nll(eqx.combine(q, static), x_val, y_val))(p)
 
     key = jax.random.PRNGKey(seed + 1)
     best_params, best_loss = params, validation_loss(params)

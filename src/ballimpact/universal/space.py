@@ -60,33 +60,34 @@ def check_ranges(ranges: dict[str, Any]) -> dict[str, tuple[float, float]]:
     return out
 
 
+def _scale(name: str, value):
+    """The axis a parameter is sampled and learned on: log for `LOG_SCALED`, else linear."""
+    return np.log(value) if name in LOG_SCALED else value
+
+
 def to_unit(values: np.ndarray, ranges: dict[str, tuple[float, float]],
             names=tuple(PARAMETERS)) -> np.ndarray:
-    """Columns `names` of `values` (SI) mapped to [0, 1] (log scale for `LOG_SCALED`)."""
+    """Columns `names` of `values` (SI) mapped to [0, 1] on each parameter's axis (`_scale`)."""
     values = np.asarray(values, dtype=np.float64)
     out = np.empty_like(values)
     for j, name in enumerate(names):
-        low, high = ranges[name]
-        v, lo, hi = values[..., j], low, high
-        if name in LOG_SCALED:
-            v, lo, hi = np.log(v), math.log(low), math.log(high)
-        out[..., j] = (v - lo) / (hi - lo) if hi > lo else 0.5
+        lo, hi = (_scale(name, np.float64(x)) for x in ranges[name])
+        out[..., j] = (_scale(name, values[..., j]) - lo) / (hi - lo) if hi > lo else 0.5
     return out
 
 
 def from_unit(unit: np.ndarray, ranges: dict[str, tuple[float, float]],
               names=tuple(PARAMETERS)) -> np.ndarray:
-    """Inverse of `to_unit`."""
+    """Inverse of `to_unit` (the range ends come back exactly)."""
     unit = np.asarray(unit, dtype=np.float64)
     out = np.empty_like(unit)
     for j, name in enumerate(names):
         low, high = ranges[name]
-        if name in LOG_SCALED:
-            u = unit[..., j]
-            value = np.exp(math.log(low) + u * (math.log(high) - math.log(low)))
-            out[..., j] = np.where(u == 0, low, np.where(u == 1, high, value))  # ends exact
-        else:
-            out[..., j] = low + unit[..., j] * (high - low)
+        lo, hi = (_scale(name, np.float64(x)) for x in (low, high))
+        u = unit[..., j]
+        value = lo + u * (hi - lo)
+        value = np.exp(value) if name in LOG_SCALED else value
+        out[..., j] = np.where(u == 0, low, np.where(u == 1, high, value))
     return out
 
 
@@ -110,12 +111,14 @@ def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, flo
     return from_unit(unit, ranges)
 
 
-def universal_ball_spec(params: dict[str, float], radius_m: float, density_kg_m3: float,
-                        moduli: str = "long_term", name: str = "universal") -> dict[str, Any]:
-    """A ball specification (the JSON form `simulate --ball` reads) of the universal ball."""
+def universal_ball_spec(params: dict[str, float], template: dict[str, Any],
+                        name: str) -> dict[str, Any]:
+    """The ball specification (`simulate --ball`'s JSON form) of the universal ball with
+    `params` (c10_pa, c01_pa, g1, tau1_s) on a study's template (`template_geometry`)."""
     from ..fe.ball import universal_spec
 
-    return universal_spec(params, radius_m, density_kg_m3, moduli, name)
+    return universal_spec(params, template["radius_m"], template["density_kg_m3"],
+                          template["moduli"], name)
 
 
 def template_geometry(ball) -> dict[str, Any]:

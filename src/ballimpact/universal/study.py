@@ -81,9 +81,7 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
     balls = []
     for i in ids:
         params = dict(zip(names, points[i]))
-        spec = space.universal_ball_spec(params, geometry["radius_m"], geometry["density_kg_m3"],
-                                         geometry["moduli"], name=f"run-{i}")
-        balls.append(load_ball(spec))
+        balls.append(load_ball(space.universal_ball_spec(params, geometry, f"run-{i}")))
     options = SolverOptions(element_size_m=config["element_size_m"],
                             precision=config["precision"], integration=config["integration"])
     with warnings.catch_warnings(record=True) as caught:
@@ -175,12 +173,12 @@ def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: boo
                              "or choose another folder")
         folder.mkdir(parents=True, exist_ok=True)
         stored.write_text(json.dumps(config, indent=2))
-    todo = [b for b in range(batch_count(config)) if b not in done_batches(folder)]
+    done = done_batches(folder)
+    todo = [b for b in range(batch_count(config)) if b not in done]
     if max_batches is not None:
         todo = todo[:max_batches]
     started = time.perf_counter()
-    done_runs = config["runs"] - sum(_batch_size(config, b) for b in
-                                     range(batch_count(config)) if b not in done_batches(folder))
+    done_runs = sum(_batch_size(config, b) for b in done)
     new_runs = 0
 
     def finished(batch: int, rows, arrays) -> None:

@@ -16,6 +16,7 @@ from ..errors import InputError
 from . import space
 from .dataset import SHAPE_GRID, load_dataset
 from .model import (
+    COR_COLUMN,
     FEATURES,
     FORMAT,
     INTERVAL_LEVEL,
@@ -86,7 +87,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
             noisy, kept = [], []
             for i in rows:
                 try:
-                    values = noisy_features(pulses[i], params[i, 4], features[i, 16], mass,
+                    values = noisy_features(pulses[i], params[i, 4], features[i, COR_COLUMN], mass,
                                             rng.uniform(0.0, noise_augment), rng)
                 except InputError:  # a pulse the processing refuses: no noisy copy
                     continue
