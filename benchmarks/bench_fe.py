@@ -71,11 +71,11 @@ def one_ball(name, speed, options, label):
 def old_increment_s(ball_name, speed):
     """The previous engine's increment: 0.9 x min(L_e / c_d) (L_e = area / longest diagonal)
     with the bulk-viscosity factor, and its contact-spring limit."""
-    from ballimpact.fe.solver import _kernel
+    from ballimpact.fe.solver import kernel_for
 
     ball = load_ball(ball_name, impact_speed_m_s=speed)
     options = SolverOptions(integration="full")
-    geom = _kernel(ball, options).geom
+    geom = kernel_for(ball, options).geom
     c_d = np.array([np.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
                     for layer in ball.layers])
     element_layer = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.layer_slices)])

@@ -225,10 +225,13 @@ class Kernel:
             (f_e,) = pull((tuple(p * weight for p in P2), Ph * weight))
             e_hg = self.zeros(g.n_elements)
         f = gather_nodal(g, f_e)
-        m_ = 0.5 * (C.xx + C.yy)
-        d_ = jnp.sqrt(0.25 * (C.xx - C.yy) ** 2 + C.xy ** 2)
-        lam2_min = jnp.minimum(m_ - d_, C.zz)
-        lam2_max = jnp.maximum(m_ + d_, C.zz)
+        # the stretch range is a diagnostic: no derivative (the square root's is infinite at
+        # equal stretches, which would poison reverse-mode gradients with 0 * inf)
+        Cd = jax.lax.stop_gradient(C)
+        m_ = 0.5 * (Cd.xx + Cd.yy)
+        d_ = jnp.sqrt(0.25 * (Cd.xx - Cd.yy) ** 2 + Cd.xy ** 2)
+        lam2_min = jnp.minimum(m_ - d_, Cd.zz)
+        lam2_max = jnp.maximum(m_ + d_, Cd.zz)
         return f, new_mats, j0, jnp.concatenate(stored), e_hg, sigma_bv, J, lam2_min, lam2_max, f_e
 
     def contact(self, params, u, v_half):

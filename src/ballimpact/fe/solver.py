@@ -125,7 +125,8 @@ def _structure(ball) -> tuple:
 _KERNELS: dict[Any, Kernel] = {}
 
 
-def _kernel(ball, options: SolverOptions) -> Kernel:
+def kernel_for(ball, options: SolverOptions) -> Kernel:
+    """The compiled-program data (mesh, material models, precision) of a ball structure, cached."""
     key = (_structure(ball), options.element_size_m, options.pole_element_size_m,
            options.pole_zone_deg, tuple(options.mesh_radii_m), options.integration,
            options.precision)
@@ -239,7 +240,7 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
     if len(balls) <= group_size:
         return _simulate_group(balls, speeds, options, progress, on_failure)
-    kernel = _kernel(balls[0], options)
+    kernel = kernel_for(balls[0], options)
     order = np.argsort([_expected_steps(b, s, kernel) for b, s in zip(balls, speeds)],
                        kind="stable")
     results: list[Any] = [None] * len(balls)
@@ -263,7 +264,7 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
                     progress, on_failure: str = "raise") -> list:
     """One vmapped run of balls of one structure (checked by the caller)."""
     start = time.perf_counter()
-    kernel = _kernel(balls[0], options)
+    kernel = kernel_for(balls[0], options)
     geom = kernel.geom
     per_ball = [ball_arrays(b, geom, options) for b in balls]
     batched = len(balls) > 1

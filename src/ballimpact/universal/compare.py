@@ -28,5 +28,5 @@ def compare(measured: dict[str, float], simulated: dict[str, float], nrmse: floa
 
 
 def features_pulse(features) -> tuple[np.ndarray, np.ndarray]:
-    """The contact pulse of `ImpactFeatures` with t = 0 at its contact start."""
-    return features.time_s - features.window.start_s, features.force_n
+    """The contact pulse of `ImpactFeatures` (its times already count from contact start)."""
+    return features.time_s, features.force_n

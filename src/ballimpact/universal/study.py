@@ -128,8 +128,8 @@ def _outputs(result) -> tuple[dict[str, float], np.ndarray, np.ndarray]:
 
 def force_shape(features) -> np.ndarray:
     """The pulse as F / F_peak on `SHAPE_GRID` (t / contact time from the contact start)."""
-    t0, tc = features.window.start_s, features.values["P1"]
-    return np.interp(t0 + SHAPE_GRID * tc, features.time_s, features.force_n,
+    tc = features.values["P1"]  # the features' times count from the contact start
+    return np.interp(SHAPE_GRID * tc, features.time_s, features.force_n,
                      left=0.0, right=0.0) / features.values["P6"]
 
 

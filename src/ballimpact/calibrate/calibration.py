@@ -1,0 +1,225 @@
+"""A calibration from start to end: stages in order, each a search and/or a gradient refinement
+and a decision, earlier stages' results frozen into the template of the next (thesis 5.2-5.3:
+the core on the core's test, then the midsole on the core + midsole test, then the cover on the
+ball's test; and within a component the hyperelastic constants before the Prony terms).
+
+A stage names its free parameters (paths or shell-style patterns matched against the `--free`
+paths), its tests (names) and optionally its objectives; one stage with everything is the
+default.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .decision import decide
+from .evaluate import compare_run, objective_values
+from .gradient import refine, standard_runs
+from .problem import OBJECTIVES, CalibrationProblem, free_parameter
+
+METHODS = ("nsga2", "gradient", "nsga2+gradient")
+
+
+@dataclass(frozen=True)
+class Stage:
+    name: str
+    free: tuple[str, ...] = ("*",)          # patterns of --free paths
+    tests: tuple[str, ...] | None = None    # test names; None: all
+    objectives: tuple[str, ...] | None = None  # None: the calibration's
+
+
+def parse_stage(text: str, index: int) -> Stage:
+    """`free=PATTERN,...;tests=NAME,...;objectives=nrmse,cor;name=TEXT` (all parts optional)."""
+    fields: dict[str, Any] = {"name": f"stage{index + 1}"}
+    for part in filter(None, (p.strip() for p in text.split(";"))):
+        key, sep, value = part.partition("=")
+        key = key.strip()
+        if not sep or key not in ("free", "tests", "objectives", "name"):
+            raise InputError(f"--stage {text!r}: expected KEY=VALUE parts separated by ';' with "
+                             "keys free, tests, objectives, name")
+        items = tuple(v.strip() for v in value.split(",") if v.strip())
+        fields[key] = value.strip() if key == "name" else items
+    return Stage(**fields)
+
+
+@dataclass
+class StageResult:
+    stage: Stage
+    problem: CalibrationProblem
+    unit: np.ndarray
+    values: dict[str, float]
+    objectives: dict[str, float]
+    per_test: list[dict]
+    search: Any = None
+    decision: Any = None
+    refinement: Any = None
+    fe_runs: int = 0
+    wall_time_s: float = 0.0
+    runs: list = field(default_factory=list, repr=False)  # FE runs of the chosen design
+
+    def to_dict(self) -> dict[str, Any]:
+        out: dict[str, Any] = {
+            "name": self.stage.name, "free": [p.to_dict() for p in self.problem.free],
+            "tests": [t.name for t in self.problem.tests],
+            "objectives": list(self.problem.objectives),
+            "chosen": {"parameters": self.values, "objectives": self.objectives,
+                       "per_test": self.per_test},
+            "fe_runs": self.fe_runs, "wall_time_s": self.wall_time_s}
+        if self.search is not None:
+            front = self.search.pareto()
+            out["search"] = {"algorithm": self.search.algorithm,
+                             "designs": int(len(self.search.unit)),
+                             "fe_runs": self.search.fe_runs,
+                             "wall_time_s": self.search.wall_time_s}
+            out["pareto"] = [{"parameters": self.problem.values(self.search.unit[i]),
+                              "objectives": dict(zip(self.problem.objectives,
+                                                     self.search.objectives[i].tolist()))}
+                             for i in front]
+            out["decision"] = {"method": self.decision.method, "reason": self.decision.reason}
+        if self.refinement is not None:
+            out["refinement"] = self.refinement.to_dict()
+        return out
+
+
+def _say(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str,
+              population: int, generations: int, seed: int, decision: str, weights,
+              out: Path | None, resume: bool, max_evaluations: int,
+              verbose: bool = True) -> StageResult:
+    from .search import search
+
+    started = time.perf_counter()
+    result = StageResult(stage, problem, problem.start_unit(), {}, {}, [])
+    u = problem.start_unit()
+    fe_runs = 0
+    if method in ("nsga2", "nsga2+gradient"):
+        def progress(g, total, runs):
+            if verbose:
+                _say(f"  {stage.name}: generation {g}/{total}, {runs} FE runs, "
+                     f"{time.perf_counter() - started:.0f} s")
+        found = search(problem, options, population=population, generations=generations,
+                       seed=seed, out=out, resume=resume, progress=progress)
+        front = found.pareto()
+        result.search = found
+        result.decision = decide(found.objectives[front], decision, weights)
+        u = found.unit[front[result.decision.index]]
+        fe_runs += found.fe_runs
+        if verbose:
+            _say(f"  {stage.name}: chose by {result.decision.reason}")
+    if method in ("gradient", "nsga2+gradient"):
+        def progress(i, misfit):
+            if verbose:
+                _say(f"  {stage.name}: gradient refinement, misfit evaluation {i}: "
+                     f"{misfit:.4g} ({time.perf_counter() - started:.0f} s)")
+        result.refinement = refine(problem, options, start=u, max_evaluations=max_evaluations,
+                                   progress=progress)
+        u = result.refinement.unit
+        fe_runs += result.refinement.fe_runs
+    runs = result.refinement.runs if result.refinement is not None else \
+        standard_runs(problem, u, options)
+    fe_runs += 0 if result.refinement is not None else len(problem.tests)
+    comparisons = [compare_run(t, fe) for t, fe in zip(problem.tests, runs)]
+    result.unit, result.values = u, problem.values(u)
+    result.objectives = dict(zip(problem.objectives,
+                                 objective_values(comparisons, problem.objectives).tolist()))
+    result.per_test = [{"test": t.name, **c} for t, c in zip(problem.tests, comparisons)]
+    result.runs = runs
+    result.fe_runs, result.wall_time_s = fe_runs, time.perf_counter() - started
+    if out is not None:
+        _stage_plots(result, out)
+    return result
+
+
+def _stage_plots(result: StageResult, out: Path) -> None:
+    from .plots import plot_convergence, plot_pareto, plot_pulses
+
+    if result.search is not None:
+        front = result.search.pareto()
+        plot_pareto(result.search, int(front[result.decision.index]), out / "pareto.png",
+                    f"{result.stage.name}: {result.search.algorithm}, "
+                    f"{len(result.search.unit)} designs")
+        plot_convergence(result.search, out / "convergence.png", result.stage.name)
+    plot_pulses(result.problem.tests, result.runs, out / "pulses.png",
+                f"{result.stage.name}: calibrated")
+
+
+def select_free(stage: Stage, bounds: dict[str, tuple[float, float]]) -> list[str]:
+    paths = [p for p in bounds if any(fnmatch.fnmatchcase(p, pat) for pat in stage.free)]
+    if not paths:
+        raise InputError(f"--stage {stage.name}: free={','.join(stage.free)} matches none of "
+                         f"the --free paths ({', '.join(bounds)})")
+    return paths
+
+
+def select_tests(stage: Stage, tests: list) -> list:
+    if stage.tests is None:
+        return list(tests)
+    names = [t.name for t in tests]
+    unknown = [n for n in stage.tests if n not in names]
+    if unknown:
+        raise InputError(f"--stage {stage.name}: tests={unknown[0]!r} is not a test (have: "
+                         f"{', '.join(names)})")
+    return [t for t in tests if t.name in stage.tests]
+
+
+def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]], options, *,
+              objectives=("nrmse", "cor", "contact_time"), method: str = "nsga2",
+              stages: list[Stage] | None = None, population: int = 24, generations: int = 8,
+              seed: int = 0, decision: str = "knee", weights=None, out: Path | None = None,
+              resume: bool = False, max_evaluations: int = 30,
+              verbose: bool = True) -> dict[str, Any]:
+    """Calibrate `template` (ball specification) against `tests` (`CalibrationTest`s).
+    `bounds`: path -> (low, high) (SI). Returns the JSON-able result, with `ball` the calibrated
+    specification; each stage's evaluations and plots go to `out/<stage name>/`."""
+    if method not in METHODS:
+        raise InputError(f"--method {method!r}: allowed {', '.join(METHODS)}")
+    bad = [o for o in objectives if o not in OBJECTIVES]
+    if bad or not objectives:
+        raise InputError(f"--objectives {','.join(objectives)}: allowed any of "
+                         f"{', '.join(OBJECTIVES)}")
+    started = time.perf_counter()
+    stages = stages or [Stage("calibration")]
+    # every --free path is checked against the template up front (the errors name the flag)
+    for path, (low, high) in bounds.items():
+        free_parameter(template, path, low, high)
+    current = template
+    results: list[StageResult] = []
+    for k, stage in enumerate(stages):
+        if verbose:
+            _say(f"stage {k + 1}/{len(stages)}: {stage.name}")
+        paths = select_free(stage, bounds)
+        problem = CalibrationProblem(current, select_tests(stage, tests),
+                                     [free_parameter(current, p, *bounds[p]) for p in paths],
+                                     tuple(stage.objectives or objectives))
+        folder = None
+        if out is not None:
+            folder = out / stage.name.replace("/", "-").replace(" ", "-")
+            folder.mkdir(parents=True, exist_ok=True)
+        result = run_stage(problem, stage, options, method=method, population=population,
+                           generations=generations, seed=seed, decision=decision,
+                           weights=weights, out=folder, resume=resume,
+                           max_evaluations=max_evaluations, verbose=verbose)
+        results.append(result)
+        current = problem.spec(result.unit, name=template.get("name", "ball") + "-calibrated")
+    last = results[-1]
+    chosen_values: dict[str, float] = {}
+    for r in results:
+        chosen_values.update(r.values)
+    return {"chosen": {"parameters": chosen_values, "objectives": last.objectives,
+                       "per_test": last.per_test},
+            "pareto": last.to_dict().get("pareto", []),
+            "evaluations": sum(r.fe_runs for r in results),
+            "stages": [r.to_dict() for r in results],
+            "wall_time_s": time.perf_counter() - started, "ball": current,
+            "_results": results}

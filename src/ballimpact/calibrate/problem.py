@@ -1,0 +1,223 @@
+"""What a calibration is: a template ball, the tests it is calibrated against, and the free
+parameters addressed by path in the ball specification, with their bounds.
+
+Paths: dot-separated keys of the ball specification (DESIGN.md "Files"), with layers named or
+numbered and list entries numbered: `layers.core.material.c10_pa`,
+`layers.core.material.prony.0.g`, `layers.1.material.terms.0.mu_pa`, `layers.cover.density_kg_m3`.
+Parameters not listed keep the template's value. Geometry (radii) cannot be free: a calibration
+runs one mesh.
+
+The search works on unit coordinates u in [0, 1] per parameter: linear between the bounds, or
+logarithmic for relaxation times (`..._tau_s` paths, bounds > 0), whose plausible values span
+decades.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, InputWarning
+
+OBJECTIVES = ("nrmse", "cor", "contact_time", "peak_force")
+OBJECTIVE_UNITS = {"nrmse": "fraction of the test's peak force", "cor": "absolute COR difference",
+                   "contact_time": "relative", "peak_force": "relative"}
+
+
+@dataclass(frozen=True)
+class FreeParameter:
+    """A parameter of the ball specification, its bounds (SI) and its scale ("linear"/"log")."""
+
+    path: str
+    low: float
+    high: float
+    scale: str = "linear"
+
+    def to_unit(self, value):
+        if self.scale == "log":
+            return np.log(value / self.low) / np.log(self.high / self.low)
+        return (np.asarray(value) - self.low) / (self.high - self.low)
+
+    def from_unit(self, u):
+        if self.scale == "log":
+            return self.low * (self.high / self.low) ** np.asarray(u)
+        return self.low + np.asarray(u) * (self.high - self.low)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"path": self.path, "low": self.low, "high": self.high, "scale": self.scale}
+
+
+def _resolve(spec: dict, path: str) -> tuple[Any, Any]:
+    """(container, key) of a path in a ball specification; InputError naming the path."""
+    parts = path.split(".")
+    node: Any = spec
+    for depth, part in enumerate(parts):
+        where = ".".join(parts[:depth]) or "ball"
+        if isinstance(node, list):
+            index = None
+            if part.isdigit() and int(part) < len(node):
+                index = int(part)
+            elif where == "layers":
+                index = next((i for i, layer in enumerate(node) if layer.get("name") == part), None)
+            if index is None:
+                names = [layer.get("name", str(i)) for i, layer in enumerate(node)] \
+                    if where == "layers" else list(range(len(node)))
+                raise InputError(f"--free {path}: no entry {part!r} in {where} (have: "
+                                 f"{', '.join(map(str, names))})")
+            key = index
+        elif isinstance(node, dict):
+            if part not in node:
+                raise InputError(f"--free {path}: unknown parameter path: {where} has no key "
+                                 f"{part!r} (keys: {', '.join(sorted(map(str, node)))})")
+            key = part
+        else:
+            raise InputError(f"--free {path}: unknown parameter path: {where} is a number")
+        if depth == len(parts) - 1:
+            return node, key
+        node = node[key]
+    raise InputError(f"--free {path!r}: empty path")
+
+
+def get_value(spec: dict, path: str) -> float:
+    container, key = _resolve(spec, path)
+    value = container[key]
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"--free {path}: not a number in the ball specification "
+                         f"(it holds {type(value).__name__})")
+    return float(value)
+
+
+def with_values(spec: dict, values: dict[str, float]) -> dict:
+    """A copy of `spec` with the parameters at `values` (path -> SI value)."""
+    out = copy.deepcopy(spec)
+    for path, value in values.items():
+        container, key = _resolve(out, path)
+        container[key] = float(value)
+    return out
+
+
+def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParameter:
+    """A checked free parameter: the path exists and holds a number, not a radius; the bounds are
+    finite, ordered, and give a valid ball at both ends."""
+    from ..fe import load_ball
+
+    if path.endswith("outer_radius_m"):
+        raise InputError(f"--free {path}: radii are fixed in a calibration (one mesh)")
+    get_value(spec, path)
+    if not (math.isfinite(low) and math.isfinite(high)):
+        raise InputError(f"--free {path}={low:g}:{high:g}: bounds must be finite")
+    if not low < high:
+        raise InputError(f"--free {path}={low:g}:{high:g}: bounds reversed or equal "
+                         "(expected LOW < HIGH)")
+    for bound in (low, high):
+        try:
+            load_ball(with_values(spec, {path: bound}))
+        except InputError as error:
+            raise InputError(f"--free {path}={low:g}:{high:g}: the bound {bound:g} is outside "
+                             f"the material's valid range ({error})") from None
+    scale = "log" if path.endswith("tau_s") and low > 0 else "linear"
+    return FreeParameter(path, float(low), float(high), scale)
+
+
+@dataclass(frozen=True)
+class CalibrationTest:
+    """A measured (or synthetic) impact the ball is calibrated against.
+
+    `features`: the processed test (`ImpactFeatures`, with t = 0 at contact start); `layers`: the
+    name of the outermost layer of the ball that was tested (e.g. "core" for a test of the core
+    alone), None for the whole ball.
+    """
+
+    name: str
+    features: Any
+    layers: str | None = None
+
+    @property
+    def impact_speed_m_s(self) -> float:
+        return float(self.features.values["P15"])
+
+    @property
+    def pulse(self) -> tuple[np.ndarray, np.ndarray]:
+        """(time_s from contact start, force_n) of the contact pulse."""
+        from ..universal.compare import features_pulse
+
+        return features_pulse(self.features)
+
+    def to_dict(self) -> dict[str, Any]:
+        v = self.features.values
+        return {"name": self.name, "layers": self.layers, "impact_speed_m_s": v["P15"],
+                "cor": v["P17"], "contact_time_s": v["P1"], "peak_force_n": v["P6"],
+                "mass_kg": self.features.mass_kg}
+
+
+def sub_ball(spec: dict, outer_layer: str | None) -> dict:
+    """The ball of the layers up to `outer_layer` (by name), or the whole ball."""
+    if outer_layer is None:
+        return spec
+    names = [layer.get("name") for layer in spec["layers"]]
+    if outer_layer not in names:
+        raise InputError(f"test layers = {outer_layer!r}: no such layer (have: "
+                         f"{', '.join(map(str, names))})")
+    return {**spec, "layers": spec["layers"][:names.index(outer_layer) + 1]}
+
+
+@dataclass
+class CalibrationProblem:
+    """Template ball specification, tests, free parameters and objectives."""
+
+    template: dict
+    tests: list[CalibrationTest]
+    free: list[FreeParameter]
+    objectives: tuple[str, ...] = ("nrmse", "cor", "contact_time")
+    start: dict[str, float] = field(default_factory=dict)  # path -> value; default template
+
+    def __post_init__(self) -> None:
+        from ..fe import load_ball
+
+        if not self.tests:
+            raise InputError("tests: need at least one test")
+        if not self.free:
+            raise InputError("--free: need at least one free parameter")
+        paths = [p.path for p in self.free]
+        if len(set(paths)) != len(paths):
+            raise InputError(f"--free: a parameter is listed twice ({paths})")
+        bad = [o for o in self.objectives if o not in OBJECTIVES]
+        if bad or not self.objectives:
+            raise InputError(f"--objectives {','.join(self.objectives)}: allowed any of "
+                             f"{', '.join(OBJECTIVES)}")
+        for test in self.tests:
+            ball = load_ball(sub_ball(self.template, test.layers))
+            mass = test.features.mass_kg
+            if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:
+                warnings.warn(f"test {test.name}: mass_kg = {mass:g} differs from the ball's "
+                              f"{ball.mass_kg:.4g} kg by more than 2%; the ball keeps its own "
+                              "density", InputWarning, stacklevel=2)
+        for p in self.free:
+            value = self.start.get(p.path, get_value(self.template, p.path))
+            if not p.low <= value <= p.high:
+                warnings.warn(f"--free {p.path}: the start value {value:g} is outside the "
+                              f"bounds; clipped to them", InputWarning, stacklevel=2)
+            self.start[p.path] = float(np.clip(value, p.low, p.high))
+
+    @property
+    def names(self) -> list[str]:
+        return [p.path for p in self.free]
+
+    def values(self, u: np.ndarray) -> dict[str, float]:
+        """Parameter values (SI) at unit coordinates u (n_free,)."""
+        return {p.path: float(p.from_unit(x)) for p, x in zip(self.free, u)}
+
+    def unit(self, values: dict[str, float]) -> np.ndarray:
+        return np.array([float(p.to_unit(values[p.path])) for p in self.free])
+
+    def start_unit(self) -> np.ndarray:
+        return self.unit(self.start)
+
+    def spec(self, u: np.ndarray, name: str = "calibrated") -> dict:
+        """The ball specification at unit coordinates u."""
+        return {**with_values(self.template, self.values(u)), "name": name}

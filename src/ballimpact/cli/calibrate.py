@@ -1,0 +1,178 @@
+"""`ballimpact calibrate`: material constants of a layered FE ball from impact tests."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import (
+    add_processing,
+    add_record_options,
+    assignments,
+    check_output_folder,
+    check_plot_path,
+    load,
+    process_record,
+    use_compilation_cache,
+)
+from .simulate import add_solver_options, solver_options
+
+
+def add_parser(verbs) -> None:
+    from ..calibrate.calibration import METHODS
+    from ..calibrate.decision import METHODS as DECISIONS
+    from ..calibrate.problem import OBJECTIVES
+
+    p = verbs.add_parser(
+        "calibrate", help="calibrate a layered FE ball's material constants against tests",
+        description="Multi-objective search (pymoo NSGA-II; NSGA-III for four objectives) of "
+                    "free parameters of a ball specification against impact tests, a decision "
+                    "on the Pareto front, and/or a Gauss-Newton refinement with gradients "
+                    "through the explicit FE runs (JAX). Stages calibrate component by "
+                    "component, earlier results frozen (thesis 5.2-5.3).")
+    p.add_argument("--ball", required=True, help="template: preset or ball specification file")
+    p.add_argument("--test", action="append", required=True, metavar="FILE[:SPEED[:LAYER]]",
+                   help="test record (CSV/WAV); its impact speed (m/s) if the side file lacks "
+                        "it; the outermost layer of the ball tested (e.g. core) if not the "
+                        "whole ball. Repeat for several tests")
+    p.add_argument("--free", action="append", required=True, metavar="PATH=LOW:HIGH",
+                   help="free parameter by its path in the ball specification, with bounds "
+                        "(SI), e.g. layers.core.material.c10_pa=3e6:7e6. Repeat")
+    p.add_argument("--objectives", default="nrmse,cor,contact_time",
+                   help=f"comma-separated, any of {', '.join(OBJECTIVES)} "
+                        "(default nrmse,cor,contact_time)")
+    p.add_argument("--method", choices=METHODS, default="nsga2",
+                   help="nsga2 (default), gradient (Gauss-Newton from the template's values), "
+                        "or nsga2+gradient (refine the chosen design)")
+    p.add_argument("--stage", action="append", metavar="SPEC",
+                   help="a stage: 'free=PATTERN,...;tests=NAME,...;objectives=...;name=...' "
+                        "(tests by file stem); stages run in order, earlier results frozen")
+    p.add_argument("--population", type=int, default=24, help="NSGA population (default 24)")
+    p.add_argument("--generations", type=int, default=8, help="generations (default 8)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--decision", choices=DECISIONS, default="knee",
+                   help="how to choose from the Pareto front (default knee)")
+    p.add_argument("--weights", help="comma-separated objective weights for pseudo-weights/asf")
+    p.add_argument("--max-evaluations", type=int, default=30,
+                   help="gradient refinement: misfit evaluations at most (default 30)")
+    p.add_argument("--out", type=Path, help="folder for evaluations, plots and the ball file")
+    p.add_argument("--resume", action="store_true",
+                   help="continue a stopped search in --out (designs already run are reused)")
+    add_solver_options(p)
+    add_record_options(p)
+    add_processing(p)
+
+
+def parse_test(text: str) -> tuple[Path, float | None, str | None]:
+    path, _, rest = text.partition(":")
+    speed_text, _, layer = rest.partition(":")
+    speed = None
+    if speed_text:
+        try:
+            speed = float(speed_text)
+        except ValueError:
+            raise InputError(f"--test {text}: the speed {speed_text!r} is not a number "
+                             "(FILE[:SPEED[:LAYER]])") from None
+        if not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"--test {text}: the speed must be > 0 (m/s)")
+    return Path(path), speed, layer or None
+
+
+def load_tests(args: argparse.Namespace) -> list:
+    from ..calibrate.problem import CalibrationTest
+
+    tests, names = [], set()
+    for text in args.test:
+        path, speed, layer = parse_test(text)
+        if speed is not None:
+            args.impact_speed_m_s = speed
+        record = load(path, args)
+        if record.impact_speed_m_s is None:
+            raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
+                             "or in the side file (impact_speed_m_s)")
+        processed = process_record(record, args)
+        name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
+        names.add(name)
+        tests.append(CalibrationTest(name, processed.features, layer))
+    return tests
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..calibrate.calibration import calibrate, parse_stage
+    from ..fe import load_ball
+
+    check_plot_path(args.plot)
+    if args.out is not None:
+        check_output_folder(args.out, "--out")
+        args.out.mkdir(exist_ok=True)
+    if args.resume and args.out is None:
+        raise InputError("--resume: needs --out (the folder of the stopped search)")
+    given_speed = args.impact_speed_m_s
+    tests = load_tests(args)
+    args.impact_speed_m_s = given_speed
+    template = load_ball(args.ball, tests[0].impact_speed_m_s).to_dict()
+    bounds = assignments(args.free, "--free", bounds=True)
+    objectives = tuple(o.strip() for o in args.objectives.split(",") if o.strip())
+    weights = None
+    if args.weights:
+        try:
+            weights = [float(w) for w in args.weights.split(",")]
+        except ValueError:
+            raise InputError(f"--weights {args.weights!r}: expected comma-separated numbers") \
+                from None
+    stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
+    options = solver_options(args)
+    use_compilation_cache()
+    result = calibrate(template, tests, bounds, options, objectives=objectives,
+                       method=args.method, stages=stages, population=args.population,
+                       generations=args.generations, seed=args.seed, decision=args.decision,
+                       weights=weights, out=args.out, resume=args.resume,
+                       max_evaluations=args.max_evaluations)
+    stage_results = result.pop("_results")
+    if args.out is not None:
+        ball_file = args.out / "calibrated-ball.json"
+        ball_file.write_text(json.dumps(result["ball"], indent=2))
+        result["ball_file"] = str(ball_file)
+        (args.out / "calibration.json").write_text(json.dumps(_safe(result), indent=2))
+    if args.plot is not None:
+        from ..calibrate.plots import plot_pulses
+
+        last = stage_results[-1]
+        plot_pulses(last.problem.tests, last.runs, args.plot, "calibrated ball")
+        result["plot"] = str(args.plot)
+    if not args.json:
+        _print(result, stage_results)
+    return result
+
+
+def _safe(value):
+    from .common import json_safe
+
+    return json_safe(value)
+
+
+def _print(result: dict, stage_results: list) -> None:
+    for r in stage_results:
+        d = r.to_dict()
+        print(f"{r.stage.name}: {len(r.problem.free)} free, tests "
+              f"{', '.join(d['tests'])}; {r.fe_runs} FE runs, {r.wall_time_s:.0f} s")
+        if r.decision is not None:
+            print(f"  chosen from {len(d['pareto'])} Pareto designs by {r.decision.reason}")
+        if r.refinement is not None:
+            f = r.refinement
+            print(f"  gradient refinement: misfit {f.start_misfit:.4g} -> {f.misfit:.4g} in "
+                  f"{f.residual_evaluations} misfit and {f.jacobian_evaluations} Jacobian "
+                  f"evaluations ({f.message})")
+        for path, value in r.values.items():
+            extra = ""
+            if r.refinement is not None:
+                extra = f"  +/- {r.refinement.standard_error[path]:.3g} (1 s.e.)"
+            print(f"  {path:<40} {value:12.5g}{extra}")
+        print("  objectives: " + ", ".join(f"{k} {v:.4g}" for k, v in r.objectives.items()))
+    print(f"{result['evaluations']} FE runs in {result['wall_time_s']:.1f} s")
+    if "ball_file" in result:
+        print(f"calibrated ball: {result['ball_file']}")
