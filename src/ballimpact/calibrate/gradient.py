@@ -322,10 +322,11 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
 
 
 def levenberg_marquardt(residuals, jacobian, u0: np.ndarray, max_evaluations: int,
-                        tolerance: float = 1e-6):
+                        tolerance: float = 1e-5):
     """Bounded Levenberg-Marquardt in unit coordinates: steps solve (J^T J + lambda D) du =
     -J^T r with D = diag(J^T J) (Marquardt's scaling, which follows the narrow valleys of
-    parameters that trade off against each other), projected onto [0, 1]; lambda shrinks after an
+    parameters that trade off against each other) for the coordinates not held on a bound,
+    projected onto [0, 1]; lambda shrinks after an
     accepted step and grows after a rejected one (which costs no new Jacobian).
     Returns (u, residuals, Jacobian at u, why it stopped)."""
     u = u0.copy()
@@ -345,7 +346,12 @@ def levenberg_marquardt(residuals, jacobian, u0: np.ndarray, max_evaluations: in
             return u, r, jac, "gradient zero (first-order optimal within the bounds)"
         if evaluations >= max_evaluations:
             return u, r, jac, f"stopped at {max_evaluations} misfit evaluations"
-        step = np.linalg.solve(normal + lam * np.diag(scale), -grad)
+        # coordinates on a bound that the gradient pushes outward stay there (active set):
+        # projecting a step that moves them would not be a descent step of the model
+        free = ~(((u <= 0.0) & (grad > 0)) | ((u >= 1.0) & (grad < 0)))
+        step = np.zeros_like(u)
+        step[free] = np.linalg.solve((normal + lam * np.diag(scale))[np.ix_(free, free)],
+                                     -grad[free])
         trial = np.clip(u + step, 0.0, 1.0)
         r_trial = residuals(trial)
         evaluations += 1
@@ -355,7 +361,7 @@ def levenberg_marquardt(residuals, jacobian, u0: np.ndarray, max_evaluations: in
             u, r = trial, r_trial
             lam = max(lam / 3.0, 1e-9)
             if gain < tolerance or moved < tolerance:
-                return u, r, jacobian(u), "converged (relative misfit change or step < 1e-6)"
+                return u, r, jacobian(u), "converged (relative misfit change or step < 1e-5)"
             jac = jacobian(u)
         else:
             lam *= 4.0
