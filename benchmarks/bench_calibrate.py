@@ -33,6 +33,7 @@ from ballimpact.calibrate import (
     standard_runs,
 )
 from ballimpact.calibrate.decision import decide
+from ballimpact.calibrate.gradient import central_differences
 from ballimpact.calibrate.evaluate import compare_run, objective_values
 from ballimpact.calibrate.problem import get_value
 from ballimpact.calibrate.synthetic import TWO_LAYER_TRUTH, synthetic_test, two_layer_recovery
@@ -68,13 +69,7 @@ def gradient_costs(options) -> dict:
     r, jac = misfit.evaluate(u, "jacobian")
     forward_grad = 2 * jac[:, :-1].T @ r
     reverse_grad = misfit.evaluate(u, "grad")[1][:-1]
-    h, central = 1e-5, []
-    for j in range(len(u)):
-        e = np.zeros(len(u))
-        e[j] = h
-        plus, minus = misfit.evaluate(u + e), misfit.evaluate(u - e)
-        central.append((plus @ plus - minus @ minus) / (2 * h))
-    central = np.array(central)
+    central = central_differences(misfit, u)
     return {"parameters": list(bounds), "steps": misfit.n_chunks * 100,
             "elements": runs[0].elements,
             "standard_run_s": standard, "misfit_evaluation_s": value,

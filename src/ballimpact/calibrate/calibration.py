@@ -180,8 +180,11 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
               resume: bool = False, max_evaluations: int = 30,
               verbose: bool = True) -> dict[str, Any]:
     """Calibrate `template` (ball specification) against `tests` (`CalibrationTest`s).
-    `bounds`: path -> (low, high) (SI). Returns the JSON-able result, with `ball` the calibrated
-    specification; each stage's evaluations and plots go to `out/<stage name>/`."""
+    `bounds`: path -> (low, high) (SI). Returns the result: `chosen` (parameters, objectives,
+    per-test comparisons), `pareto` (the last stage's front), `evaluations` (FE runs),
+    `stages`, `wall_time_s`, `ball` (the calibrated specification) -- JSON-able -- and
+    `stage_results` (the `StageResult`s, with the FE runs of the chosen designs). Each stage's
+    evaluations and plots go to `out/<stage name>/`."""
     if method not in METHODS:
         raise InputError(f"--method {method!r}: allowed {', '.join(METHODS)}")
     bad = [o for o in objectives if o not in OBJECTIVES]
@@ -222,4 +225,4 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
             "evaluations": sum(r.fe_runs for r in results),
             "stages": [r.to_dict() for r in results],
             "wall_time_s": time.perf_counter() - started, "ball": current,
-            "_results": results}
+            "stage_results": results}

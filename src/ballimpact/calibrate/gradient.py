@@ -44,7 +44,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from ..errors import InputError, SimulationError
-from .evaluate import max_shift_s
+from .evaluate import max_shift_s, measured_like
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
 CHUNK_STEPS = 100
@@ -73,6 +73,7 @@ class SmoothMisfit:
     force_n: np.ndarray      # the test's force there
     use_force: bool
     use_cor: bool
+    offset_s: float = 0.0    # the test's t = 0 in the run's time (see `smooth_misfits`)
     _fn: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -171,6 +172,18 @@ class SmoothMisfit:
             return jax.tree_util.tree_map(lambda x: np.asarray(x, np.float64), out)
 
 
+def central_differences(misfit: SmoothMisfit, u: np.ndarray, h: float = 1e-5) -> np.ndarray:
+    """Central differences (step h in unit coordinates) of a misfit's sum of squares: the check
+    of its derivatives."""
+    out = []
+    for j in range(len(u)):
+        e = np.zeros(len(u))
+        e[j] = h
+        plus, minus = misfit.evaluate(u + e), misfit.evaluate(u - e)
+        out.append((plus @ plus - minus @ minus) / (2 * h))
+    return np.array(out)
+
+
 def force_history(kernel, params, speed, dt, n_chunks: int):
     """Contact force (n_chunks x CHUNK_STEPS,) at t = (i + 1) dt and the final centre-of-mass
     velocity (m/s, + away from the plane) of a run with a fixed increment; chunks checkpointed."""
@@ -201,7 +214,13 @@ def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:
 
 def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[SmoothMisfit]:
     """One `SmoothMisfit` per test, its increment `INCREMENT_MARGIN` times the smallest of the
-    design's standard run (`runs`, one per test)."""
+    design's standard run (`runs`, one per test).
+
+    The test's times count from its contact start as its processing found it: where the line
+    through its first samples above the threshold reaches zero, later than the first touch by
+    20-30 us at a 5% threshold. The run's count from the first touch. The time shift between
+    them is centred on the offset of the standard run measured as the test was
+    (`evaluate.measured_like`), so that it means what the aligned NRMSE's shift means."""
     if options.precision != "float64":
         raise InputError("gradient refinement: needs precision float64 (gradients in float32 "
                          "are dominated by round-off over thousands of steps)")
@@ -216,15 +235,17 @@ def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[Smo
         first = -int(math.ceil(max_shift_s(test) / spacing))  # samples before the start too
         times = np.arange(first, int(window / spacing) + 1) * spacing
         force = np.interp(times, t_pulse, f_pulse, left=0.0, right=0.0)
-        n_chunks = int(math.ceil(window / dt / CHUNK_STEPS))
+        offset = float(measured_like(test, fe).window.start_s)
+        # the run covers the window at any shift
+        n_chunks = int(math.ceil((window + offset + max_shift_s(test)) / dt / CHUNK_STEPS))
         out.append(SmoothMisfit(problem, test, options, dt, n_chunks, times, force,
-                                use_force, use_cor))
+                                use_force, use_cor, offset))
     return out
 
 
 @dataclass
 class Refinement:
-    """A Gauss-Newton (trust-region reflective) refinement's result."""
+    """A Levenberg-Marquardt refinement's result."""
 
     unit: np.ndarray
     values: dict[str, float]
@@ -277,7 +298,7 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
 
         def residuals(x, misfits=misfits, shifts=shifts):
             counts["value"] += 1
-            r = np.concatenate([m.evaluate(x[:n], "value", (2 * w - 1) * s)
+            r = np.concatenate([m.evaluate(x[:n], "value", m.offset_s + (2 * w - 1) * s)
                                 for m, w, s in zip(misfits, x[n:], shifts)])
             history.append(float(r @ r))
             if progress is not None:
@@ -288,7 +309,7 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
             counts["jacobian"] += 1
             blocks = []
             for i, (m, w, s) in enumerate(zip(misfits, x[n:], shifts)):
-                j = m.evaluate(x[:n], "jacobian", (2 * w - 1) * s)[1]
+                j = m.evaluate(x[:n], "jacobian", m.offset_s + (2 * w - 1) * s)[1]
                 block = np.zeros((len(j), n + len(misfits)))
                 block[:, :n] = j[:, :-1]
                 block[:, n + i] = 2 * s * j[:, -1]

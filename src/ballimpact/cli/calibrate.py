@@ -132,7 +132,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                        generations=args.generations, seed=args.seed, decision=args.decision,
                        weights=weights, out=args.out, resume=args.resume,
                        max_evaluations=args.max_evaluations)
-    stage_results = result.pop("_results")
+    stage_results = result.pop("stage_results")
     if args.out is not None:
         ball_file = args.out / "calibrated-ball.json"
         ball_file.write_text(json.dumps(result["ball"], indent=2))
