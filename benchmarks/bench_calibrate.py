@@ -33,7 +33,7 @@ from ballimpact.calibrate import (
     standard_runs,
 )
 from ballimpact.calibrate.decision import decide
-from ballimpact.calibrate.gradient import central_differences
+from ballimpact.calibrate.gradient import CHUNK_STEPS, central_differences
 from ballimpact.calibrate.evaluate import compare_run, objective_values
 from ballimpact.calibrate.problem import get_value
 from ballimpact.calibrate.synthetic import TWO_LAYER_TRUTH, synthetic_test, two_layer_recovery
@@ -70,7 +70,7 @@ def gradient_costs(options) -> dict:
     forward_grad = 2 * jac[:, :-1].T @ r
     reverse_grad = misfit.evaluate(u, "grad")[1][:-1]
     central = central_differences(misfit, u)
-    return {"parameters": list(bounds), "steps": misfit.n_chunks * 100,
+    return {"parameters": list(bounds), "steps": misfit.n_chunks * CHUNK_STEPS,
             "elements": runs[0].elements,
             "standard_run_s": standard, "misfit_evaluation_s": value,
             "jacobian_forward_mode_s": jacobian, "gradient_reverse_mode_s": reverse,

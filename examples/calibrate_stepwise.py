@@ -12,7 +12,7 @@ four stages, earlier results frozen:
 3. midsole: Ogden mu1, alpha1 on the core + midsole test (three objectives);
 4. cover: C10, C01 on the ball test (three objectives),
 
-each by NSGA-II, a knee decision and a Gauss-Newton refinement with gradients through the FE runs.
+each by NSGA-II, a knee decision and a Levenberg-Marquardt refinement with gradients through the FE runs.
 
     python examples/calibrate_stepwise.py [--out DIR] [--population N] [--generations G]
 """

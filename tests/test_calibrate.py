@@ -71,6 +71,7 @@ def test_paths_resolve_by_layer_name_or_index():
     ("layers.core.material.prony.0.g", 0.0, 1.2, "outside the material's valid range"),
     ("layers.core.outer_radius_m", 0.01, 0.02, "radii are fixed"),
     ("layers.core.material.model", 0.0, 1.0, "not a number"),
+    ("layers.core.material.prony.0.k", 0.0, 0.5, "must stay above 0"),
 ])
 def test_bad_free_parameters_are_named(path, low, high, message):
     spec = load_ball("cricket-3layer").to_dict()
@@ -100,11 +101,35 @@ def test_cli_bad_input_exits_2(tmp_path, capsys):
           "--objectives", "nrmse,speed"], "--objectives"),
         ([f"--test={csv}:20", "--free", "layers.ball.material.c10_pa=3e6:7e6",
           "--stage", "free=layers.cover.*"], "matches none"),
+        ([f"--test={csv}:20:kernel", "--free", "layers.ball.material.c10_pa=3e6:7e6"],
+         "--test test: test layers = 'kernel'"),
+        ([f"--test={csv}:20", "--free", "layers.ball.material.c10_pa=3e6:7e6",
+          "--stage", "name=../up"], "--stage name="),
+        ([f"--test={csv}:20", "--free", "layers.ball.material.c10_pa=3e6:7e6",
+          "--stage", "objectives=cor,spin"], "--stage stage1: objectives=cor,spin"),
+        ([f"--test={csv}:20", "--free", "layers.ball.material.c10_pa=3e6:7e6",
+          "--precision", "float32"], "--precision float32"),
+        ([f"--test={csv}:20", "--free", "layers.ball.material.c10_pa=3e6:7e6",
+          "--max-evaluations", "0"], "--max-evaluations"),
     ]
     for args, message in cases:
         assert main(base + args) == 2, args
         err = capsys.readouterr().err
         assert message in err, (args, err)
+
+
+def test_invalid_combinations_are_failed_designs(synthetic_test):
+    """Each bound alone gives a valid ball, but C10 + C01 <= 0 at a corner does not: that design
+    fails with its reason instead of stopping the search."""
+    template = universal(START)
+    problem = CalibrationProblem(template, [synthetic_test], [
+        free_parameter(template, MAT + "c10_pa", 1e6, 5e6),
+        free_parameter(template, MAT + "c01_pa", -2e6, 0.0)], ("nrmse",))
+    from ballimpact.calibrate.evaluate import evaluate
+
+    done = evaluate(problem, np.array([[0.0, 0.0], [0.8, 0.8]]), COARSE)
+    assert "not a valid ball" in done.failed[0] and np.isnan(done.objectives[0, 0])
+    assert done.failed[1] is None and np.isfinite(done.objectives[1, 0])
 
 
 # ---- gradients through the solver ------------------------------------------------------------
@@ -207,6 +232,10 @@ def test_search_resumes_from_its_checkpoint(synthetic_test, tmp_path):
     assert (tmp_path / "evaluations.parquet").exists() and (tmp_path / "evaluations.csv").exists()
     with pytest.raises(InputError, match="--resume"):
         search(problem, COARSE, population=6, generations=2, seed=3, out=tmp_path)
+    other = homogeneous_problem(synthetic_test)
+    other.free[0] = free_parameter(other.template, MAT + "c10_pa", 3e6, 6e6)
+    with pytest.raises(InputError, match="other bounds"):
+        search(other, COARSE, population=6, generations=3, seed=3, out=tmp_path, resume=True)
     more = search(problem, COARSE, population=6, generations=3, seed=3, out=tmp_path,
                   resume=True)
     assert more.fe_runs == 6  # only the new generation ran

@@ -1,6 +1,6 @@
 """Calibration of layered FE balls against impact tests (thesis chapter 5): free parameters by
 path in the ball specification, multi-objective search (pymoo), decision making on the Pareto
-front, Gauss-Newton refinement with gradients through the explicit solver (JAX), and stages that
+front, Levenberg-Marquardt refinement with gradients through the explicit solver (JAX), and stages that
 calibrate component by component."""
 
 from .calibration import METHODS, Stage, calibrate, parse_stage

@@ -11,6 +11,7 @@ default.
 from __future__ import annotations
 
 import fnmatch
+import re
 import sys
 import time
 from dataclasses import dataclass, field
@@ -100,8 +101,8 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
     from .search import search
 
     started = time.perf_counter()
-    result = StageResult(stage, problem, problem.start_unit(), {}, {}, [])
     u = problem.start_unit()
+    result = StageResult(stage, problem, u, {}, {}, [])
     fe_runs = 0
     if method in ("nsga2", "nsga2+gradient"):
         def progress(g, total, runs):
@@ -154,6 +155,46 @@ def _stage_plots(result: StageResult, out: Path) -> None:
                 f"{result.stage.name}: calibrated")
 
 
+def _check(template, tests, bounds, options, objectives, method, stages, decision, weights,
+           max_evaluations) -> None:
+    """Everything that can be checked before the first FE run (errors name the flag)."""
+    from .problem import sub_ball
+
+    if method not in METHODS:
+        raise InputError(f"--method {method!r}: allowed {', '.join(METHODS)}")
+    for flag, chosen in [("--objectives", objectives)] + [
+            (f"--stage {s.name}: objectives", s.objectives) for s in stages if s.objectives]:
+        if not chosen or any(o not in OBJECTIVES for o in chosen):
+            raise InputError(f"{flag}={','.join(chosen)}: allowed any of {', '.join(OBJECTIVES)}")
+    if "gradient" in method and options.precision != "float64":
+        raise InputError(f"--precision {options.precision}: the gradient refinement needs "
+                         "float64 (in float32 round-off over thousands of steps dominates the "
+                         "derivatives)")
+    if "gradient" in method and not (isinstance(max_evaluations, int) and max_evaluations >= 1):
+        raise InputError(f"--max-evaluations {max_evaluations!r}: must be an integer >= 1")
+    for path, (low, high) in bounds.items():
+        free_parameter(template, path, low, high)
+    for test in tests:
+        try:
+            sub_ball(template, test.layers)
+        except InputError as error:
+            raise InputError(f"--test {test.name}: {error}") from None
+    names = [s.name for s in stages]
+    for stage in stages:
+        if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9._-]*", stage.name or ""):
+            raise InputError(f"--stage name={stage.name!r}: letters, digits, '.', '_' and '-' "
+                             "only (it names the stage's folder)")
+        if names.count(stage.name) > 1:
+            raise InputError(f"--stage name={stage.name}: stage names must be unique")
+        select_free(stage, bounds)
+        select_tests(stage, tests)
+        n_objectives = len(stage.objectives or objectives)
+        if (weights is not None and "nsga2" in method and decision in ("pseudo-weights", "asf")
+                and len(weights) != n_objectives):
+            raise InputError(f"--weights: {len(weights)} given, stage {stage.name} has "
+                             f"{n_objectives} objectives")
+
+
 def select_free(stage: Stage, bounds: dict[str, tuple[float, float]]) -> list[str]:
     paths = [p for p in bounds if any(fnmatch.fnmatchcase(p, pat) for pat in stage.free)]
     if not paths:
@@ -185,17 +226,10 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
     `stages`, `wall_time_s`, `ball` (the calibrated specification) -- JSON-able -- and
     `stage_results` (the `StageResult`s, with the FE runs of the chosen designs). Each stage's
     evaluations and plots go to `out/<stage name>/`."""
-    if method not in METHODS:
-        raise InputError(f"--method {method!r}: allowed {', '.join(METHODS)}")
-    bad = [o for o in objectives if o not in OBJECTIVES]
-    if bad or not objectives:
-        raise InputError(f"--objectives {','.join(objectives)}: allowed any of "
-                         f"{', '.join(OBJECTIVES)}")
     started = time.perf_counter()
     stages = stages or [Stage("calibration")]
-    # every --free path is checked against the template up front (the errors name the flag)
-    for path, (low, high) in bounds.items():
-        free_parameter(template, path, low, high)
+    _check(template, tests, bounds, options, objectives, method, stages, decision, weights,
+           max_evaluations)
     current = template
     results: list[StageResult] = []
     for k, stage in enumerate(stages):

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, SimulationError
 
 METHODS = ("knee", "pseudo-weights", "high-tradeoff", "asf")
 
@@ -63,7 +63,8 @@ def decide(front: np.ndarray, method: str = "knee", weights=None) -> Decision:
     if method not in METHODS:
         raise InputError(f"--decision {method!r}: allowed {', '.join(METHODS)}")
     if len(front) == 0:
-        raise InputError("decision: the front is empty (every design failed)")
+        raise SimulationError("decision: the front is empty (every design failed; see the "
+                              "failure reasons in evaluations.csv)")
     m = front.shape[1]
     if m == 1 or len(front) == 1:
         i = int(np.argmin(front[:, 0]))

@@ -1,28 +1,28 @@
-"""Gradients of a smooth misfit through the whole explicit run, and a bounded Gauss-Newton
+"""Gradients of a smooth misfit through the whole explicit run, and a bounded Levenberg-Marquardt
 refinement with them.
 
 Why a separate misfit: contact time, separation and the peak are picked from the run by
 thresholds and maxima, so they are piecewise constant or kinked in the parameters. The smooth
 misfit compares the whole force curve on a fixed time window instead, with a fixed number of steps
-of a fixed increment:
+of a fixed increment, per test:
 
-    residuals = [(F_model(t_k) - F_test(t_k)) / (F_test,peak sqrt(K)) for the test's samples t_k
-                 in [0, WINDOW x contact time]]   (their sum of squares is the NRMSE^2 there)
-              + [cor_weight (v_model(T) / v_in - COR_test)]       (v the centre-of-mass velocity)
+    residuals = [(F_model(t_k + s) - F_test(t_k)) / (F_test,peak sqrt(K)) for the test's samples
+                 t_k in [-5%, WINDOW] x its contact time]   (sum of squares: an NRMSE^2)
+              + [COR_WEIGHT (v_model(T) / v_in - COR_test)]   (v the centre-of-mass velocity)
 
-per test. A pulse too long or too short, or too high, misses the test's samples, so contact time
-and peak force are in the force residuals; COR is a residual of its own (the centre-of-mass
-velocity after separation is constant, so it is smooth in the parameters). Only the objectives
-asked for enter: the force residuals with any of nrmse/contact_time/peak_force, COR with cor.
+with s the time shift between the two pulses' zeros, fitted with the parameters. A pulse too long
+or too short, or too high, misses the test's samples, so contact time and peak force are in the
+force residuals; COR is a residual of its own (the centre-of-mass velocity after separation is
+constant, so it is smooth in the parameters). Only the objectives asked for enter: the force
+residuals with any of nrmse/contact_time/peak_force, COR with cor.
 
 The increment is held fixed (the standard solver shrinks it in 2% levels as the ball stiffens,
 which would make the misfit jump): the smallest increment of the start design's run, scaled down
-by `INCREMENT_MARGIN`. A step to a design so much stiffer that this increment is
-unstable blows the misfit up and is rejected; when the refined design needs a smaller increment,
-another pass starts from it with its own (at most `PASSES`; the last pass's increment is then
-close to the standard run's, so the refined misfit is that of the standard solver). Every other per-ball array of the step
-(masses, contact and hourglass stiffnesses, bulk viscosity, the instantaneous constants) follows
-the parameters: their map from the parameters (closed-form, NumPy) enters by its value and its
+by `INCREMENT_MARGIN`. A step to a design so much stiffer that this increment is unstable blows
+the misfit up and is rejected; when the refined design needs a smaller increment, another pass
+starts from it with its own (at most `PASSES`). Every other per-ball array of the step (masses,
+contact and hourglass stiffnesses, bulk viscosity, the instantaneous constants) follows the
+parameters: their map from the parameters (closed-form, NumPy) enters by its value and its
 Jacobian (central differences, exact to ~1e-9 relative in float64), the FE run by JAX.
 
 Derivatives: forward mode (`jax.jacfwd`, one tangent per parameter, memory of one state each) for
@@ -44,7 +44,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from ..errors import InputError, SimulationError
-from .evaluate import max_shift_s, measured_like
+from .evaluate import max_shift_s
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
 CHUNK_STEPS = 100
@@ -73,7 +73,6 @@ class SmoothMisfit:
     force_n: np.ndarray      # the test's force there
     use_force: bool
     use_cor: bool
-    offset_s: float = 0.0    # the test's t = 0 in the run's time (see `smooth_misfits`)
     _fn: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -162,11 +161,16 @@ class SmoothMisfit:
         return self._fn[kind]
 
     def evaluate(self, u: np.ndarray, kind: str = "value", shift_s: float = 0.0):
-        """At unit coordinates u and a time shift of the test's samples: residuals; (residuals,
-        Jacobian d r / d (u, shift)); or (sum of squares, its gradient d / d (u, shift)) --
-        NumPy, float64."""
+        """At unit coordinates u and a time shift (s) of the test's samples in the run's time:
+        residuals; (residuals, Jacobian d r / d (u, shift)); or (sum of squares, its gradient
+        d / d (u, shift)) -- NumPy, float64."""
         with jax.enable_x64(True):
-            p0, jac = self.linearised(np.asarray(u, np.float64))
+            u = np.asarray(u, np.float64)
+            if kind == "value":  # no derivatives: the parameter map's value is enough
+                p0 = self._flat_params(u)
+                jac = np.zeros((len(p0), len(u)))
+            else:
+                p0, jac = self.linearised(u)
             du = jnp.zeros(len(u) + 1).at[-1].set(shift_s)
             out = self.compiled(kind)(du, jnp.asarray(p0), jnp.asarray(jac))
             return jax.tree_util.tree_map(lambda x: np.asarray(x, np.float64), out)
@@ -214,13 +218,9 @@ def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:
 
 def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[SmoothMisfit]:
     """One `SmoothMisfit` per test, its increment `INCREMENT_MARGIN` times the smallest of the
-    design's standard run (`runs`, one per test).
-
-    The test's times count from its contact start as its processing found it: where the line
-    through its first samples above the threshold reaches zero, later than the first touch by
-    20-30 us at a 5% threshold. The run's count from the first touch. The time shift between
-    them is centred on the offset of the standard run measured as the test was
-    (`evaluate.measured_like`), so that it means what the aligned NRMSE's shift means."""
+    design's standard run (`runs`, one per test). The test's times count from its contact start
+    as its processing found it, the run's from the first touch; the time shift between them is
+    the aligned NRMSE's (`evaluate.aligned_nrmse`)."""
     if options.precision != "float64":
         raise InputError("gradient refinement: needs precision float64 (gradients in float32 "
                          "are dominated by round-off over thousands of steps)")
@@ -235,11 +235,10 @@ def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[Smo
         first = -int(math.ceil(max_shift_s(test) / spacing))  # samples before the start too
         times = np.arange(first, int(window / spacing) + 1) * spacing
         force = np.interp(times, t_pulse, f_pulse, left=0.0, right=0.0)
-        offset = float(measured_like(test, fe).window.start_s)
         # the run covers the window at any shift
-        n_chunks = int(math.ceil((window + offset + max_shift_s(test)) / dt / CHUNK_STEPS))
+        n_chunks = int(math.ceil((window + max_shift_s(test)) / dt / CHUNK_STEPS))
         out.append(SmoothMisfit(problem, test, options, dt, n_chunks, times, force,
-                                use_force, use_cor, offset))
+                                use_force, use_cor))
     return out
 
 
@@ -263,10 +262,11 @@ class Refinement:
 
     @property
     def fe_runs(self) -> int:
-        """FE runs of every test: fixed-increment misfits, forward-mode Jacobians (each one run
-        carrying a tangent per parameter), and a standard run at the start and end of each pass."""
+        """FE runs of every test: fixed-increment misfits, forward-mode Jacobians (each counted
+        as one run, though it carries a tangent per parameter and the time shift: compare wall
+        times too), and the standard runs at the start and after each pass."""
         n_tests = len(self.runs)
-        return (self.residual_evaluations + self.jacobian_evaluations + 2 * self.passes) * n_tests
+        return (self.residual_evaluations + self.jacobian_evaluations + self.passes + 1) * n_tests
 
     def to_dict(self) -> dict[str, Any]:
         return {"values": self.values, "misfit": self.misfit, "start_misfit": self.start_misfit,
@@ -290,16 +290,23 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
     history: list[float] = []
     runs = standard_runs(problem, u, options)
     start_misfit = None
+    n = len(u)
+    w = np.full(len(problem.tests), 0.5)  # the time shifts, in unit coordinates of +/- max
     for passes in range(1, PASSES + 1):
         misfits = smooth_misfits(problem, options, runs)
-
         shifts = np.array([max_shift_s(m.test) for m in misfits])
-        n = len(u)
+        size = {}
 
-        def residuals(x, misfits=misfits, shifts=shifts):
+        def residuals(x, misfits=misfits, shifts=shifts, size=size):
             counts["value"] += 1
-            r = np.concatenate([m.evaluate(x[:n], "value", m.offset_s + (2 * w - 1) * s)
-                                for m, w, s in zip(misfits, x[n:], shifts)])
+            try:
+                r = np.concatenate([m.evaluate(x[:n], "value", (2 * w - 1) * s)
+                                    for m, w, s in zip(misfits, x[n:], shifts)])
+            except InputError:  # not a valid ball (e.g. C10 + C01 <= 0): a rejected step
+                if "m" not in size:
+                    raise
+                return np.full(size["m"], np.inf)
+            size["m"] = len(r)
             history.append(float(r @ r))
             if progress is not None:
                 progress(len(history), history[-1])
@@ -309,7 +316,7 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
             counts["jacobian"] += 1
             blocks = []
             for i, (m, w, s) in enumerate(zip(misfits, x[n:], shifts)):
-                j = m.evaluate(x[:n], "jacobian", m.offset_s + (2 * w - 1) * s)[1]
+                j = m.evaluate(x[:n], "jacobian", (2 * w - 1) * s)[1]
                 block = np.zeros((len(j), n + len(misfits)))
                 block[:, :n] = j[:, :-1]
                 block[:, n + i] = 2 * s * j[:, -1]
@@ -317,9 +324,9 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
             return np.concatenate(blocks)
 
         budget = max_evaluations - counts["value"]
-        x, r, jac, message = levenberg_marquardt(
-            residuals, jacobian, np.concatenate([u, np.full(len(misfits), 0.5)]), max(budget, 1))
-        u, jac = x[:n], jac[:, :n + len(misfits)]
+        x, r, jac, message = levenberg_marquardt(residuals, jacobian, np.concatenate([u, w]),
+                                                 max(budget, 1))
+        u, w = x[:n], x[n:]
         start_misfit = history[0] if start_misfit is None else start_misfit
         runs = standard_runs(problem, u, options)
         # the increment used stays within 5% of the refined design's own: done
@@ -331,12 +338,13 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
     sigma_u = np.sqrt(np.clip(np.diag(covariance), 0.0, None))[:len(u)]
     values = problem.values(u)
     error, interval = {}, {}
-    for p, s in zip(problem.free, sigma_u):
+    for p, s, x in zip(problem.free, sigma_u, u):
         value = values[p.path]
         # d value / d u: the span for a linear scale, value ln(high/low) for a log one
         slope = value * math.log(p.high / p.low) if p.scale == "log" else p.high - p.low
         error[p.path] = float(abs(slope) * s)
-        interval[p.path] = (value - 1.96 * error[p.path], value + 1.96 * error[p.path])
+        # the interval in unit coordinates (a log-scale one stays positive)
+        interval[p.path] = (float(p.from_unit(x - 1.96 * s)), float(p.from_unit(x + 1.96 * s)))
     return Refinement(u, values, float(r @ r), start_misfit, error, interval, counts["value"],
                       counts["jacobian"], time.perf_counter() - started, history, message, runs,
                       passes)

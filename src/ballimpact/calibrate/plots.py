@@ -1,5 +1,5 @@
-"""Pictures of a calibration: the Pareto front (2-D, or a scatter matrix for three or more
-objectives) with the chosen design, the search's convergence, and the calibrated ball's pulses
+"""Pictures of a calibration: the Pareto front (2-D, or every pair of objectives side by side for
+three or more) with the chosen design, the search's convergence, and the calibrated ball's pulses
 over the tests."""
 
 from __future__ import annotations

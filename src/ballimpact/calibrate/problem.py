@@ -25,8 +25,6 @@ import numpy as np
 from ..errors import InputError, InputWarning
 
 OBJECTIVES = ("nrmse", "cor", "contact_time", "peak_force")
-OBJECTIVE_UNITS = {"nrmse": "fraction of the test's peak force", "cor": "absolute COR difference",
-                   "contact_time": "relative", "peak_force": "relative"}
 
 
 @dataclass(frozen=True)
@@ -78,9 +76,9 @@ def _resolve(spec: dict, path: str) -> tuple[Any, Any]:
         else:
             raise InputError(f"--free {path}: unknown parameter path: {where} is a number")
         if depth == len(parts) - 1:
-            return node, key
+            break
         node = node[key]
-    raise InputError(f"--free {path!r}: empty path")
+    return node, key
 
 
 def get_value(spec: dict, path: str) -> float:
@@ -108,6 +106,9 @@ def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParame
 
     if path.endswith("outer_radius_m"):
         raise InputError(f"--free {path}: radii are fixed in a calibration (one mesh)")
+    if path.endswith(".k") and low <= 0.0:
+        raise InputError(f"--free {path}={low:g}:{high:g}: a bulk Prony term k must stay above 0 "
+                         "over the bounds (k = 0 drops its states from the compiled program)")
     get_value(spec, path)
     if not (math.isfinite(low) and math.isfinite(high)):
         raise InputError(f"--free {path}={low:g}:{high:g}: bounds must be finite")
@@ -148,12 +149,6 @@ class CalibrationTest:
 
         return features_pulse(self.features)
 
-    def to_dict(self) -> dict[str, Any]:
-        v = self.features.values
-        return {"name": self.name, "layers": self.layers, "impact_speed_m_s": v["P15"],
-                "cor": v["P17"], "contact_time_s": v["P1"], "peak_force_n": v["P6"],
-                "mass_kg": self.features.mass_kg}
-
 
 def sub_ball(spec: dict, outer_layer: str | None) -> dict:
     """The ball of the layers up to `outer_layer` (by name), or the whole ball."""
@@ -179,6 +174,7 @@ class CalibrationProblem:
     def __post_init__(self) -> None:
         from ..fe import load_ball
 
+        self.start = dict(self.start)  # the caller's dict is left alone
         if not self.tests:
             raise InputError("tests: need at least one test")
         if not self.free:

@@ -57,8 +57,8 @@ class SearchResult:
 
     def convergence(self) -> dict[str, np.ndarray]:
         """Per generation: the best value so far of each objective and the hypervolume so far of
-        the normalised front (reference point 1.1 x the worst feasible value of the first
-        generation)."""
+        the front, normalised between the ideal point and the worst feasible values of the first
+        generation (reference point 1.1 in every normalised objective)."""
         from pymoo.indicators.hv import HV
 
         gens = np.unique(self.generation)
@@ -76,7 +76,7 @@ class SearchResult:
         return {"generation": gens, "best": np.array(best), "hypervolume": np.array(volume)}
 
 
-def _algorithm(n_objectives: int, population: int, seed: int):
+def _algorithm(n_objectives: int, population: int):
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.algorithms.moo.nsga3 import NSGA3
     from pymoo.util.ref_dirs import get_reference_directions
@@ -153,7 +153,7 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
             if progress is not None:
                 progress(state["generation"], generations, state["fe_runs"])
 
-    name, algorithm = _algorithm(n_obj, population, seed)
+    name, algorithm = _algorithm(n_obj, population)
     minimize(FEProblem(), algorithm, ("n_gen", generations), seed=seed, callback=Checkpoint(),
              verbose=False)
     return SearchResult(problem, np.array(rows["unit"]), np.array(rows["objectives"]),
@@ -202,10 +202,15 @@ def _load_checkpoint(problem: CalibrationProblem, out: Path | None) -> dict[byte
         return {}
     table = pq.read_table(out / EVALUATIONS_FILE).to_pydict()
     names = [f"u:{p.path}" for p in problem.free]
-    if any(name not in table for name in names + list(problem.objectives)):
+    tests = [f"{t.name}:force_nrmse" for t in problem.tests]
+    if any(name not in table for name in names + list(problem.objectives) + tests):
         raise InputError(f"--resume: {out / EVALUATIONS_FILE} is from a calibration with other "
-                         "free parameters or objectives")
+                         "free parameters, objectives or tests")
     unit = np.column_stack([np.asarray(table[name], np.float64) for name in names])
+    for j, p in enumerate(problem.free):  # the same unit coordinates mean the same values
+        if not np.allclose(p.from_unit(unit[:, j]), table[p.path], rtol=1e-12, atol=0.0):
+            raise InputError(f"--resume: {out / EVALUATIONS_FILE} was made with other bounds "
+                             f"of {p.path}")
     objectives = np.column_stack([np.asarray(table[o], np.float64) for o in problem.objectives])
     cache: dict[bytes, Any] = {}
     for i in range(len(unit)):

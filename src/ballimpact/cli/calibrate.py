@@ -15,6 +15,7 @@ from .common import (
     assignments,
     check_output_folder,
     check_plot_path,
+    json_safe,
     load,
     process_record,
     use_compilation_cache,
@@ -31,13 +32,14 @@ def add_parser(verbs) -> None:
         "calibrate", help="calibrate a layered FE ball's material constants against tests",
         description="Multi-objective search (pymoo NSGA-II; NSGA-III for four objectives) of "
                     "free parameters of a ball specification against impact tests, a decision "
-                    "on the Pareto front, and/or a Gauss-Newton refinement with gradients "
+                    "on the Pareto front, and/or a Levenberg-Marquardt refinement with gradients "
                     "through the explicit FE runs (JAX). Stages calibrate component by "
                     "component, earlier results frozen (thesis 5.2-5.3).")
     p.add_argument("--ball", required=True, help="template: preset or ball specification file")
     p.add_argument("--test", action="append", required=True, metavar="FILE[:SPEED[:LAYER]]",
-                   help="test record (CSV/WAV); its impact speed (m/s) if the side file lacks "
-                        "it; the outermost layer of the ball tested (e.g. core) if not the "
+                   help="test record (CSV/WAV), named by its file stem (a repeated stem gets "
+                        "-N); SPEED (m/s) overrides the side file's and --impact-speed-m-s; "
+                        "LAYER: the outermost layer of the ball tested (e.g. core) if not the "
                         "whole ball. Repeat for several tests")
     p.add_argument("--free", action="append", required=True, metavar="PATH=LOW:HIGH",
                    help="free parameter by its path in the ball specification, with bounds "
@@ -46,7 +48,8 @@ def add_parser(verbs) -> None:
                    help=f"comma-separated, any of {', '.join(OBJECTIVES)} "
                         "(default nrmse,cor,contact_time)")
     p.add_argument("--method", choices=METHODS, default="nsga2",
-                   help="nsga2 (default), gradient (Gauss-Newton from the template's values), "
+                   help="nsga2 (default), gradient (Levenberg-Marquardt from the template's "
+                        "values), "
                         "or nsga2+gradient (refine the chosen design)")
     p.add_argument("--stage", action="append", metavar="SPEC",
                    help="a stage: 'free=PATTERN,...;tests=NAME,...;objectives=...;name=...' "
@@ -86,10 +89,10 @@ def load_tests(args: argparse.Namespace) -> list:
     from ..calibrate.problem import CalibrationTest
 
     tests, names = [], set()
+    given_speed = args.impact_speed_m_s
     for text in args.test:
         path, speed, layer = parse_test(text)
-        if speed is not None:
-            args.impact_speed_m_s = speed
+        args.impact_speed_m_s = speed if speed is not None else given_speed
         record = load(path, args)
         if record.impact_speed_m_s is None:
             raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
@@ -98,6 +101,7 @@ def load_tests(args: argparse.Namespace) -> list:
         name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
         names.add(name)
         tests.append(CalibrationTest(name, processed.features, layer))
+    args.impact_speed_m_s = given_speed
     return tests
 
 
@@ -111,9 +115,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         args.out.mkdir(exist_ok=True)
     if args.resume and args.out is None:
         raise InputError("--resume: needs --out (the folder of the stopped search)")
-    given_speed = args.impact_speed_m_s
     tests = load_tests(args)
-    args.impact_speed_m_s = given_speed
     template = load_ball(args.ball, tests[0].impact_speed_m_s).to_dict()
     bounds = assignments(args.free, "--free", bounds=True)
     objectives = tuple(o.strip() for o in args.objectives.split(",") if o.strip())
@@ -137,7 +139,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         ball_file = args.out / "calibrated-ball.json"
         ball_file.write_text(json.dumps(result["ball"], indent=2))
         result["ball_file"] = str(ball_file)
-        (args.out / "calibration.json").write_text(json.dumps(_safe(result), indent=2))
+        (args.out / "calibration.json").write_text(json.dumps(json_safe(result), indent=2))
     if args.plot is not None:
         from ..calibrate.plots import plot_pulses
 
@@ -147,12 +149,6 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if not args.json:
         _print(result, stage_results)
     return result
-
-
-def _safe(value):
-    from .common import json_safe
-
-    return json_safe(value)
 
 
 def _print(result: dict, stage_results: list) -> None:
