@@ -39,9 +39,16 @@ def plot_pareto(result, chosen: int | None, path: str | Path, title: str | None 
                 label="Pareto front")
         if chosen is not None:
             ax.plot(f[chosen, i], f[chosen, j], "*", ms=14, color="C3", label="chosen")
-        ax.set(xlabel=_LABELS[names[i]], ylabel=_LABELS[names[j]], xscale="log", yscale="log")
+        ax.set(xlabel=_LABELS[names[i]], ylabel=_LABELS[names[j]],
+               xscale=_scale(f[ok, i]), yscale=_scale(f[ok, j]))
     axes[0][0].legend(fontsize=8)
     return _save(figure, Path(path), title)
+
+
+def _scale(values: np.ndarray) -> str:
+    """Log axes for objectives spanning decades, linear ones otherwise (readable ticks)."""
+    positive = values[values > 0]
+    return "log" if positive.size and positive.max() > 20 * positive.min() else "linear"
 
 
 def plot_convergence(result, path: str | Path, title: str | None = None) -> Path:
