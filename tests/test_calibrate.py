@@ -302,5 +302,6 @@ def test_cli_calibrate_end_to_end(synthetic_test, tmp_path, capsys):
     ball = load_ball(out / "calibrated-ball.json")
     assert ball.layers[0].material.prony[0].g == pytest.approx(
         result["chosen"]["parameters"]["layers.ball.material.prony.0.g"])
-    for name in ("pareto.png", "convergence.png", "pulses.png", "evaluations.parquet"):
+    for name in ("pareto.png", "convergence.png", "pulses.png", "evaluations.parquet",
+                 "pareto.csv"):
         assert (out / "calibration" / name).exists(), name

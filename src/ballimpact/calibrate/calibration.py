@@ -143,10 +143,18 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
 
 
 def _stage_plots(result: StageResult, out: Path) -> None:
+    """The stage's pictures, and its Pareto front as `pareto.csv` (parameters, objectives)."""
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
     from .plots import plot_convergence, plot_pareto, plot_pulses
 
     if result.search is not None:
         front = result.search.pareto()
+        rows = result.to_dict()["pareto"]
+        columns = {**{p: [r["parameters"][p] for r in rows] for p in result.problem.names},
+                   **{o: [r["objectives"][o] for r in rows] for o in result.problem.objectives}}
+        pacsv.write_csv(pa.table(columns), out / "pareto.csv")
         plot_pareto(result.search, int(front[result.decision.index]), out / "pareto.png",
                     f"{result.stage.name}: {result.search.algorithm}, "
                     f"{len(result.search.unit)} designs")
