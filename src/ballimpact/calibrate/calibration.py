@@ -138,11 +138,11 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
     result.runs = runs
     result.fe_runs, result.wall_time_s = fe_runs, time.perf_counter() - started
     if out is not None:
-        _stage_plots(result, out)
+        _stage_files(result, out)
     return result
 
 
-def _stage_plots(result: StageResult, out: Path) -> None:
+def _stage_files(result: StageResult, out: Path) -> None:
     """The stage's pictures, and its Pareto front as `pareto.csv` (parameters, objectives)."""
     import pyarrow as pa
     import pyarrow.csv as pacsv

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
-from functools import partial
+from functools import cached_property, partial
 from typing import Any
 
 import jax
@@ -75,8 +75,9 @@ class SmoothMisfit:
     use_cor: bool
     _fn: dict = field(default_factory=dict, repr=False)
 
-    @property
+    @cached_property
     def kernel(self):
+        """The compiled-program data of the test's ball (one structure for every design)."""
         from ..fe.solver import kernel_for
 
         return kernel_for(self._ball(self.problem.start_unit()), self.options)
