@@ -356,18 +356,20 @@ class Kernel:
 
 
 def _branch_energy(q, s0, g, modulus):
-    """Energy density (J/m^3, per point (n_points, n)) stored in the Maxwell branches, exact for
-    small strains.
+    """Energy density (J/m^3, per point) stored in the Maxwell branches, exact for small strains.
 
-    Branch i carries the stress h_i = g_i S0 - Q_i (Q_i (n_terms, 4, n_points, n) is the part of
-    the stress already relaxed) and stores h_i:h_i / (2 M_i) per unit volume, with M_i = g_i 2 mu
-    (deviatoric; `modulus` = 2 mu) or k_i 3 K (bulk; `modulus` = 3 K). Relaxed branches store
-    nothing, so at the end of an impact this term is small whatever its accuracy.
+    Branch i carries the stress h_i = g_i S0 - Q_i (Q_i (n_terms, n_comps, ...) is the part of
+    the stress already relaxed; components xx, yy, zz, then the shear ones) and stores
+    h_i:h_i / (2 M_i) per unit volume, with M_i = g_i 2 mu (deviatoric; `modulus` = 2 mu) or
+    k_i 3 K (bulk; `modulus` = 3 K). Relaxed branches store nothing, so at the end of an impact
+    this term is small whatever its accuracy.
     """
     if q.shape[0] == 0:
         return 0.0
-    h = g.reshape(-1, 1, 1, 1) * s0 - q
-    hh = h[:, 0] ** 2 + h[:, 1] ** 2 + h[:, 2] ** 2 + 2.0 * h[:, 3] ** 2
+    h = g.reshape((-1,) + (1,) * (q.ndim - 1)) * s0 - q
+    hh = h[:, 0] ** 2 + h[:, 1] ** 2 + h[:, 2] ** 2
+    for k in range(3, h.shape[1]):
+        hh = hh + 2.0 * h[:, k] ** 2
     stiffness = g * modulus
     scale = jnp.where(stiffness > 0, 0.5 / jnp.where(stiffness > 0, stiffness, 1.0), 0.0)
     return sum(scale[i] * hh[i] for i in range(q.shape[0]))

@@ -220,20 +220,22 @@ class Sym(NamedTuple):
 
 def energy_and_stress(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
     """Energy parts (J/m^3) and second Piola-Kirchhoff stress parts S = 2 dW/dC, as
-    ((W_relaxing, S_relaxing), (W_volumetric, S_volumetric)) with S = (S_xx, S_yy, S_zz, S_xy),
-    for C with zero yz and zx components (axisymmetric and material-point states).
+    ((W_relaxing, S_relaxing), (W_volumetric, S_volumetric)). For C with zero yz and zx
+    components (floats: axisymmetric and material-point states) S = (S_xx, S_yy, S_zz, S_xy);
+    for a general C (3D) S = (S_xx, S_yy, S_zz, S_xy, S_yz, S_zx).
 
     Each point's energy depends only on its own C, so the gradient of the summed energy is the
-    pointwise stress. The xy entry of C stands for both C_xy and C_yx, so dW/dC_xy (the sum of
-    both partial derivatives) is already S_xy."""
-    comps = (C.xx, C.yy, C.zz, C.xy)
+    pointwise stress. An off-diagonal entry of C stands for both C_ij and C_ji, so dW/dC_ij (the
+    sum of both partial derivatives) is already S_ij."""
+    general = not isinstance(C.yz, float)
+    comps = tuple(C) if general else (C.xx, C.yy, C.zz, C.xy)
 
     def part_with_energy(i):
         def total(c):
             w = energy(Sym(*c), constants)[i]
             return jnp.sum(w), w
         grad, w = jax.grad(total, has_aux=True)(comps)
-        return w, (2.0 * grad[0], 2.0 * grad[1], 2.0 * grad[2], grad[3])
+        return w, tuple(2.0 * g if k < 3 else g for k, g in enumerate(grad))
 
     return part_with_energy(0), part_with_energy(1)
 

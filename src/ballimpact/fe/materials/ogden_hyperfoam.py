@@ -5,8 +5,9 @@
 b_i = nu_i / (1 - 2 nu_i), mu0 = sum mu_i, K0 = sum 2 mu_i (1/3 + b_i). For b_i = 0 the last term is
 its limit -a_i ln J. The whole stress relaxes with the Prony g_i (no deviatoric split exists).
 
-Principal stretches: the sum of l^a is computed from C for states in which the third axis is
-principal (C13 = C23 = 0), which holds for axisymmetric and material-point states. The in-plane
+Principal stretches: for states in which the third axis is principal (C13 = C23 = 0 given as
+floats: axisymmetric and material-point states) the sum of l^a is computed from C directly; for a
+general C (3D) from its eigenvalues (`spectral.trace_power`). In the first case the in-plane
 pair enters through an expression that is even in the eigenvalue gap, with its Taylor series near
 equal stretches, so that the stress and its derivatives are finite at the undeformed state (where
 differentiating an eigendecomposition is singular).
@@ -23,6 +24,7 @@ import numpy as np
 from ...errors import InputError
 from ..fastmath import power
 from .base import Material, _check_keys, _number
+from .spectral import trace_power
 
 _SERIES_BELOW = 1e-3  # (gap / mean)^2 below which the 4-term series is exact to ~1e-12
 
@@ -50,7 +52,9 @@ def _pair_power_sum(m, d2, p):
 
 
 def principal_power_sum(C, p):
-    """sum_a lambda_a^(2 p) for a right Cauchy-Green C (`Sym`) whose third axis is principal."""
+    """sum_a lambda_a^(2 p) for a right Cauchy-Green C (`Sym`)."""
+    if not isinstance(C.yz, float):
+        return trace_power(tuple(C), p)
     m = 0.5 * (C.xx + C.yy)
     d2 = 0.25 * (C.xx - C.yy) ** 2 + C.xy * C.xy
     return _pair_power_sum(m, d2, p) + power(C.zz, p)
@@ -83,7 +87,7 @@ class OgdenHyperfoam(Material):
 
     @staticmethod
     def energy(C, c):
-        J = jnp.sqrt(C.zz * (C.xx * C.yy - C.xy * C.xy))
+        J = jnp.sqrt(C.det())
         log_j = jnp.log(J)
         mu, alpha, beta = c["mu_pa"], c["alpha"], c["beta"]
         w = 0.0

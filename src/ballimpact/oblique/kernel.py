@@ -1,0 +1,355 @@
+"""The explicit step of a 3D ball (and an optional deformable target) in an oblique impact on a
+flat surface (pure JAX).
+
+The ball's south pole touches the surface z = 0 at t = 0, moving at (v sin theta, 0, -v cos theta)
+and spinning at omega about the y axis. Central difference (velocity form) with lumped masses;
+internal forces from `hexa` (one-point hexahedra with hourglass control) and the materials'
+strain energies with Simo's Prony update, the same as the axisymmetric `fe.kernel`; linear and
+quadratic bulk viscosity; node-to-surface penalty contact with Coulomb friction.
+
+Friction: each contacting ball node carries a tangential stick spring of stiffness k_t
+(`stick_scale` x its normal penalty stiffness), stretched by the node's tangential displacement
+relative to the surface since it touched; its force is capped at mu times the normal force, the
+excess being slip (a return map, as a plasticity update). k_t is the regularisation of the stick:
+the elastic slip before sliding is mu N / k_t. The work of the tangential forces less the energy
+held in the stick springs is the frictional dissipation.
+
+A `Kernel` holds what a compiled program depends on (mesh, models, contact kind, precision);
+constants, masses, stiffnesses, friction and the impact condition are in `params` and the state,
+so `vmap` batches impacts of one mesh.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from functools import partial
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..fe.kernel import REFRESH_LANCZOS_STEPS, LANCZOS_STEPS, INCREMENT_LEVELS, _branch_energy
+from ..fe.materials import Sym, energy_and_stress, prony_update
+from ..fe.stable_increment import lanczos_largest
+from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
+                   determinant, first_piola, gather_nodal, right_cauchy_green)
+
+HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force_y_n",
+           "centre_x_m", "centre_z_m", "centre_velocity_x_m_s", "centre_velocity_y_m_s",
+           "centre_velocity_z_m_s", "spin_x_rad_s", "spin_y_rad_s", "spin_z_rad_s",
+           "contact_slip_velocity_m_s", "kinetic_energy_j", "internal_work_j", "contact_work_j",
+           "strain_energy_j", "bulk_viscous_dissipation_j", "hourglass_energy_j",
+           "tangential_work_j", "stick_energy_j")
+
+
+@dataclass(frozen=True, eq=False)
+class Kernel:
+    """Static data of one mesh, model structure, contact kind and precision; traced by JAX."""
+
+    geom: HexGeometry            # float arrays in `dtype`
+    energies: tuple              # one energy function per group (ball layers, target layers)
+    bulk_relaxation: tuple       # per group: does it have k_i > 0
+    contact_nodes: np.ndarray    # ball surface nodes
+    ball_nodes: np.ndarray       # bool (n_nodes,)
+    free_dof: np.ndarray         # (3, n_nodes) 1 where the motion is free, 0 where held
+    half: bool                   # a half model on y >= 0 (extensive results doubled)
+    target: dict | None          # deformable slab: "top" node ids (nx+1, ny+1), "x_m", "y_m"
+    dtype: Any
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.geom.nodes_m)
+
+    def zeros(self, shape) -> jax.Array:
+        return jnp.zeros(shape, self.dtype)
+
+    # ---- materials ---------------------------------------------------------------------------
+    def initial_materials(self, params) -> list[dict]:
+        mats = []
+        for (a, b), bulk, consts in zip(self.geom.group_slices, self.bulk_relaxation,
+                                        params["groups"]):
+            shape = (6, b - a)
+            n_terms = consts["prony_g"].shape[-1]
+            mats.append({"s0_dev": self.zeros(shape),
+                         "s0_vol": self.zeros(shape if bulk else (0, b - a)),
+                         "q_dev": self.zeros((n_terms,) + shape),
+                         "q_vol": self.zeros(((n_terms if bulk else 0),) + shape)})
+        return mats
+
+    def internal(self, params, u, mats, j_prev, dt):
+        """Internal nodal forces (3, n_nodes), new material states, J, per-element stored and
+        hourglass energies (J), the bulk-viscous stress (Pa), C's eigenvalue bounds and the
+        corner forces."""
+        g = self.geom
+        u_e = corners(g, u)
+        F = deformation_gradient(g, u_e)
+        cof = cofactor(F)
+        J = determinant(F, cof)
+        C = right_cauchy_green(F)
+        stresses, new_mats, stored = [], [], []
+        for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params["groups"],
+                                               mats):
+            (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
+                energy, Sym(*(c[a:b] for c in C)), consts)
+            s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
+            tau = consts["prony_tau_s"]
+            q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
+            if mat["q_vol"].shape[0]:
+                q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+            else:
+                q_vol = mat["q_vol"]
+            stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
+            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
+                             "q_dev": q_dev, "q_vol": q_vol})
+            density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
+                       + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
+            density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
+                                               2.0 * consts["shear_modulus_pa"])
+            if q_vol.shape[0]:
+                density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                                   3.0 * consts["bulk_modulus_pa"])
+            stored.append(density * g.volume_m3[a:b])
+        S = tuple(jnp.concatenate(stresses, axis=-1))
+        rate = (J - j_prev) / (dt * J)
+        sigma_bv = rate * (params["bv_linear_pa_s"]
+                           + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
+        P = first_piola(F, S, cof, sigma_bv)
+        f_e, e_hg = corner_forces(g, P, u_e, params["hourglass_n_m"])
+        f = gather_nodal(g, f_e)
+        Cd = jax.lax.stop_gradient(C)
+        # Gershgorin bounds on C's eigenvalues: the stretch range, a diagnostic
+        lam_lo = jnp.min(jnp.stack([Cd[0] - jnp.abs(Cd[3]) - jnp.abs(Cd[5]),
+                                    Cd[1] - jnp.abs(Cd[3]) - jnp.abs(Cd[4]),
+                                    Cd[2] - jnp.abs(Cd[4]) - jnp.abs(Cd[5])]), axis=0)
+        lam_hi = jnp.max(jnp.stack([Cd[0] + jnp.abs(Cd[3]) + jnp.abs(Cd[5]),
+                                    Cd[1] + jnp.abs(Cd[3]) + jnp.abs(Cd[4]),
+                                    Cd[2] + jnp.abs(Cd[4]) + jnp.abs(Cd[5])]), axis=0)
+        return (f, new_mats, J, jnp.concatenate(stored), e_hg, sigma_bv, lam_lo, lam_hi, f_e)
+
+    # ---- contact -----------------------------------------------------------------------------
+    def surface(self, u, v_half):
+        """Height above the target surface (m) of each contact node, its velocity relative to
+        the surface (3, n_contact), and the surface interpolation (slab node ids (4, n_c) and
+        weights (4, n_c)), or None for the rigid plane."""
+        s = self.contact_nodes
+        x = self.geom.nodes_m[s].T + u[:, s]
+        vel = v_half[:, s]
+        if self.target is None:
+            return x[2], vel, None
+        t = self.target
+        xs, ys = t["x_m"], t["y_m"]
+        i = jnp.clip(jnp.searchsorted(xs, x[0]) - 1, 0, len(xs) - 2)
+        j = jnp.clip(jnp.searchsorted(ys, x[1]) - 1, 0, len(ys) - 2)
+        xi = jnp.clip((x[0] - xs[i]) / (xs[i + 1] - xs[i]), 0.0, 1.0)
+        eta = jnp.clip((x[1] - ys[j]) / (ys[j + 1] - ys[j]), 0.0, 1.0)
+        top = t["top"]
+        ids = jnp.stack([top[i, j], top[i + 1, j], top[i + 1, j + 1], top[i, j + 1]])
+        w = jnp.stack([(1 - xi) * (1 - eta), xi * (1 - eta), xi * eta, (1 - xi) * eta])
+        z_surface = jnp.sum(w * (self.geom.nodes_m[ids, 2] + u[2][ids]), axis=0)
+        v_surface = jnp.sum(w[None] * v_half[:, ids], axis=1)
+        return x[2] - z_surface, vel - v_surface, (ids, w)
+
+    def contact(self, params, u, v_half, stick, dt):
+        """Contact forces (3, n_contact) on the contact nodes, the new stick extensions
+        (2, n_contact), the interpolation onto the target and the relative velocity."""
+        height, rel, where = self.surface(u, v_half)
+        penetration = jnp.maximum(-height, 0.0)
+        touching = penetration > 0
+        normal = jnp.maximum(params["penalty_n_m"] * penetration
+                             - params["contact_damping_n_s_m"] * rel[2] * touching, 0.0)
+        trial = jnp.where(touching, stick + dt * rel[:2], 0.0)
+        k_t = params["stick_n_m"]
+        f_trial = -k_t * trial
+        size = jnp.sqrt(f_trial[0] ** 2 + f_trial[1] ** 2)
+        limit = params["friction"] * normal
+        scale = jnp.where(size > limit, limit / jnp.where(size > 0, size, 1.0), 1.0)
+        f_t = f_trial * scale
+        new_stick = -f_t / k_t
+        return jnp.concatenate([f_t, normal[None]]), new_stick, where, rel
+
+    def nodal_contact(self, forces, where):
+        """Contact forces (3, n_contact) on ball nodes (and their reactions on the target) as
+        nodal forces (3, n_nodes)."""
+        out = self.zeros((3, self.n_nodes)).at[:, self.contact_nodes].set(forces)
+        if where is not None:
+            ids, w = where
+            reaction = -(w[None] * forces[:, None])            # (3, 4, n_contact)
+            out = out.at[:, ids.reshape(-1)].add(reaction.reshape(3, -1))
+        return out
+
+    # ---- the state ---------------------------------------------------------------------------
+    def initial_state(self, params, speed, angle_rad, spin_rad_s):
+        n = self.n_nodes
+        X = self.geom.nodes_m.T
+        ball = self.ball_nodes.astype(self.dtype)
+        centre = jnp.array([0.0, 0.0, 1.0], self.dtype) * params["outer_radius_m"]
+        r = X - centre[:, None]
+        # v = v_cm + omega x r with omega = (0, spin, 0)
+        v = jnp.stack([speed * jnp.sin(angle_rad) + spin_rad_s * r[2],
+                       jnp.zeros(n, self.dtype),
+                       -speed * jnp.cos(angle_rad) - spin_rad_s * r[0]]) * ball * self.free_dof
+        zeros = self.zeros((3, n))
+        scalar = partial(jnp.array, dtype=self.dtype)
+        inf = scalar(jnp.inf)
+        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
+        dt = params["increment_factor"] / jnp.sqrt(omega2)
+        n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
+        f_e = tuple(tuple(self.zeros(n_el) for _ in range(8)) for _ in range(3))
+        return {"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
+                "x_top": x_top, "f_e": f_e, "f_contact": zeros,
+                "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
+                "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
+                "sigma_bv": self.zeros(n_el),
+                "ke0": 0.5 * jnp.sum(params["mass_kg"] * jnp.sum(v * v, axis=0)),
+                "w_int": scalar(0.0), "w_contact": scalar(0.0), "w_tangential": scalar(0.0),
+                "d_bv": scalar(0.0), "peak_force": scalar(0.0), "t_peak": scalar(0.0),
+                "u_peak": zeros, "t_start": inf, "t_separation": inf, "t_bad": inf,
+                "t_energy": inf, "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)}
+
+    # ---- the step ----------------------------------------------------------------------------
+    def rigid_body(self, params, u, v):
+        """Ball centre-of-mass position and velocity (3,) and angular velocity (3,) (rad/s),
+        from the nodes' momenta about the centre of mass and the current inertia tensor."""
+        mass = params["mass_kg"] * self.ball_nodes
+        x = self.geom.nodes_m.T + u
+        m_total = params["ball_mass_kg"]
+        sums = jnp.sum(jnp.stack([
+            mass * x[0], mass * x[1], mass * x[2], mass * v[0], mass * v[1], mass * v[2],
+            mass * (x[1] * v[2] - x[2] * v[1]), mass * (x[2] * v[0] - x[0] * v[2]),
+            mass * (x[0] * v[1] - x[1] * v[0]),
+            mass * x[0] * x[0], mass * x[1] * x[1], mass * x[2] * x[2],
+            mass * x[0] * x[1], mass * x[1] * x[2], mass * x[2] * x[0]]), axis=1)
+        cm, vcm = sums[0:3] / m_total, sums[3:6] / m_total
+        L = sums[6:9] - m_total * jnp.cross(cm, vcm)
+        second = jnp.array([[sums[9], sums[12], sums[14]], [sums[12], sums[10], sums[13]],
+                            [sums[14], sums[13], sums[11]]]) - m_total * jnp.outer(cm, cm)
+        inertia = jnp.trace(second) * jnp.eye(3, dtype=self.dtype) - second
+        if self.half:  # the mirror image cancels these components
+            cm, vcm = cm.at[1].set(0.0), vcm.at[1].set(0.0)
+            L = L * jnp.array([0.0, 1.0, 0.0], self.dtype)
+            keep = jnp.array([[1, 0, 1], [0, 1, 0], [1, 0, 1]], self.dtype)
+            inertia = inertia * keep
+        return cm, vcm, jnp.linalg.solve(inertia, L)
+
+    def step(self, params, t0, state, i):
+        g = self.geom
+        dt = state["dt"]
+        mass = params["mass_kg"]
+        v_half = state["v"] + 0.5 * dt * state["a"]
+        u = state["u"] + dt * v_half
+        f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi, f_e = self.internal(
+            params, u, state["mat"], state["j0"], dt)
+        forces, stick, where, rel = self.contact(params, u, v_half, state["stick"], dt)
+        f_contact = self.nodal_contact(forces, where)
+        a = (f_contact - f_int) / mass * self.free_dof
+        v = v_half + 0.5 * dt * a
+        du = u - state["u"]
+        new_u, old_u = corners(g, u), corners(g, state["u"])
+        work_e = 0.5 * sum((state["f_e"][c][k] + f_e[c][k]) * (new_u[c][k] - old_u[c][k])
+                           for c in range(3) for k in range(8))
+        bv_e = 0.5 * (state["sigma_bv"] + sigma_bv) * (J - state["j0"]) * g.volume_m3
+        stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
+        k_t = params["stick_n_m"]
+        du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
+        normal = forces[2]
+        kinetic, dw_contact = jnp.sum(jnp.stack([
+            0.5 * mass * jnp.sum(v * v, axis=0),
+            jnp.sum(0.5 * (state["f_contact"] + f_contact) * du, axis=0)]), axis=1)
+        dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted = jnp.sum(jnp.stack([
+            0.5 * jnp.sum((state["f_tangential"] + forces[:2]) * du_t, axis=0),
+            0.5 * k_t * jnp.sum(stick * stick, axis=0), normal, forces[0], forces[1],
+            normal * rel[0]]), axis=1)
+        min_j, lam_lo, neg_hi = jnp.min(jnp.stack([J, lam_lo, -lam_hi]), axis=1)
+        cm, vcm, omega = self.rigid_body(params, u, v)
+        w_int = state["w_int"] + dw_int
+        w_contact = state["w_contact"] + dw_contact
+        w_tangential = state["w_tangential"] + dw_tangential
+        d_bv = state["d_bv"] + dd_bv
+        t = t0 + (i + 1) * dt
+        started = jnp.isfinite(state["t_start"])
+        t_start = jnp.where(~started & (f_n > 0), t, state["t_start"])
+        separating = started & (f_n <= 0) & (vcm[2] > 0) & jnp.isinf(state["t_separation"])
+        t_separation = jnp.where(f_n > 0, jnp.inf, jnp.where(separating, t, state["t_separation"]))
+        new_peak = f_n > state["peak_force"]
+        bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
+        ke0 = state["ke0"]
+        energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
+        slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
+        new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
+               "x_top": state["x_top"], "f_e": f_e, "f_contact": f_contact,
+               "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
+               "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact,
+               "w_tangential": w_tangential, "d_bv": d_bv,
+               "peak_force": jnp.maximum(f_n, state["peak_force"]),
+               "t_peak": jnp.where(new_peak, t, state["t_peak"]),
+               "u_peak": jnp.where(new_peak, u, state["u_peak"]),
+               "t_start": t_start, "t_separation": t_separation,
+               "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
+               "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
+                                     state["t_energy"]),
+               "stretch_min": jnp.minimum(state["stretch_min"], jnp.sqrt(jnp.maximum(lam_lo, 0.0))),
+               "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(-neg_hi))}
+        row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
+                         omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
+                         w_tangential, e_stick])
+        return new, row
+
+    def chunk(self, params, state, n_steps: int):
+        """`n_steps` steps, after re-estimating the stable increment at the current state."""
+        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
+                                                   REFRESH_LANCZOS_STEPS)
+        level = jnp.ceil(INCREMENT_LEVELS * jnp.log2(
+            state["dt0"] * jnp.sqrt(omega2) / params["increment_factor"]))
+        dt = jnp.minimum(state["dt"], state["dt0"] * jnp.exp2(-level / INCREMENT_LEVELS))
+        state = dict(state, dt=dt, x_top=x_top)
+        steps = jnp.arange(n_steps, dtype=self.dtype)
+        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
+
+    # ---- the stable increment ----------------------------------------------------------------
+    def max_frequency_squared(self, params, u, start, steps: int):
+        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u,
+        with the instantaneous moduli and every contact node's normal and stick springs active
+        (tied to the ground; a target node's mass is allowed for by `target_spring_factor`)."""
+        g = self.geom
+        n = self.n_nodes
+        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
+                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
+        mats = self.initial_materials(params)
+        ones = jnp.ones(g.n_elements, self.dtype)
+        tiny_dt = jnp.asarray(1e-15, self.dtype)
+
+        def forces(u):
+            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
+
+        scale = 1.0 / jnp.sqrt(params["mass_kg"])
+        mask = jnp.asarray(self.free_dof, self.dtype)
+        s = self.contact_nodes
+        springs = params["contact_spring_factor"] * jnp.stack(
+            [params["stick_n_m"], params["stick_n_m"], params["penalty_n_m"]])
+
+        def apply(x):
+            v = x.reshape(3, n) * scale * mask
+            _, kv = jax.jvp(forces, (u,), (v,))
+            kv = kv.at[:, s].add(springs * v[:, s])
+            return (kv * scale * mask).reshape(-1)
+
+        if start is None:
+            start = mask * jax.random.uniform(jax.random.PRNGKey(0), (3, n), self.dtype, 0.5, 1.5)
+            start = (start * jnp.where(jnp.arange(n) % 2 == 0, 1.0, -1.0)).reshape(-1)
+        value, residual, vector = lanczos_largest(apply, start, steps)
+        return value + residual, vector
+
+
+def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_nodes, free_dof,
+          half: bool, target, dtype) -> Kernel:
+    floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
+              if isinstance(getattr(geom, f.name), np.ndarray)
+              and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
+    if target is not None:
+        target = {"top": np.asarray(target["top"]), "x_m": np.asarray(target["x_m"], dtype),
+                  "y_m": np.asarray(target["y_m"], dtype)}
+    return Kernel(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
+                  np.asarray(contact_nodes), np.asarray(ball_nodes), np.asarray(free_dof, dtype),
+                  half, target, np.dtype(dtype))

@@ -1,0 +1,98 @@
+"""Settings of the 3D solver and the impact condition (SI), validated on construction."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..errors import InputError
+from ..fe.options import PRECISIONS
+
+
+def _check_range(name: str, value, low: float, high: float, low_open: bool = False,
+                 high_open: bool = False) -> None:
+    ok = (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+          and (value > low if low_open else value >= low)
+          and (value < high if high_open else value <= high))
+    if not ok:
+        raise InputError(f"{name} = {value!r}: allowed range {'(' if low_open else '['}{low:g}, "
+                         f"{high:g}{')' if high_open else ']'}")
+
+
+@dataclass(frozen=True)
+class ImpactCondition:
+    """An oblique impact on a flat surface.
+
+    - `speed_m_s`: speed of the ball's centre before impact (m/s).
+    - `angle_deg`: angle of the incoming velocity from the surface normal (0: normal impact).
+    - `spin_rad_s`: spin about the axis parallel to the surface and normal to the incoming
+      tangential velocity; positive is topspin, the sense of a ball rolling forward (its bottom
+      moving backward relative to its centre: a ball rolling at v_x has spin v_x / R).
+    - `friction`: Coulomb coefficient between ball and surface.
+    """
+
+    speed_m_s: float
+    angle_deg: float = 0.0
+    spin_rad_s: float = 0.0
+    friction: float = 0.0
+
+    def __post_init__(self) -> None:
+        _check_range("speed_m_s", self.speed_m_s, 0.0, 1e3, low_open=True)
+        _check_range("angle_deg", self.angle_deg, 0.0, 89.0)
+        _check_range("spin_rad_s", self.spin_rad_s, -1e4, 1e4)
+        _check_range("friction", self.friction, 0.0, 10.0)
+
+
+@dataclass(frozen=True)
+class Options3D:
+    """Numerical settings of the 3D solver (SI); the shared ones as `fe.SolverOptions`.
+
+    - `divisions`: elements along each edge of the O-grid's cube (90 degrees of arc); even.
+    - `pole_grading`: largest over smallest arc spacing (finer toward the contact pole).
+    - `half`: a half model on the plane of incidence (symmetric: no out-of-plane spin). None:
+      half when the condition allows it (always, with the conditions of `ImpactCondition`).
+    - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
+    - `frames`: keep the displacements every this many chunks for VTK output and animation
+      (0: none).
+    """
+
+    divisions: int = 16
+    pole_grading: float = 2.0
+    half: bool | None = None
+    hourglass_scale: float = 0.05
+    bulk_viscosity_linear: float = 0.06
+    bulk_viscosity_quadratic: float = 1.2
+    penalty_scale: float = 1.0
+    stick_scale: float = 1.0
+    contact_damping: float = 0.0
+    time_step_scale: float = 0.8
+    energy_error_limit: float = 0.05
+    precision: str = "float64"
+    end_margin: float = 0.25
+    time_limit_s: float | None = None
+    chunk_steps: int = 100
+    frames: int = 0
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.divisions, int) and self.divisions >= 4
+                and self.divisions % 2 == 0 and self.divisions <= 64):
+            raise InputError(f"divisions = {self.divisions!r}: must be an even integer in [4, 64]")
+        _check_range("pole_grading", self.pole_grading, 1.0, 10.0)
+        _check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
+        _check_range("bulk_viscosity_linear", self.bulk_viscosity_linear, 0.0, 10.0)
+        _check_range("bulk_viscosity_quadratic", self.bulk_viscosity_quadratic, 0.0, 10.0)
+        _check_range("penalty_scale", self.penalty_scale, 0.0, 100.0, low_open=True)
+        _check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)
+        _check_range("contact_damping", self.contact_damping, 0.0, 1.0)
+        _check_range("time_step_scale", self.time_step_scale, 0.0, 1.0, low_open=True)
+        _check_range("energy_error_limit", self.energy_error_limit, 0.0, 1.0, low_open=True)
+        _check_range("end_margin", self.end_margin, 0.0, 10.0)
+        if self.precision not in PRECISIONS:
+            raise InputError(f"precision = {self.precision!r}: allowed {', '.join(PRECISIONS)}")
+        if self.time_limit_s is not None:
+            _check_range("time_limit_s", self.time_limit_s, 0.0, 10.0, low_open=True)
+        for name in ("chunk_steps", "frames"):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and value >= (1 if name == "chunk_steps" else 0)):
+                raise InputError(f"{name} = {value!r}: must be an integer >= "
+                                 f"{1 if name == 'chunk_steps' else 0}")

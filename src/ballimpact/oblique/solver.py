@@ -1,0 +1,341 @@
+"""Oblique impacts of layered balls in 3D: the driver (host side).
+
+Builds the hexahedral mesh (a half model on the plane of incidence unless told otherwise), the
+per-run parameters, and runs `kernel.Kernel` in chunks until the ball has left the surface (plus
+a margin), as `fe.solver` does for the axisymmetric engine; several impact conditions of one ball
+run as one vmapped batch. Extensive results (forces, energies, mass) are for the whole ball: a
+half model's are doubled.
+
+Results: normal COR e_n = v_z' / (-v_z), tangential COR e_t = v_x' / v_x (the centre of mass, as
+ball-sports studies quote it), the contact point's tangential COR -(v_x' - w' R) / (v_x - w R),
+rebound angle from the normal atan(v_x' / v_z') and rebound spin (`ImpactCondition` sign).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..errors import InputError, SimulationError
+from ..fe.kernel import cast, time_limit_default
+from ..fe.stable_increment import increment_factor
+from ..records import ImpactRecord
+from . import kernel as kernel_module
+from .hexa import geometry
+from .kernel import HISTORY, Kernel
+from .mesh import HexMesh, ball_mesh, combine, slab_mesh
+from .options import ImpactCondition, Options3D
+
+__all__ = ["ObliqueResult", "simulate_oblique", "simulate_oblique_batch"]
+
+
+@dataclass(frozen=True, eq=False)
+class ObliqueResult:
+    """One simulated oblique impact (SI; forces and energies of the whole ball)."""
+
+    ball_name: str
+    condition: ImpactCondition
+    history: dict[str, np.ndarray]
+    normal_cor: float
+    tangential_cor: float
+    contact_point_tangential_cor: float
+    rebound_angle_deg: float
+    rebound_spin_rad_s: float
+    rebound_speed_m_s: float
+    peak_force_n: float
+    time_of_peak_s: float
+    contact_time_s: float
+    energy_balance_error: float
+    energies_j: dict[str, float]
+    stable_time_increment_s: float
+    final_time_increment_s: float
+    steps: int
+    elements: int
+    nodes: int
+    mass_kg: float
+    outer_radius_m: float
+    half_model: bool
+    target: str
+    wall_time_s: float
+    stretch_range: tuple[float, float]
+    frames: list = field(default_factory=list, repr=False)   # (t_s, u (n_nodes, 3), v)
+    mesh: HexMesh | None = field(default=None, repr=False)
+
+    @property
+    def cor(self) -> float:
+        return self.normal_cor
+
+    def summary(self) -> dict[str, Any]:
+        c = self.condition
+        return {"ball": self.ball_name, "solver": "3d", "impact_speed_m_s": c.speed_m_s,
+                "angle_deg": c.angle_deg, "spin_rad_s": c.spin_rad_s, "friction": c.friction,
+                "target": self.target, "peak_force_n": self.peak_force_n,
+                "peak_tangential_force_n": float(np.max(np.abs(
+                    self.history["tangential_force_x_n"]))),
+                "time_of_peak_s": self.time_of_peak_s, "contact_time_s": self.contact_time_s,
+                "cor": self.normal_cor, "normal_cor": self.normal_cor,
+                "tangential_cor": self.tangential_cor,
+                "contact_point_tangential_cor": self.contact_point_tangential_cor,
+                "rebound_angle_deg": self.rebound_angle_deg,
+                "rebound_spin_rad_s": self.rebound_spin_rad_s,
+                "rebound_speed_m_s": self.rebound_speed_m_s,
+                "energy_balance_error": self.energy_balance_error,
+                "energies_j": dict(self.energies_j), "mass_kg": self.mass_kg,
+                "elements": self.elements, "nodes": self.nodes, "steps": self.steps,
+                "half_model": self.half_model,
+                "stable_time_increment_s": self.stable_time_increment_s,
+                "final_time_increment_s": self.final_time_increment_s,
+                "principal_stretch_range": list(self.stretch_range),
+                "wall_time_s": self.wall_time_s}
+
+    def record(self) -> ImpactRecord:
+        """The normal contact-force pulse as an `ImpactRecord` (for the 19 features)."""
+        h = self.history
+        dt = self.final_time_increment_s
+        t = np.arange(1, int(np.floor(h["time_s"][-1] / dt * (1 + 1e-9))) + 1) * dt
+        force = np.interp(t, h["time_s"], h["normal_force_n"])
+        lead = np.arange(-max(3, int(0.05 * len(t))), 0) * dt
+        normal_speed = self.condition.speed_m_s * math.cos(math.radians(self.condition.angle_deg))
+        return ImpactRecord(np.concatenate([lead, [0.0], t]),
+                            np.concatenate([np.zeros(len(lead) + 1), force]),
+                            mass_kg=self.mass_kg, impact_speed_m_s=normal_speed,
+                            rebound_speed_m_s=max(self.normal_cor * normal_speed, 0.0),
+                            metadata={"source": "fe-3d", "ball": self.ball_name})
+
+
+def _structure(ball, target) -> tuple:
+    layers = tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
+                    len(layer.material.prony)) for layer in ball.layers)
+    slab = None if target is None else (
+        target.half_width_m, tuple((layer.thickness_m, type(layer.material),
+                                    layer.material.sum_k > 0, len(layer.material.prony))
+                                   for layer in target.layers))
+    return layers, slab
+
+
+_KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
+
+
+def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
+    """The mesh of a ball (and target), ball layers then target layers as groups."""
+    mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
+    if target is None:
+        return mesh
+    # the slab's spacing near the centre matches the ball's pole spacing
+    pole = mesh.outer_radius_m * math.radians(90.0 / options.divisions) / options.pole_grading ** 0.5
+    cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
+    per_layer = [max(2, int(math.ceil(layer.thickness_m / (4 * pole)))) for layer in target.layers]
+    slab = slab_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,
+                     cells, per_layer, grading=min(20.0, 1.15 ** (cells - 1)), half=half)
+    return combine(mesh, slab, len(ball.layers))
+
+
+def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, HexMesh]:
+    key = (_structure(ball, target), options.divisions, options.pole_grading, half,
+           options.precision)
+    if key not in _KERNELS:
+        mesh = mesh_for(ball, target, options, half)
+        materials = [layer.material for layer in ball.layers]
+        if target is not None:
+            materials += [layer.material for layer in target.layers]
+        geom, order = geometry(mesh, len(materials))
+        free = np.ones((3, len(mesh.nodes_m)))
+        free[1, mesh.symmetry_nodes] = 0.0
+        free[:, mesh.fixed_nodes] = 0.0
+        kernel = kernel_module.build(
+            geom, [type(m).energy for m in materials], [m.sum_k > 0 for m in materials],
+            mesh.contact_nodes, mesh.ball_nodes, free, half, mesh.target,
+            np.dtype(options.precision))
+        _KERNELS[key] = (kernel, mesh)
+    return _KERNELS[key]
+
+
+def model_arrays(ball, target, kernel: Kernel, options: Options3D, friction: float) -> dict:
+    """Per-run parameters (NumPy float64)."""
+    geom = kernel.geom
+    layers = list(ball.layers) + (list(target.layers) if target is not None else [])
+    rho = np.array([layer.density_kg_m3 for layer in layers])
+    wave = np.array([layer.material.wave_modulus_pa() for layer in layers])
+    shear = np.array([layer.material.shear_modulus_pa() for layer in layers])
+    c_d = np.sqrt(wave / rho)
+    group = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.group_slices)])
+    mass = rho @ np.asarray(geom.nodal_volume_m3, np.float64)
+    s = kernel.contact_nodes
+    m_s = mass[s]
+    length = np.asarray(geom.characteristic_length_m, np.float64)
+    penalty = options.penalty_scale * m_s * (c_d[len(ball.layers) - 1]
+                                             / np.asarray(geom.node_length_m, np.float64)[s]) ** 2
+    spring_factor = 1.0
+    if target is not None:  # a contact spring between a ball node and lighter target nodes
+        top_mass = mass[np.asarray(kernel.target["top"]).reshape(-1)]
+        spring_factor = 1.0 + float(np.max(m_s) / np.min(top_mass[top_mass > 0]))
+    return {"mass_kg": mass, "ball_mass_kg": float(np.sum(mass[kernel.ball_nodes])),
+            "outer_radius_m": float(ball.outer_radius_m),
+            "penalty_n_m": penalty, "stick_n_m": options.stick_scale * penalty,
+            "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
+            "contact_spring_factor": spring_factor, "friction": float(friction),
+            "hourglass_n_m": options.hourglass_scale * shear[group]
+            * np.asarray(geom.hourglass_length_m, np.float64),
+            "bv_linear_pa_s": options.bulk_viscosity_linear * rho[group] * c_d[group] * length,
+            "bv_quadratic_pa_s2": rho[group] * (options.bulk_viscosity_quadratic * length) ** 2,
+            "energy_error_limit": float(options.energy_error_limit),
+            "increment_factor": increment_factor(options.time_step_scale,
+                                                 options.bulk_viscosity_linear),
+            "groups": [layer.material.constants() for layer in layers]}
+
+
+_COMPILED: dict[Any, Any] = {}
+
+
+def _compiled(kernel: Kernel, n_steps: int, batched: bool):
+    key = (id(kernel), n_steps, batched)
+    if key not in _COMPILED:
+        fns = (lambda p, s: kernel.chunk(p, s, n_steps), kernel.initial_state)
+        if batched:
+            fns = tuple(jax.vmap(fn) for fn in fns)
+        _COMPILED[key] = tuple(jax.jit(fn) for fn in fns)
+    return _COMPILED[key]
+
+
+def _contact_end(time_s: np.ndarray, force: np.ndarray) -> float:
+    positive = np.flatnonzero(force > 0)
+    k = positive[-1]
+    if k == 0 or k + 1 >= len(time_s) or force[k - 1] <= force[k]:
+        return float(time_s[min(k + 1, len(time_s) - 1)])
+    slope = (force[k - 1] - force[k]) / (time_s[k] - time_s[k - 1])
+    return float(min(time_s[k] + force[k] / slope, time_s[k + 1]))
+
+
+def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Options3D(),
+                     target=None, progress=None) -> ObliqueResult:
+    """An oblique impact of `ball` on a rigid plane (or a `target.Target` slab)."""
+    return simulate_oblique_batch(ball, [condition], options, target, progress)[0]
+
+
+def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), target=None,
+                           progress=None) -> list[ObliqueResult]:
+    """Several impact conditions of one ball (and target) as one vmapped run."""
+    conditions = list(conditions)
+    if not conditions:
+        raise InputError("conditions: need at least one impact condition")
+    for c in conditions:
+        if not isinstance(c, ImpactCondition):
+            raise InputError(f"conditions: expected ImpactCondition, got {type(c).__name__}")
+    half = True if options.half is None else bool(options.half)
+    start = time.perf_counter()
+    kernel, mesh = kernel_for(ball, target, options, half)
+    per_run = [model_arrays(ball, target, kernel, options, c.friction) for c in conditions]
+    batched = len(conditions) > 1
+    params = jax.tree_util.tree_map(lambda *xs: np.stack(xs), *per_run) if batched else per_run[0]
+    chunk_fn, init_fn = _compiled(kernel, options.chunk_steps, batched)
+    speeds = np.array([c.speed_m_s for c in conditions])
+    angles = np.radians([c.angle_deg for c in conditions])
+    spins = np.array([c.spin_rad_s for c in conditions])
+    normal = speeds * np.cos(angles)
+    slack = 1.0 if target is None else 4.0
+    limits = np.array([options.time_limit_s or slack * time_limit_default(ball, vn)
+                       for vn in normal])
+    frames: list = []
+    with jax.enable_x64(True), np.errstate(invalid="ignore"):
+        params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
+        args = [jnp.asarray(x if batched else x[0], kernel.dtype) for x in (speeds, angles, spins)]
+        state = init_fn(params, *args)
+        rows, n_chunks = [], 0
+        while True:
+            state, chunk_rows = chunk_fn(params, state)
+            n_chunks += 1
+            rows.append(np.asarray(chunk_rows, np.float64))
+            if options.frames and n_chunks % options.frames == 0:
+                frames.append((np.atleast_1d(np.asarray(state["t"], np.float64)),
+                               np.asarray(state["u"], np.float64),
+                               np.asarray(state["v"], np.float64)))
+            flags = {k: np.atleast_1d(np.asarray(state[k], np.float64))
+                     for k in ("t", "t_bad", "t_energy", "t_start", "t_separation")}
+            t, t_sep = flags["t"], flags["t_separation"]
+            t_end = t_sep + options.end_margin * (t_sep - flags["t_start"])
+            done = np.isfinite(t_sep) & (t >= t_end)
+            for i in range(len(conditions)):
+                limit_end = t_end[i] if done[i] else np.inf
+                if flags["t_bad"][i] < limit_end and flags["t_bad"][i] <= flags["t_energy"][i]:
+                    raise SimulationError(
+                        f"ball {ball.name}, {conditions[i]}: inverted element or non-finite "
+                        f"state at t = {flags['t_bad'][i]:.4g} s (try a smaller "
+                        "time_step_scale or more divisions)")
+                if flags["t_energy"][i] < limit_end:
+                    raise SimulationError(
+                        f"ball {ball.name}, {conditions[i]}: energy balance error above "
+                        f"energy_error_limit = {options.energy_error_limit:g} at t = "
+                        f"{flags['t_energy'][i]:.4g} s: the run is unstable")
+            if progress is not None:
+                progress(float(t.min()))
+            if np.all(done):
+                break
+            if np.any(~done & (t >= limits)):
+                i = int(np.argmax(~done & (t >= limits)))
+                raise SimulationError(f"ball {ball.name}, {conditions[i]}: no separation within "
+                                      f"the time limit {limits[i]:.4g} s")
+        final = {k: np.atleast_1d(np.asarray(state[k], np.float64))
+                 for k in ("peak_force", "t_peak", "dt0", "dt", "stretch_min", "stretch_max")}
+    wall = time.perf_counter() - start
+    history = np.concatenate(rows, axis=1 if batched else 0)
+    if not batched:
+        history = history[None]
+    out = []
+    for i, c in enumerate(conditions):
+        run_frames = [(float(tf[i] if batched else tf[0]), (u[i] if batched else u).T,
+                       (v[i] if batched else v).T) for tf, u, v in frames]
+        out.append(_result(ball, target, c, history[i], {k: v[i] if batched else v[0]
+                                                          for k, v in final.items()},
+                           per_run[i], t_end[i], kernel, mesh, half, wall / len(conditions),
+                           run_frames))
+    return out
+
+
+def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh, half, wall,
+            frames) -> ObliqueResult:
+    n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
+    factor = 2.0 if half else 1.0
+    h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
+    for name in HISTORY:
+        if name.endswith("_n") or name.endswith("_j"):
+            h[name] = factor * h[name]
+    ke0 = factor * 0.5 * float(np.sum(arrays["mass_kg"] * 0))  # replaced below
+    mass = factor * float(arrays["ball_mass_kg"])
+    v, theta, w = condition.speed_m_s, math.radians(condition.angle_deg), condition.spin_rad_s
+    vx, vz = v * math.sin(theta), -v * math.cos(theta)
+    ke0 = h["kinetic_energy_j"][0] + h["internal_work_j"][0] - h["contact_work_j"][0]
+    balance = h["kinetic_energy_j"] + h["internal_work_j"] - h["contact_work_j"] - ke0
+    h["energy_balance_error"] = balance / ke0
+    h["frictional_dissipation_j"] = -h["tangential_work_j"] - h["stick_energy_j"]
+    h["viscous_dissipation_j"] = (h["internal_work_j"] - h["strain_energy_j"]
+                                  - h["bulk_viscous_dissipation_j"] - h["hourglass_energy_j"])
+    energies = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
+    energies["initial_kinetic_energy_j"] = float(ke0)
+    energies["peak_hourglass_energy_j"] = float(np.max(h["hourglass_energy_j"]))
+    vx_out, vz_out = h["centre_velocity_x_m_s"][-1], h["centre_velocity_z_m_s"][-1]
+    w_out = h["spin_y_rad_s"][-1]
+    radius = ball.outer_radius_m
+    contact_in = vx - w * radius
+    return ObliqueResult(
+        ball_name=ball.name, condition=condition, history=h,
+        normal_cor=float(vz_out / -vz),
+        tangential_cor=float(vx_out / vx) if vx != 0 else float("nan"),
+        contact_point_tangential_cor=(float(-(vx_out - w_out * radius) / contact_in)
+                                      if abs(contact_in) > 1e-9 * v else float("nan")),
+        rebound_angle_deg=float(math.degrees(math.atan2(vx_out, vz_out))),
+        rebound_spin_rad_s=float(w_out), rebound_speed_m_s=float(math.hypot(vx_out, vz_out)),
+        peak_force_n=factor * float(final["peak_force"]), time_of_peak_s=float(final["t_peak"]),
+        contact_time_s=_contact_end(h["time_s"], h["normal_force_n"]),
+        energy_balance_error=float(np.max(np.abs(balance)) / ke0), energies_j=energies,
+        stable_time_increment_s=float(final["dt0"]), final_time_increment_s=float(final["dt"]),
+        steps=n, elements=int(kernel.geom.n_elements), nodes=int(kernel.n_nodes), mass_kg=mass,
+        outer_radius_m=radius, half_model=half,
+        target="rigid plane" if target is None else target.name, wall_time_s=wall,
+        stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
+        frames=frames, mesh=mesh)
