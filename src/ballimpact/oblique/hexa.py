@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -49,7 +50,7 @@ class HexGeometry:
     group_slices: tuple[tuple[int, int], ...]
     grad_n: np.ndarray            # (8, 3, n_el) dN_a/dX_d at the centre (1/m)
     volume_m3: np.ndarray         # (n_el,)
-    hourglass_vector: np.ndarray  # (4, 8, n_el) gamma (dimensionless)
+    hourglass_moment_m: np.ndarray  # (4, 3, n_el) h . X_d, so that gamma_a = h_a - (h . X_d) b_ad
     hourglass_length_m: np.ndarray  # (n_el,) V (b : b): k_e / (scale mu)
     characteristic_length_m: np.ndarray  # (n_el,) volume / largest face area
     corner_tables: tuple          # per corner: (slots, n_nodes) elements, padded with n_el
@@ -86,7 +87,7 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
             raise ValueError("hex mesh: an element has a non-positive Jacobian")
         volume += det
         contrib += values[None] * det[:, None]
-    gamma = _MODES[None] - np.einsum("emd,ead->ema", np.einsum("ma,ead->emd", _MODES, xe), b)
+    moment = np.einsum("ma,ead->emd", _MODES, xe)
     face_area = np.stack([np.linalg.norm(np.cross(xe[:, f[2]] - xe[:, f[0]],
                                                   xe[:, f[3]] - xe[:, f[1]]), axis=1) / 2
                           for f in _FACES])
@@ -109,7 +110,7 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     geom = HexGeometry(
         nodes_m=X, elements=elements, group_slices=slices,
         grad_n=np.ascontiguousarray(b.transpose(1, 2, 0)), volume_m3=volume,
-        hourglass_vector=np.ascontiguousarray(gamma.transpose(1, 2, 0)),
+        hourglass_moment_m=np.ascontiguousarray(moment.transpose(1, 2, 0)),
         hourglass_length_m=volume * np.sum(b ** 2, axis=(1, 2)),
         characteristic_length_m=length, corner_tables=tuple(tables),
         nodal_volume_m3=nodal_volume, node_length_m=node_length)
@@ -160,17 +161,27 @@ def first_piola(F, S, cof, pressure) -> tuple:
                        + pressure * cof[i][j] for j in range(3)) for i in range(3))
 
 
-def corner_forces(geom: HexGeometry, P, u_e, hourglass_n_m):
+def corner_forces(geom: HexGeometry, P, F, u_e, hourglass_n_m):
     """Corner forces f[c][a] (n_el,) of the stress P and the hourglass springs, and the hourglass
-    energy (J, per element)."""
-    b, gamma, V = geom.grad_n, geom.hourglass_vector, geom.volume_m3
-    VP = [[P[i][j] * V for j in range(3)] for i in range(3)]
-    q = [[_corner_sum(u_e[i], gamma[m]) for m in range(4)] for i in range(3)]
+    energy (J, per element).
+
+    With gamma_a = h_a - m_d b_ad (m = h . X), the hourglass displacement is
+    q = sum_a h_a u_a - m_d (F - I)_d and its force sum_m k q_m gamma_ma: the stored geometry is
+    m (12 numbers an element) instead of gamma (32), and h is +-1."""
+    b, moment, V = geom.grad_n, geom.hourglass_moment_m, geom.volume_m3
+    signs = _MODES
+    q = [[sum(float(signs[m, a]) * u_e[i][a] for a in range(8))
+          - sum(moment[m, d] * (F[i][d] - (1.0 if i == d else 0.0)) for d in range(3))
+          for m in range(4)] for i in range(3)]
     kq = [[hourglass_n_m * q[i][m] for m in range(4)] for i in range(3)]
     energy = 0.5 * sum(kq[i][m] * q[i][m] for i in range(3) for m in range(4))
-    forces = tuple(tuple(VP[i][0] * b[a, 0] + VP[i][1] * b[a, 1] + VP[i][2] * b[a, 2]
-                         + kq[i][0] * gamma[0, a] + kq[i][1] * gamma[1, a]
-                         + kq[i][2] * gamma[2, a] + kq[i][3] * gamma[3, a]
+    # stress and hourglass moments combined per (i, d); computed once into memory (fused into
+    # each of the 24 corner forces they would be recomputed)
+    T = [[P[i][d] * V - sum(kq[i][m] * moment[m, d] for m in range(4)) for d in range(3)]
+         for i in range(3)]
+    T, kq = jax.lax.optimization_barrier((T, kq))
+    forces = tuple(tuple(T[i][0] * b[a, 0] + T[i][1] * b[a, 1] + T[i][2] * b[a, 2]
+                         + sum(float(signs[m, a]) * kq[i][m] for m in range(4))
                          for a in range(8)) for i in range(3))
     return forces, energy
 

@@ -83,8 +83,10 @@ class Kernel:
         hourglass energies (J), the bulk-viscous stress (Pa), C's eigenvalue bounds and the
         corner forces."""
         g = self.geom
-        u_e = corners(g, u)
-        F = deformation_gradient(g, u_e)
+        # corner values and F computed once into memory (XLA would recompute them in every
+        # consumer it fuses them into)
+        u_e = jax.lax.optimization_barrier(corners(g, u))
+        F = jax.lax.optimization_barrier(deformation_gradient(g, u_e))
         cof = cofactor(F)
         J = determinant(F, cof)
         C = right_cauchy_green(F)
@@ -116,8 +118,8 @@ class Kernel:
         sigma_bv = rate * (params["bv_linear_pa_s"]
                            + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
         P = first_piola(F, S, cof, sigma_bv)
-        f_e, e_hg = corner_forces(g, P, u_e, params["hourglass_n_m"])
-        f = gather_nodal(g, f_e)
+        f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"])
+        f = gather_nodal(g, jax.lax.optimization_barrier(f_e))
         Cd = jax.lax.stop_gradient(C)
         # Gershgorin bounds on C's eigenvalues: the stretch range, a diagnostic
         lam_lo = jnp.min(jnp.stack([Cd[0] - jnp.abs(Cd[3]) - jnp.abs(Cd[5]),
@@ -126,7 +128,28 @@ class Kernel:
         lam_hi = jnp.max(jnp.stack([Cd[0] + jnp.abs(Cd[3]) + jnp.abs(Cd[5]),
                                     Cd[1] + jnp.abs(Cd[3]) + jnp.abs(Cd[4]),
                                     Cd[2] + jnp.abs(Cd[4]) + jnp.abs(Cd[5])]), axis=0)
-        return (f, new_mats, J, jnp.concatenate(stored), e_hg, sigma_bv, lam_lo, lam_hi, f_e)
+        return f, new_mats, J, jnp.concatenate(stored), e_hg, sigma_bv, lam_lo, lam_hi
+
+    def cauchy_stress(self, params, u, mats):
+        """Cauchy stress (6, n_el) (Pa; xx, yy, zz, xy, yz, zx) at displacements u with the
+        Maxwell branches' overstresses of `mats` (for output)."""
+        g = self.geom
+        F = deformation_gradient(g, corners(g, u))
+        J = determinant(F, cofactor(F))
+        C = right_cauchy_green(F)
+        parts = []
+        for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params["groups"],
+                                               mats):
+            (_, s_dev), (_, s_vol) = energy_and_stress(energy, Sym(*(c[a:b] for c in C)), consts)
+            parts.append(jnp.stack(s_dev) + jnp.stack(s_vol) - jnp.sum(mat["q_dev"], axis=0)
+                         - jnp.sum(mat["q_vol"], axis=0))
+        S = jnp.concatenate(parts, axis=-1)
+        s = ((S[0], S[3], S[5]), (S[3], S[1], S[4]), (S[5], S[4], S[2]))
+        FS = [[sum(F[i][k] * s[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+        sigma = [[sum(FS[i][k] * F[j][k] for k in range(3)) / J for j in range(3)]
+                 for i in range(3)]
+        return jnp.stack([sigma[0][0], sigma[1][1], sigma[2][2], sigma[0][1], sigma[1][2],
+                          sigma[2][0]])
 
     # ---- contact -----------------------------------------------------------------------------
     def surface(self, u, v_half):
@@ -196,9 +219,8 @@ class Kernel:
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params["increment_factor"] / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
-        f_e = tuple(tuple(self.zeros(n_el) for _ in range(8)) for _ in range(3))
         return {"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
-                "x_top": x_top, "f_e": f_e, "f_contact": zeros,
+                "x_top": x_top, "f_int": zeros, "f_contact": zeros,
                 "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
                 "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
                 "sigma_bv": self.zeros(n_el),
@@ -239,23 +261,21 @@ class Kernel:
         mass = params["mass_kg"]
         v_half = state["v"] + 0.5 * dt * state["a"]
         u = state["u"] + dt * v_half
-        f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi, f_e = self.internal(
+        f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi = self.internal(
             params, u, state["mat"], state["j0"], dt)
         forces, stick, where, rel = self.contact(params, u, v_half, state["stick"], dt)
         f_contact = self.nodal_contact(forces, where)
         a = (f_contact - f_int) / mass * self.free_dof
         v = v_half + 0.5 * dt * a
         du = u - state["u"]
-        new_u, old_u = corners(g, u), corners(g, state["u"])
-        work_e = 0.5 * sum((state["f_e"][c][k] + f_e[c][k]) * (new_u[c][k] - old_u[c][k])
-                           for c in range(3) for k in range(8))
         bv_e = 0.5 * (state["sigma_bv"] + sigma_bv) * (J - state["j0"]) * g.volume_m3
-        stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
+        stored, e_hg, dd_bv = jnp.sum(jnp.stack([stored, e_hg, bv_e]), axis=1)
         k_t = params["stick_n_m"]
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
-        kinetic, dw_contact = jnp.sum(jnp.stack([
+        kinetic, dw_int, dw_contact = jnp.sum(jnp.stack([
             0.5 * mass * jnp.sum(v * v, axis=0),
+            jnp.sum(0.5 * (state["f_int"] + f_int) * du, axis=0),
             jnp.sum(0.5 * (state["f_contact"] + f_contact) * du, axis=0)]), axis=1)
         dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted = jnp.sum(jnp.stack([
             0.5 * jnp.sum((state["f_tangential"] + forces[:2]) * du_t, axis=0),
@@ -278,7 +298,7 @@ class Kernel:
         energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
         slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
         new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
-               "x_top": state["x_top"], "f_e": f_e, "f_contact": f_contact,
+               "x_top": state["x_top"], "f_int": f_int, "f_contact": f_contact,
                "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
                "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact,
                "w_tangential": w_tangential, "d_bv": d_bv,

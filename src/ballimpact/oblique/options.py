@@ -70,7 +70,7 @@ class Options3D:
     precision: str = "float64"
     end_margin: float = 0.25
     time_limit_s: float | None = None
-    chunk_steps: int = 100
+    chunk_steps: int = 200
     frames: int = 0
 
     def __post_init__(self) -> None:

@@ -64,7 +64,8 @@ class ObliqueResult:
     target: str
     wall_time_s: float
     stretch_range: tuple[float, float]
-    frames: list = field(default_factory=list, repr=False)   # (t_s, u (n_nodes, 3), v)
+    frames: list = field(default_factory=list, repr=False)   # `_frame` dicts (single runs)
+    geometry: Any = field(default=None, repr=False)           # the kernel's `HexGeometry`
     mesh: HexMesh | None = field(default=None, repr=False)
 
     @property
@@ -251,10 +252,8 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
             state, chunk_rows = chunk_fn(params, state)
             n_chunks += 1
             rows.append(np.asarray(chunk_rows, np.float64))
-            if options.frames and n_chunks % options.frames == 0:
-                frames.append((np.atleast_1d(np.asarray(state["t"], np.float64)),
-                               np.asarray(state["u"], np.float64),
-                               np.asarray(state["v"], np.float64)))
+            if options.frames and not batched and n_chunks % options.frames == 0:
+                frames.append(_frame(kernel, params, state))
             flags = {k: np.atleast_1d(np.asarray(state[k], np.float64))
                      for k in ("t", "t_bad", "t_energy", "t_start", "t_separation")}
             t, t_sep = flags["t"], flags["t_separation"]
@@ -288,13 +287,26 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
         history = history[None]
     out = []
     for i, c in enumerate(conditions):
-        run_frames = [(float(tf[i] if batched else tf[0]), (u[i] if batched else u).T,
-                       (v[i] if batched else v).T) for tf, u, v in frames]
+        run_frames = frames if not batched else []
         out.append(_result(ball, target, c, history[i], {k: v[i] if batched else v[0]
                                                           for k, v in final.items()},
                            per_run[i], t_end[i], kernel, mesh, half, wall / len(conditions),
                            run_frames))
     return out
+
+
+def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
+    """A snapshot for output (one run): time (s), displacement and velocity (3, n_nodes), Cauchy
+    stress (6, n_el; xx, yy, zz, xy, yz, zx, elements sorted by group) and contact forces
+    (3, n_nodes)."""
+    key = ("stress", id(kernel))
+    if key not in _COMPILED:
+        _COMPILED[key] = jax.jit(kernel.cauchy_stress)
+    return {"time_s": float(state["t"]),
+            "displacement_m": np.asarray(state["u"], np.float64),
+            "velocity_m_s": np.asarray(state["v"], np.float64),
+            "stress_pa": np.asarray(_COMPILED[key](params, state["u"], state["mat"]), np.float64),
+            "contact_force_n": np.asarray(state["f_contact"], np.float64)}
 
 
 def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh, half, wall,
@@ -338,4 +350,4 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         outer_radius_m=radius, half_model=half,
         target="rigid plane" if target is None else target.name, wall_time_s=wall,
         stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
-        frames=frames, mesh=mesh)
+        frames=frames, mesh=mesh, geometry=kernel.geom)

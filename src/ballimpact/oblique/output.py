@@ -1,0 +1,174 @@
+"""Output of 3D runs for viewing: an XDMF time series (ParaView) written with meshio, and an
+animation (GIF, or MP4 where ffmpeg is installed) of the mid-plane section y = 0.
+
+Fields: point data `displacement_m`, `velocity_m_s`, `contact_force_n` and `contact_pressure_pa`
+(normal contact force over the node's share of the surface); cell data `stress_pa` (Cauchy:
+xx, yy, zz, xy, yz, zx), `von_mises_pa`, `pressure_pa` and `group` (ball layers, then target
+layers). A half model is written as it is (ParaView's Reflect filter mirrors it about y = 0).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from .hexa import _FACES
+
+
+def _need_frames(result) -> None:
+    if not result.frames:
+        raise InputError("no frames were kept: run with Options3D(frames=N) (N >= 1)")
+
+
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """Von Mises stress of (6, n) Cauchy components (Pa)."""
+    xx, yy, zz, xy, yz, zx = stress
+    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2)
+                   + 3.0 * (xy ** 2 + yz ** 2 + zx ** 2))
+
+
+def _surface_quads(elements: np.ndarray, node_set: np.ndarray) -> np.ndarray:
+    """Element faces (n, 4) whose four nodes are all in `node_set` (bool per node)."""
+    faces = np.concatenate([elements[:, list(f)] for f in _FACES])
+    return faces[np.all(node_set[faces], axis=1)]
+
+
+def tributary_area_m2(nodes: np.ndarray, elements: np.ndarray, surface: np.ndarray) -> np.ndarray:
+    """Each node's quarter share of the areas of the surface faces around it (m^2)."""
+    mask = np.zeros(len(nodes), bool)
+    mask[surface] = True
+    quads = _surface_quads(elements, mask)
+    x = nodes[quads]
+    area = 0.5 * np.linalg.norm(np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]), axis=1)
+    out = np.zeros(len(nodes))
+    np.add.at(out, quads.reshape(-1), np.repeat(area / 4.0, 4))
+    return out
+
+
+def write_xdmf(result, path) -> Path:
+    """The kept frames as an XDMF time series (XML data, one file)."""
+    import meshio
+
+    _need_frames(result)
+    path = Path(path)
+    geom = result.geometry
+    nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
+    area = tributary_area_m2(nodes, elements, result.mesh.contact_nodes)
+    group = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.group_slices)])
+    factor = 1.0  # forces are per node of the model as run
+    with meshio.xdmf.TimeSeriesWriter(str(path), data_format="XML") as writer:
+        writer.write_points_cells(nodes, [("hexahedron", elements)])
+        for frame in result.frames:
+            force = frame["contact_force_n"].T * factor
+            pressure = np.where(area > 0, np.abs(force[:, 2]) / np.where(area > 0, area, 1.0), 0.0)
+            stress = frame["stress_pa"]
+            writer.write_data(frame["time_s"], point_data={
+                "displacement_m": frame["displacement_m"].T,
+                "velocity_m_s": frame["velocity_m_s"].T, "contact_force_n": force,
+                "contact_pressure_pa": pressure},
+                cell_data={"stress_pa": [stress.T], "von_mises_pa": [von_mises(stress)],
+                           "pressure_pa": [-(stress[0] + stress[1] + stress[2]) / 3.0],
+                           "group": [group.astype(float)]})
+    return path
+
+
+def _section(result):
+    """Faces of the mid-plane y = 0 (n, 4) and the element each belongs to."""
+    geom = result.geometry
+    nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
+    on_plane = np.abs(nodes[:, 1]) < 1e-9 * result.outer_radius_m
+    faces, owners = [], []
+    for f in _FACES:
+        quad = elements[:, list(f)]
+        keep = np.all(on_plane[quad], axis=1)
+        faces.append(quad[keep])
+        owners.append(np.flatnonzero(keep))
+    return np.concatenate(faces), np.concatenate(owners)
+
+
+def _draw(ax, result, frame, faces, owners, norm):
+    from matplotlib.collections import PolyCollection
+
+    nodes = np.asarray(result.geometry.nodes_m, float)
+    x = nodes + frame["displacement_m"].T
+    polys = x[faces][:, :, [0, 2]] * 1e3
+    mises = von_mises(frame["stress_pa"])[owners] / 1e6
+    coll = PolyCollection(polys, array=mises, cmap="viridis", norm=norm, edgecolors="k",
+                          linewidths=0.15)
+    ax.add_collection(coll)
+    return coll
+
+
+def section_figure(result, frame_index: int = -1, path=None):
+    """The mid-plane section of one frame, coloured by von Mises stress (MPa); PNG if `path`."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import Normalize
+
+    _need_frames(result)
+    faces, owners = _section(result)
+    frame = result.frames[frame_index]
+    peak = max(np.max(von_mises(f["stress_pa"])) for f in result.frames) / 1e6
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    coll = _draw(ax, result, frame, faces, owners, Normalize(0, peak))
+    _frame_axes(ax, result, frame["time_s"])
+    fig.colorbar(coll, ax=ax, label="von Mises stress (MPa)")
+    if path is not None:
+        fig.savefig(path, dpi=120, bbox_inches="tight")
+        plt.close(fig)
+    return fig
+
+
+def _frame_axes(ax, result, t):
+    r = result.outer_radius_m * 1e3
+    c = result.condition
+    ax.axhline(0.0, color="0.3", lw=1.5)
+    ax.set_xlim(-1.6 * r, 2.6 * r)
+    ax.set_ylim(-0.4 * r, 2.3 * r)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("z (mm)")
+    ax.set_title(f"{c.speed_m_s:g} m/s at {c.angle_deg:g} deg, "
+                 f"mu {c.friction:g}; t = {t * 1e3:.3f} ms", fontsize=9)
+
+
+def animate_section(result, path, fps: int = 12) -> Path:
+    """An animation of the mid-plane section over the kept frames: GIF, or MP4 (ffmpeg)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+    from matplotlib.colors import Normalize
+
+    _need_frames(result)
+    path = Path(path)
+    if path.suffix.lower() not in (".gif", ".mp4"):
+        raise InputError(f"--animate {path}: the file must end in .gif or .mp4")
+    faces, owners = _section(result)
+    peak = max(np.max(von_mises(f["stress_pa"])) for f in result.frames) / 1e6
+    norm = Normalize(0, peak)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    coll = _draw(ax, result, result.frames[0], faces, owners, norm)
+    fig.colorbar(coll, ax=ax, label="von Mises stress (MPa)")
+
+    def update(i):
+        for artist in list(ax.collections):
+            artist.remove()
+        _draw(ax, result, result.frames[i], faces, owners, norm)
+        _frame_axes(ax, result, result.frames[i]["time_s"])
+        return ax.collections
+
+    anim = animation.FuncAnimation(fig, update, frames=len(result.frames), blit=False)
+    if path.suffix.lower() == ".gif":
+        anim.save(path, writer=animation.PillowWriter(fps=fps), dpi=80)
+    else:
+        if not animation.FFMpegWriter.isAvailable():
+            raise InputError(f"--animate {path}: MP4 needs ffmpeg; write a .gif instead")
+        anim.save(path, writer=animation.FFMpegWriter(fps=fps), dpi=100)
+    plt.close(fig)
+    return path
