@@ -27,20 +27,47 @@ class SolverDefaults:
 
 def add_parser(verbs) -> None:
     simulate = verbs.add_parser(
-        "simulate", help="FE normal impact of a ball on a rigid plane",
-        description="Explicit FE (axisymmetric, F-bar quads, hyper-viscoelastic layers, penalty "
-                    "contact) of a ball hitting a rigid flat surface at normal incidence: "
-                    "contact force history, COR, contact time, energies and the 19 features.")
+        "simulate", help="FE impact of a ball on a flat surface (normal: axisymmetric; oblique, "
+                         "spin, targets: 3d)",
+        description="Explicit FE (hyper-viscoelastic layers, penalty contact) of a ball hitting a "
+                    "flat surface: contact force history, COR, contact time, energies and the 19 "
+                    "features. --solver axisymmetric (default) runs normal impacts on a rigid "
+                    "plane; --solver 3d runs oblique impacts with Coulomb friction and spin, on a "
+                    "rigid plane or a deformable slab (--target), and adds normal_cor, "
+                    "tangential_cor, rebound_angle_deg and rebound_spin_rad_s.")
     simulate.add_argument("--ball", required=True,
                           help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
     simulate.add_argument("--speed-m-s", type=float, required=True, help="impact speed (m/s)")
     simulate.add_argument("--angle-deg", type=float, default=0.0,
-                          help="angle from the surface normal (deg); only 0 so far")
-    simulate.add_argument("--spin-rad-s", type=float, default=0.0, help="spin (rad/s); only 0 so far")
+                          help="angle of the incoming velocity from the surface normal (deg; "
+                               "3d solver)")
+    simulate.add_argument("--spin-rad-s", type=float, default=0.0,
+                          help="spin about the axis parallel to the surface and normal to the "
+                               "incoming tangential velocity (rad/s; + topspin; 3d solver)")
     simulate.add_argument("--friction", type=float, default=0.0,
-                          help="Coulomb coefficient (irrelevant at normal incidence)")
-    simulate.add_argument("--solver", default="axisymmetric", help="axisymmetric (3d: not yet)")
+                          help="Coulomb coefficient (3d solver; irrelevant at normal incidence)")
+    simulate.add_argument("--solver", choices=("axisymmetric", "3d"), default="axisymmetric",
+                          help="axisymmetric (normal impacts, default) or 3d (hexahedra)")
     add_solver_options(simulate)
+    three = simulate.add_argument_group("3d solver")
+    three.add_argument("--target", type=Path,
+                       help="deformable slab specification (JSON; default: a rigid plane)")
+    three.add_argument("--divisions", type=int, default=16,
+                       help="hexahedra along each 90 degrees of arc (even; default 16)")
+    three.add_argument("--pole-grading", type=float, default=2.0,
+                       help="arc spacing at the equator over that at the contact pole "
+                            "(default 2)")
+    three.add_argument("--full-model", action="store_true",
+                       help="mesh the whole ball (default: the half on the plane of incidence)")
+    three.add_argument("--stick-scale", type=float, default=1.0,
+                       help="friction stick-spring stiffness over the normal penalty (default 1)")
+    three.add_argument("--vtk", type=Path,
+                       help="write a time series for ParaView: FILE.pvd (binary .vtu files "
+                            "beside it) or FILE.xdmf; displacement, velocity, stresses, contact "
+                            "pressure")
+    three.add_argument("--animate", type=Path,
+                       help="write an animation (.gif, or .mp4 with ffmpeg) of the mid-plane "
+                            "section")
     simulate.add_argument("--moduli", help="override the balls' moduli convention: long_term or "
                                            "instantaneous")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
@@ -148,14 +175,16 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
 
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
-    if args.solver != "axisymmetric":
-        raise InputError(f"--solver {args.solver}: only 'axisymmetric' is available so far")
-    for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s)):
-        if value != 0.0:
-            raise InputError(f"{flag} = {value:g}: oblique and spinning impacts need the 3D "
-                             "solver, not available yet; only 0 is allowed")
     if not (math.isfinite(args.friction) and args.friction >= 0):
         raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    if args.solver == "3d":
+        return _run_simulate_3d(args)
+    for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s),
+                        ("--target", args.target), ("--vtk", args.vtk),
+                        ("--animate", args.animate)):
+        if value:
+            raise InputError(f"{flag}: oblique and spinning impacts, targets and 3D output need "
+                             "--solver 3d")
     use_compilation_cache()
     ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
     if args.moduli is not None:
@@ -191,6 +220,95 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
         print(f"  {result.elements} elements, {result.steps} steps of "
               f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
     return out
+
+
+#: frames kept for --vtk / --animate (about this many over a run)
+ANIMATION_FRAMES = 40
+
+
+def _run_simulate_3d(args: argparse.Namespace) -> dict[str, Any]:
+    import numpy as np
+
+    from ..fe import load_ball
+    from ..features import extract_features
+    from ..oblique import ImpactCondition, Options3D, load_target, simulate_oblique
+    from ..oblique.output import animate_section, write_series
+    from ..oblique.plots import plot_oblique
+
+    check_plot_path(args.plot)
+    check_output_folder(args.csv, "--csv")
+    check_output_folder(args.vtk, "--vtk")
+    if args.vtk is not None and args.vtk.suffix.lower() not in (".pvd", ".xdmf"):
+        raise InputError(f"--vtk {args.vtk}: the file must end in .pvd or .xdmf")
+    check_output_folder(args.animate, "--animate")
+    if args.animate is not None and args.animate.suffix.lower() not in (".gif", ".mp4"):
+        raise InputError(f"--animate {args.animate}: the file must end in .gif or .mp4")
+    condition = ImpactCondition(speed_m_s=args.speed_m_s, angle_deg=args.angle_deg,
+                                spin_rad_s=args.spin_rad_s, friction=args.friction)
+    target = load_target(args.target) if args.target is not None else None
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    if args.moduli is not None:
+        ball = ball.with_moduli(args.moduli)
+    want_frames = args.vtk is not None or args.animate is not None
+    options = Options3D(divisions=args.divisions, pole_grading=args.pole_grading,
+                        half=not args.full_model, penalty_scale=args.penalty_scale,
+                        stick_scale=args.stick_scale, precision=args.precision,
+                        chunk_steps=50 if want_frames else 200, frames=1 if want_frames else 0)
+    use_compilation_cache()
+    print(f"simulating {ball.name} in 3D at {condition.speed_m_s:g} m/s, "
+          f"{condition.angle_deg:g} deg ...", file=sys.stderr, flush=True)
+    result = simulate_oblique(ball, condition, options, target=target,
+                              progress=_progress_printer())
+    if want_frames and len(result.frames) > ANIMATION_FRAMES:
+        keep = np.unique(np.linspace(0, len(result.frames) - 1, ANIMATION_FRAMES).astype(int))
+        result.frames[:] = [result.frames[i] for i in keep]
+    out = result.summary()
+    out["features"] = extract_features(result.record()).to_dict()["features"]
+    out["materials"] = ball.to_dict()
+    if target is not None:
+        out["target_specification"] = target.to_dict()
+    if args.csv is not None:
+        names = list(result.history)
+        np.savetxt(args.csv, np.column_stack([result.history[n] for n in names]),
+                   delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+        out["csv"] = str(args.csv)
+    if args.vtk is not None:
+        out["vtk"] = str(write_series(result, args.vtk))
+    if args.animate is not None:
+        out["animation"] = str(animate_section(result, args.animate))
+    if args.plot is not None:
+        plot_oblique([result], args.plot)
+        out["plot"] = str(args.plot)
+    if not args.json:
+        print(f"{result.ball_name} in 3D at {condition.speed_m_s:g} m/s, "
+              f"{condition.angle_deg:g} deg, spin {condition.spin_rad_s:g} rad/s, friction "
+              f"{condition.friction:g} on {result.target}:")
+        print(f"  normal COR {result.normal_cor:.4f}, tangential COR {result.tangential_cor:.4f}, "
+              f"rebound angle {result.rebound_angle_deg:.2f} deg, rebound spin "
+              f"{result.rebound_spin_rad_s:.1f} rad/s, rebound speed "
+              f"{result.rebound_speed_m_s:.3f} m/s")
+        print(f"  peak normal force {result.peak_force_n:.5g} N, contact time "
+              f"{result.contact_time_s * 1e3:.4g} ms")
+        e = result.energies_j
+        print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
+              f"{e['viscous_dissipation_j']:.4g} J, friction {e['frictional_dissipation_j']:.4g} J,"
+              f" bulk viscous {e['bulk_viscous_dissipation_j']:.4g} J of "
+              f"{e['initial_kinetic_energy_j']:.4g} J")
+        print(f"  {result.elements} hexahedra ({'half' if result.half_model else 'full'} model), "
+              f"{result.steps} steps of {result.stable_time_increment_s:.3g} s, "
+              f"{result.wall_time_s:.2f} s wall")
+    return out
+
+
+def _progress_printer():
+    last = [0.0]
+
+    def report(t_s: float) -> None:
+        now = time.perf_counter()
+        if now - last[0] > 5.0:
+            last[0] = now
+            print(f"  t = {t_s * 1e3:.3f} ms", file=sys.stderr, flush=True)
+    return report
 
 
 def run_balls(args: argparse.Namespace) -> dict[str, Any]:

@@ -1,5 +1,7 @@
-"""Output of 3D runs for viewing: an XDMF time series (ParaView) written with meshio, and an
-animation (GIF, or MP4 where ffmpeg is installed) of the mid-plane section y = 0.
+"""Output of 3D runs for viewing: a time series written with meshio (ParaView opens both kinds:
+`.pvd`, one compressed binary `.vtu` per frame and an index; or `.xdmf`, one file, with HDF5 data
+where h5py is installed, XML otherwise), and an animation (GIF, or MP4 where ffmpeg is installed)
+of the mid-plane section y = 0.
 
 Fields: point data `displacement_m`, `velocity_m_s`, `contact_force_n` and `contact_pressure_pa`
 (normal contact force over the node's share of the surface); cell data `stress_pa` (Cauchy:
@@ -47,30 +49,55 @@ def tributary_area_m2(nodes: np.ndarray, elements: np.ndarray, surface: np.ndarr
     return out
 
 
-def write_xdmf(result, path) -> Path:
-    """The kept frames as an XDMF time series (XML data, one file)."""
-    import meshio
-
-    _need_frames(result)
-    path = Path(path)
+def _frame_data(result):
+    """Per frame: time, point data and cell data (see the module docstring)."""
     geom = result.geometry
     nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
     area = tributary_area_m2(nodes, elements, result.mesh.contact_nodes)
     group = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.group_slices)])
-    factor = 1.0  # forces are per node of the model as run
-    with meshio.xdmf.TimeSeriesWriter(str(path), data_format="XML") as writer:
-        writer.write_points_cells(nodes, [("hexahedron", elements)])
-        for frame in result.frames:
-            force = frame["contact_force_n"].T * factor
-            pressure = np.where(area > 0, np.abs(force[:, 2]) / np.where(area > 0, area, 1.0), 0.0)
-            stress = frame["stress_pa"]
-            writer.write_data(frame["time_s"], point_data={
-                "displacement_m": frame["displacement_m"].T,
-                "velocity_m_s": frame["velocity_m_s"].T, "contact_force_n": force,
-                "contact_pressure_pa": pressure},
-                cell_data={"stress_pa": [stress.T], "von_mises_pa": [von_mises(stress)],
-                           "pressure_pa": [-(stress[0] + stress[1] + stress[2]) / 3.0],
-                           "group": [group.astype(float)]})
+    for frame in result.frames:
+        force = frame["contact_force_n"].T
+        pressure = np.where(area > 0, np.abs(force[:, 2]) / np.where(area > 0, area, 1.0), 0.0)
+        stress = frame["stress_pa"]
+        yield frame["time_s"], {
+            "displacement_m": frame["displacement_m"].T, "velocity_m_s": frame["velocity_m_s"].T,
+            "contact_force_n": force, "contact_pressure_pa": pressure}, {
+            "stress_pa": [stress.T], "von_mises_pa": [von_mises(stress)],
+            "pressure_pa": [-(stress[0] + stress[1] + stress[2]) / 3.0],
+            "group": [group.astype(float)]}
+
+
+def write_series(result, path) -> Path:
+    """The kept frames as a time series: `.pvd` (with `.vtu` files beside it, named after it)
+    or `.xdmf`."""
+    import meshio
+
+    _need_frames(result)
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".pvd", ".xdmf"):
+        raise InputError(f"--vtk {path}: the file must end in .pvd or .xdmf")
+    geom = result.geometry
+    points, cells = np.asarray(geom.nodes_m, float), [("hexahedron", np.asarray(geom.elements))]
+    if suffix == ".xdmf":
+        try:
+            import h5py  # noqa: F401
+            data_format = "HDF"
+        except ImportError:
+            data_format = "XML"
+        with meshio.xdmf.TimeSeriesWriter(str(path), data_format=data_format) as writer:
+            writer.write_points_cells(points, cells)
+            for t, point_data, cell_data in _frame_data(result):
+                writer.write_data(t, point_data=point_data, cell_data=cell_data)
+        return path
+    entries = []
+    for i, (t, point_data, cell_data) in enumerate(_frame_data(result)):
+        name = f"{path.stem}_{i:04d}.vtu"
+        meshio.write(path.parent / name, meshio.Mesh(points, cells, point_data=point_data,
+                                                     cell_data=cell_data), binary=True)
+        entries.append(f'    <DataSet timestep="{t:.9g}" part="0" file="{name}"/>')
+    path.write_text('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1">\n'
+                    "  <Collection>\n" + "\n".join(entries) + "\n  </Collection>\n</VTKFile>\n")
     return path
 
 
