@@ -162,15 +162,15 @@ class Kernel:
         if self.target is None:
             return x[2], vel, None
         t = self.target
-        xs, ys = t["x_m"], t["y_m"]
+        xs, ys = jnp.asarray(t["x_m"]), jnp.asarray(t["y_m"])
         i = jnp.clip(jnp.searchsorted(xs, x[0]) - 1, 0, len(xs) - 2)
         j = jnp.clip(jnp.searchsorted(ys, x[1]) - 1, 0, len(ys) - 2)
         xi = jnp.clip((x[0] - xs[i]) / (xs[i + 1] - xs[i]), 0.0, 1.0)
         eta = jnp.clip((x[1] - ys[j]) / (ys[j + 1] - ys[j]), 0.0, 1.0)
-        top = t["top"]
+        top = jnp.asarray(t["top"])
         ids = jnp.stack([top[i, j], top[i + 1, j], top[i + 1, j + 1], top[i, j + 1]])
         w = jnp.stack([(1 - xi) * (1 - eta), xi * (1 - eta), xi * eta, (1 - xi) * eta])
-        z_surface = jnp.sum(w * (self.geom.nodes_m[ids, 2] + u[2][ids]), axis=0)
+        z_surface = jnp.sum(w * (jnp.asarray(self.geom.nodes_m[:, 2])[ids] + u[2][ids]), axis=0)
         v_surface = jnp.sum(w[None] * v_half[:, ids], axis=1)
         return x[2] - z_surface, vel - v_surface, (ids, w)
 
