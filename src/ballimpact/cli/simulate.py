@@ -59,8 +59,8 @@ def add_parser(verbs) -> None:
                             "(default 2)")
     three.add_argument("--full-model", action="store_true",
                        help="mesh the whole ball (default: the half on the plane of incidence)")
-    three.add_argument("--stick-scale", type=float, default=1.0,
-                       help="friction stick-spring stiffness over the normal penalty (default 1)")
+    three.add_argument("--stick-scale", type=float, default=8.0,
+                       help="friction stick-spring stiffness over the normal penalty (default 8)")
     three.add_argument("--vtk", type=Path,
                        help="write a time series for ParaView: FILE.pvd (binary .vtu files "
                             "beside it) or FILE.xdmf; displacement, velocity, stresses, contact "

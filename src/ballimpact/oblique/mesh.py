@@ -3,10 +3,11 @@ cubed-sphere blocks) and a flat target slab.
 
 Ball layout. Directions come from the equiangular cubed sphere: on the face of axis k and sign s,
 the ray through the angles (g_i, g_j) points along c = (tan g_i, tan g_j, s) (components in the
-order k+1, k+2, k). The central cube of half side a has its nodes at a (tan g_i, tan g_j, tan g_k),
-so its faces match the blocks. Each block holds levels of nodes along the rays: level 0 on the cube
-face (a c), then levels interpolated along each ray between the cube face and the sphere of
-radius r_b (distance (1 - s) a |c| + s r_b), then spheres at radii that include every layer radius, so layers share their interface nodes.
+order k+1, k+2, k). The central cube of half side a is a uniform grid (its cells would otherwise be
+the smallest of the mesh and set the stable increment). Each block holds levels of nodes: level 0
+on the cube face, a (2i/n - 1, 2j/n - 1, s), then levels interpolated in space between that point
+and the point r_b c/|c| on the sphere of radius r_b, then spheres at radii that include every
+layer radius, so layers share their interface nodes.
 The angles g crowd toward 0 (a geometric grading, `pole_grading` = largest over smallest spacing)
 so the contact region around the south pole (0, 0, -R) is finer; radial spacing shrinks toward the
 surface. The ball is placed with its south pole on z = 0.
@@ -31,7 +32,7 @@ HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
 #: the cube's half side over the blend radius r_b: its corners sit at 0.78 r_b
 CUBE_FRACTION = 0.45
 #: the blend radius r_b over the innermost layer radius and over the outer radius (the smaller)
-BLEND_OF_INNERMOST, BLEND_OF_OUTER = 0.9, 0.6
+BLEND_OF_INNERMOST, BLEND_OF_OUTER = 0.9, 0.7
 BLEND_LEVELS = 3
 #: radial growth of the shell thickness inward from the surface
 RADIAL_GROWTH = 1.15
@@ -144,25 +145,28 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
     r_blend = min(BLEND_OF_INNERMOST * radii[0], BLEND_OF_OUTER * outer)
     a = CUBE_FRACTION * r_blend
     spheres = _radial_levels(radii, r_blend, surface_thickness_m, np.max(np.diff(g)))
-    # per level: distance along a ray = cube_part x a |c| + sphere_part (m)
+    # per level: point = cube_part x (its cube-face point) + radius x c / |c|
     s = np.arange(BLEND_LEVELS) / BLEND_LEVELS
     cube_part = np.concatenate([1.0 - s, np.zeros(len(spheres))])
-    sphere_part = np.concatenate([s * r_blend, spheres])
+    level_radius = np.concatenate([s * r_blend, spheres])
+    uniform = np.linspace(-1.0, 1.0, divisions + 1)
 
     node_blocks, element_blocks, offset = [], [], 0
-    ti, tj, tk = np.meshgrid(t, t, t, indexing="ij")
+    ti, tj, tk = np.meshgrid(uniform, uniform, uniform, indexing="ij")
     node_blocks.append(a * np.stack([ti, tj, tk], axis=-1).reshape(-1, 3))
     n1 = divisions + 1
     element_blocks.append(_hexes(np.arange(n1 ** 3).reshape(n1, n1, n1)))
     offset = n1 ** 3
     ci, cj = np.meshgrid(t, t, indexing="ij")
+    ui, uj = np.meshgrid(uniform, uniform, indexing="ij")
     for axis in range(3):
         for sign in (-1.0, 1.0):
-            c = np.zeros((n1, n1, 3))
+            c, face = np.zeros((n1, n1, 3)), np.zeros((n1, n1, 3))
             c[..., (axis + 1) % 3], c[..., (axis + 2) % 3], c[..., axis] = ci, cj, sign
-            length = np.linalg.norm(c, axis=-1, keepdims=True)
-            distance = cube_part * a * length + sphere_part       # (n1, n1, levels)
-            pts = distance[..., None] * (c / length)[:, :, None]
+            face[..., (axis + 1) % 3], face[..., (axis + 2) % 3], face[..., axis] = ui, uj, sign
+            unit = c / np.linalg.norm(c, axis=-1, keepdims=True)
+            pts = (cube_part[None, None, :, None] * a * face[:, :, None]
+                   + level_radius[None, None, :, None] * unit[:, :, None])
             node_blocks.append(pts.reshape(-1, 3))
             ids = offset + np.arange(pts.shape[0] * pts.shape[1] * pts.shape[2]).reshape(
                 pts.shape[:3])

@@ -63,7 +63,7 @@ class Options3D:
     bulk_viscosity_linear: float = 0.06
     bulk_viscosity_quadratic: float = 1.2
     penalty_scale: float = 1.0
-    stick_scale: float = 1.0
+    stick_scale: float = 8.0
     contact_damping: float = 0.0
     time_step_scale: float = 0.8
     energy_error_limit: float = 0.05
