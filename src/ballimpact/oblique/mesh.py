@@ -118,6 +118,27 @@ def _oriented(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
     return elements
 
 
+def _morton_order(points: np.ndarray) -> np.ndarray:
+    """Indices that sort points along a Z-order curve (10 bits an axis): neighbours in space end
+    up close in memory, which keeps the step's gathers in cache."""
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    cells = np.clip(((points - lo) / np.maximum(hi - lo, 1e-300) * 1023).astype(np.int64), 0, 1023)
+    code = np.zeros(len(points), np.int64)
+    for bit in range(10):
+        for axis in range(3):
+            code |= ((cells[:, axis] >> bit) & 1) << (3 * bit + axis)
+    return np.argsort(code, kind="stable")
+
+
+def _spatially_ordered(nodes: np.ndarray, elements: np.ndarray):
+    """Nodes and elements renumbered along a Z-order curve."""
+    order = _morton_order(nodes)
+    renumber = np.empty(len(nodes), np.int64)
+    renumber[order] = np.arange(len(nodes))
+    elements = renumber[elements]
+    return nodes[order], elements[_morton_order(nodes[order][elements].mean(axis=1))]
+
+
 def _merge(nodes: np.ndarray, elements: np.ndarray, scale: float):
     key = np.round(nodes / (scale * 1e-9)).astype(np.int64)
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
@@ -181,6 +202,8 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
         renumber = np.full(len(nodes), -1)
         renumber[used] = np.arange(len(used))
         nodes, elements = nodes[used], renumber[elements]
+    nodes, elements = _spatially_ordered(nodes, elements)
+    centroid = nodes[elements].mean(axis=1)
     group = np.searchsorted(radii, np.linalg.norm(centroid, axis=1))
     nodes = nodes + np.array([0.0, 0.0, outer])          # south pole on z = 0
     elements = _oriented(nodes, elements)
