@@ -227,18 +227,18 @@ def test_half_model_equals_full_model():
     full = simulate_oblique(ball, condition, Options3D(divisions=8, half=False))
     for name in ("normal_cor", "tangential_cor", "rebound_spin_rad_s", "peak_force_n",
                  "contact_time_s"):
-        # equal to round-off and the stable increment (found for each mesh by Lanczos)
-        assert getattr(half, name) == pytest.approx(getattr(full, name), rel=1e-4), name
+        # equal but for the stable increment (found for each mesh by Lanczos; 2e-4 apart)
+        assert getattr(half, name) == pytest.approx(getattr(full, name), rel=1e-3), name
     assert abs(full.history["spin_x_rad_s"][-1]) < 1e-6 * abs(full.rebound_spin_rad_s)
 
 
 def test_without_friction_tangential_motion_and_spin_are_kept():
     condition = ImpactCondition(5.0, 45.0, -80.0, 0.0)
-    r = simulate_oblique(_ball(), condition, COARSE)
+    r = simulate_oblique(_ball(), condition, Options3D(divisions=12))
     assert r.tangential_cor == pytest.approx(1.0, abs=1e-9)
-    # the contact patch of a few nodes on this coarse mesh exerts a small torque as the ball
-    # turns (2.8% here, 0.8% at 12 divisions, 0.3% at 16 graded by 3)
-    assert r.rebound_spin_rad_s == pytest.approx(-80.0, rel=0.04)
+    # the contact patch of a few nodes exerts a small torque as the ball turns: 5.7% at 8
+    # divisions, 0.9% at 12, 0.01% at 16 graded by 3
+    assert r.rebound_spin_rad_s == pytest.approx(-80.0, rel=0.015)
     assert r.history["spin_y_rad_s"][0] == pytest.approx(-80.0, rel=1e-3)
     assert r.energies_j["frictional_dissipation_j"] == pytest.approx(0.0, abs=1e-12)
 
