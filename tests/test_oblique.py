@@ -243,6 +243,22 @@ def test_without_friction_tangential_motion_and_spin_are_kept():
     assert r.energies_j["frictional_dissipation_j"] == pytest.approx(0.0, abs=1e-12)
 
 
+def test_out_of_plane_spin_slides_sideways_as_a_rigid_body():
+    """Normal incidence with fast spin about x (the full model): the contact point slides along
+    y throughout, so friction takes mu (1 + e_n) v_n of lateral speed and 2.5 times that of
+    w_x R (rigid body), and a spin about the normal is kept without friction."""
+    v_n, spin, mu = 2.0, 600.0, 0.1
+    r = simulate_oblique(_ball(), ImpactCondition(v_n, 0.0, 0.0, mu, spin_x_rad_s=spin), COARSE)
+    assert not r.half_model
+    impulse = mu * (1 + r.normal_cor) * v_n
+    assert -r.history["centre_velocity_y_m_s"][-1] == pytest.approx(impulse, rel=0.02)
+    assert (spin - r.history["spin_x_rad_s"][-1]) * R == pytest.approx(2.5 * impulse, rel=0.05)
+    assert abs(r.history["centre_velocity_x_m_s"][-1]) < 1e-6 * v_n
+    with pytest.raises(InputError, match="full model"):
+        simulate_oblique(_ball(), ImpactCondition(2.0, spin_z_rad_s=10.0),
+                         Options3D(divisions=8, half=True))
+
+
 def test_results_insensitive_to_the_stick_regularisation():
     """Halving and doubling the stick-spring stiffness (default 8) changes spin and tangential
     COR < 2%, for the stiff sphere gripping the surface (where the tangential compliance

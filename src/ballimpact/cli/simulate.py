@@ -50,6 +50,11 @@ def add_parser(verbs) -> None:
                           help="axisymmetric (normal impacts, default) or 3d (hexahedra)")
     add_solver_options(simulate)
     three = simulate.add_argument_group("3d solver")
+    three.add_argument("--spin-x-rad-s", type=float, default=0.0,
+                       help="out-of-plane spin about the incoming tangential velocity (rad/s, "
+                            "right-handed; needs the full model, chosen automatically)")
+    three.add_argument("--spin-z-rad-s", type=float, default=0.0,
+                       help="out-of-plane spin about the surface normal (rad/s, right-handed)")
     three.add_argument("--target", type=Path,
                        help="deformable slab specification (JSON; default: a rigid plane)")
     three.add_argument("--divisions", type=int, default=16,
@@ -58,7 +63,8 @@ def add_parser(verbs) -> None:
                        help="arc spacing at the equator over that at the contact pole "
                             "(default 2)")
     three.add_argument("--full-model", action="store_true",
-                       help="mesh the whole ball (default: the half on the plane of incidence)")
+                       help="mesh the whole ball (default: the half on the plane of incidence "
+                            "unless there is out-of-plane spin)")
     three.add_argument("--stick-scale", type=float, default=8.0,
                        help="friction stick-spring stiffness over the normal penalty (default 8)")
     three.add_argument("--vtk", type=Path,
@@ -180,6 +186,8 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
     if args.solver == "3d":
         return _run_simulate_3d(args)
     for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s),
+                        ("--spin-x-rad-s", args.spin_x_rad_s),
+                        ("--spin-z-rad-s", args.spin_z_rad_s),
                         ("--target", args.target), ("--vtk", args.vtk),
                         ("--animate", args.animate)):
         if value:
@@ -244,14 +252,16 @@ def _run_simulate_3d(args: argparse.Namespace) -> dict[str, Any]:
     if args.animate is not None and args.animate.suffix.lower() not in (".gif", ".mp4"):
         raise InputError(f"--animate {args.animate}: the file must end in .gif or .mp4")
     condition = ImpactCondition(speed_m_s=args.speed_m_s, angle_deg=args.angle_deg,
-                                spin_rad_s=args.spin_rad_s, friction=args.friction)
+                                spin_rad_s=args.spin_rad_s, friction=args.friction,
+                                spin_x_rad_s=args.spin_x_rad_s, spin_z_rad_s=args.spin_z_rad_s)
     target = load_target(args.target) if args.target is not None else None
     ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
     want_frames = args.vtk is not None or args.animate is not None
     options = Options3D(divisions=args.divisions, pole_grading=args.pole_grading,
-                        half=not args.full_model, penalty_scale=args.penalty_scale,
+                        half=False if args.full_model else None,
+                        penalty_scale=args.penalty_scale,
                         stick_scale=args.stick_scale, precision=args.precision,
                         chunk_steps=50 if want_frames else 200, frames=1 if want_frames else 0)
     use_compilation_cache()

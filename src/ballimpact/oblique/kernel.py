@@ -204,15 +204,18 @@ class Kernel:
 
     # ---- the state ---------------------------------------------------------------------------
     def initial_state(self, params, speed, angle_rad, spin_rad_s):
+        """The state at first touch: every ball node moving at v + omega x r, with the spin
+        vector `spin_rad_s` (3,) (rad/s) about the centre."""
         n = self.n_nodes
         X = self.geom.nodes_m.T
         ball = self.ball_nodes.astype(self.dtype)
         centre = jnp.array([0.0, 0.0, 1.0], self.dtype) * params["outer_radius_m"]
         r = X - centre[:, None]
-        # v = v_cm + omega x r with omega = (0, spin, 0)
-        v = jnp.stack([speed * jnp.sin(angle_rad) + spin_rad_s * r[2],
-                       jnp.zeros(n, self.dtype),
-                       -speed * jnp.cos(angle_rad) - spin_rad_s * r[0]]) * ball * self.free_dof
+        wx, wy, wz = spin_rad_s[0], spin_rad_s[1], spin_rad_s[2]
+        v = jnp.stack([speed * jnp.sin(angle_rad) + wy * r[2] - wz * r[1],
+                       wz * r[0] - wx * r[2],
+                       -speed * jnp.cos(angle_rad) + wx * r[1] - wy * r[0]]) \
+            * ball * self.free_dof
         zeros = self.zeros((3, n))
         scalar = partial(jnp.array, dtype=self.dtype)
         inf = scalar(jnp.inf)

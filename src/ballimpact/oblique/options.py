@@ -29,18 +29,36 @@ class ImpactCondition:
       tangential velocity; positive is topspin, the sense of a ball rolling forward (its bottom
       moving backward relative to its centre: a ball rolling at v_x has spin v_x / R).
     - `friction`: Coulomb coefficient between ball and surface.
+    - `spin_x_rad_s`, `spin_z_rad_s`: out-of-plane spin, about the direction of the incoming
+      tangential velocity (x) and about the surface normal (z, upward), right-handed. Either
+      needs the full model (the half model's symmetry holds only without them).
+
+    Axes: x along the incoming tangential velocity, z the surface normal (up), y = z x x; the
+    in-plane spin `spin_rad_s` is about +y.
     """
 
     speed_m_s: float
     angle_deg: float = 0.0
     spin_rad_s: float = 0.0
     friction: float = 0.0
+    spin_x_rad_s: float = 0.0
+    spin_z_rad_s: float = 0.0
 
     def __post_init__(self) -> None:
         _check_range("speed_m_s", self.speed_m_s, 0.0, 1e3, low_open=True)
         _check_range("angle_deg", self.angle_deg, 0.0, 89.0)
-        _check_range("spin_rad_s", self.spin_rad_s, -1e4, 1e4)
+        for name in ("spin_rad_s", "spin_x_rad_s", "spin_z_rad_s"):
+            _check_range(name, getattr(self, name), -1e4, 1e4)
         _check_range("friction", self.friction, 0.0, 10.0)
+
+    @property
+    def symmetric(self) -> bool:
+        """Symmetric about the plane of incidence (a half model serves)."""
+        return self.spin_x_rad_s == 0.0 and self.spin_z_rad_s == 0.0
+
+    @property
+    def spin_vector_rad_s(self) -> tuple[float, float, float]:
+        return (self.spin_x_rad_s, self.spin_rad_s, self.spin_z_rad_s)
 
 
 @dataclass(frozen=True)
@@ -50,7 +68,7 @@ class Options3D:
     - `divisions`: elements along each edge of the O-grid's cube (90 degrees of arc); even.
     - `pole_grading`: largest over smallest arc spacing (finer toward the contact pole).
     - `half`: a half model on the plane of incidence (symmetric: no out-of-plane spin). None:
-      half when the condition allows it (always, with the conditions of `ImpactCondition`).
+      half when every condition allows it, the full model otherwise.
     - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).

@@ -86,6 +86,11 @@ class ObliqueResult:
                 "rebound_angle_deg": self.rebound_angle_deg,
                 "rebound_spin_rad_s": self.rebound_spin_rad_s,
                 "rebound_speed_m_s": self.rebound_speed_m_s,
+                "rebound_velocity_m_s": [float(self.history[f"centre_velocity_{a}_m_s"][-1])
+                                         for a in "xyz"],
+                "rebound_spin_vector_rad_s": [float(self.history[f"spin_{a}_rad_s"][-1])
+                                              for a in "xyz"],
+                "spin_x_rad_s": c.spin_x_rad_s, "spin_z_rad_s": c.spin_z_rad_s,
                 "energy_balance_error": self.energy_balance_error,
                 "energies_j": dict(self.energies_j), "mass_kg": self.mass_kg,
                 "elements": self.elements, "nodes": self.nodes, "steps": self.steps,
@@ -228,7 +233,11 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     for c in conditions:
         if not isinstance(c, ImpactCondition):
             raise InputError(f"conditions: expected ImpactCondition, got {type(c).__name__}")
-    half = True if options.half is None else bool(options.half)
+    symmetric = all(c.symmetric for c in conditions)
+    half = symmetric if options.half is None else bool(options.half)
+    if half and not symmetric:
+        raise InputError("half = True: out-of-plane spin (spin_x_rad_s, spin_z_rad_s) needs the "
+                         "full model (half = False or None)")
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
     per_run = [model_arrays(ball, target, kernel, options, c.friction) for c in conditions]
@@ -237,7 +246,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     chunk_fn, init_fn = _compiled(kernel, options.chunk_steps, batched)
     speeds = np.array([c.speed_m_s for c in conditions])
     angles = np.radians([c.angle_deg for c in conditions])
-    spins = np.array([c.spin_rad_s for c in conditions])
+    spins = np.array([c.spin_vector_rad_s for c in conditions])
     normal = speeds * np.cos(angles)
     slack = 1.0 if target is None else 4.0
     limits = np.array([options.time_limit_s or slack * time_limit_default(ball, vn)
@@ -331,6 +340,7 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
     energies["initial_kinetic_energy_j"] = float(ke0)
     energies["peak_hourglass_energy_j"] = float(np.max(h["hourglass_energy_j"]))
     vx_out, vz_out = h["centre_velocity_x_m_s"][-1], h["centre_velocity_z_m_s"][-1]
+    vy_out = h["centre_velocity_y_m_s"][-1]
     w_out = h["spin_y_rad_s"][-1]
     radius = ball.outer_radius_m
     contact_in = vx - w * radius
@@ -340,8 +350,8 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         tangential_cor=float(vx_out / vx) if vx != 0 else float("nan"),
         contact_point_tangential_cor=(float(-(vx_out - w_out * radius) / contact_in)
                                       if abs(contact_in) > 1e-9 * v else float("nan")),
-        rebound_angle_deg=float(math.degrees(math.atan2(vx_out, vz_out))),
-        rebound_spin_rad_s=float(w_out), rebound_speed_m_s=float(math.hypot(vx_out, vz_out)),
+        rebound_angle_deg=float(math.degrees(math.atan2(math.hypot(vx_out, vy_out), vz_out))),
+        rebound_spin_rad_s=float(w_out), rebound_speed_m_s=float(math.sqrt(vx_out ** 2 + vy_out ** 2 + vz_out ** 2)),
         peak_force_n=factor * float(final["peak_force"]), time_of_peak_s=float(final["t_peak"]),
         contact_time_s=_contact_end(h["time_s"], h["normal_force_n"]),
         energy_balance_error=float(np.max(np.abs(balance)) / ke0), energies_j=energies,
