@@ -206,12 +206,7 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
          **{k: (v.tolist() if hasattr(v, "tolist") else v)
             for k, v in layer.material.constants().items()}} for layer in ball.layers]
     if args.csv is not None:
-        import numpy as np
-
-        names = list(result.history)
-        np.savetxt(args.csv, np.column_stack([result.history[n] for n in names]),
-                   delimiter=",", header=",".join(names), comments="", fmt="%.10g")
-        out["csv"] = str(args.csv)
+        out["csv"] = _write_history(args.csv, result.history)
     if args.plot is not None:
         from ..plotting import plot_fe
 
@@ -228,6 +223,16 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
         print(f"  {result.elements} elements, {result.steps} steps of "
               f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
     return out
+
+
+def _write_history(path: Path, history: dict) -> str:
+    """The histories as CSV, one row per step, SI unit suffixes in the header."""
+    import numpy as np
+
+    names = list(history)
+    np.savetxt(path, np.column_stack([history[n] for n in names]), delimiter=",",
+               header=",".join(names), comments="", fmt="%.10g")
+    return str(path)
 
 
 #: frames kept for --vtk / --animate (about this many over a run)
@@ -278,10 +283,7 @@ def _run_simulate_3d(args: argparse.Namespace) -> dict[str, Any]:
     if target is not None:
         out["target_specification"] = target.to_dict()
     if args.csv is not None:
-        names = list(result.history)
-        np.savetxt(args.csv, np.column_stack([result.history[n] for n in names]),
-                   delimiter=",", header=",".join(names), comments="", fmt="%.10g")
-        out["csv"] = str(args.csv)
+        out["csv"] = _write_history(args.csv, result.history)
     if args.vtk is not None:
         out["vtk"] = str(write_series(result, args.vtk))
     if args.animate is not None:

@@ -22,9 +22,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
+from .assembly import corner_tables, gather_nodal as gather_corners
 from .fastmath import cube_root
 from .materials import Sym
 from .mesh import AxisymmetricMesh
@@ -99,14 +99,7 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
     weight = 2.0 * np.pi * radius[:, :4] * det[:, :4]
 
     n_nodes = len(X)
-    corner_tables = []
-    for a in range(4):
-        counts = np.bincount(elements[:, a], minlength=n_nodes)
-        table = np.full((max(counts.max(), 1), n_nodes), len(elements), dtype=np.int64)
-        order = np.argsort(elements[:, a], kind="stable")
-        slot = np.arange(len(elements)) - np.repeat(np.cumsum(counts) - counts, counts)
-        table[slot, elements[order, a]] = order
-        corner_tables.append(table)
+    tables = corner_tables(elements, n_nodes)
 
     nodal_volume = np.zeros((n_layers, n_nodes))
     contrib = np.einsum("qa,eq->ea", shape_values[:4], weight)  # row-sum lumping
@@ -134,7 +127,7 @@ def geometry(mesh: AxisymmetricMesh) -> AxiGeometry:
                            grad_n.transpose(2, 3, 1, 0)),
                        radius_m=np.ascontiguousarray(radius.T),
                        volume_weight_m3=np.ascontiguousarray(weight.T),
-                       corner_tables=tuple(corner_tables),
+                       corner_tables=tables,
                        nodal_volume_m3=nodal_volume, characteristic_length_m=char_length,
                        surface_nodes=surface,
                        surface_length_m=per_node[surface], surface_layer=n_layers - 1,
@@ -221,16 +214,7 @@ def first_piola(Fb2: tuple, Fbh, S: tuple, pressure_j) -> tuple[tuple, jax.Array
 def gather_nodal(geom: AxiGeometry, f_e) -> jax.Array:
     """Sum corner vectors to nodes (2, n_nodes): gathers, no scatter. `f_e[c][a]` is component c
     at corner a of every element (n_el,): an array (2, 4, n_el) or nested sequences of arrays."""
-    zero = jnp.zeros(1, geom.grad_n.dtype)
-    out = []
-    for c in range(2):
-        total = 0.0
-        for a, table in enumerate(geom.corner_tables):
-            padded = jnp.concatenate([f_e[c][a], zero])
-            for slot in table:
-                total = total + padded[slot]
-        out.append(total)
-    return jnp.stack(out)
+    return gather_corners(geom.corner_tables, f_e, 2, geom.grad_n.dtype)
 
 
 def centre_forces(geom: AxiGeometry, P2: tuple, Ph, volume_m3) -> tuple:

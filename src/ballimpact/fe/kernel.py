@@ -42,7 +42,8 @@ from .axisymmetric import (
     right_cauchy_green,
 )
 from .materials import Sym, energy_and_stress, prony_update
-from .stable_increment import increment_factor, lanczos_largest
+from .stable_increment import (alternating_start, increment_factor, lanczos_largest,
+                               shrunk_increment)
 
 HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "kinetic_energy_j",
            "internal_work_j", "contact_work_j", "strain_energy_j", "bulk_viscous_dissipation_j",
@@ -53,7 +54,6 @@ HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "
 #: re-estimate before each chunk, started from the previous top Ritz vector
 LANCZOS_STEPS = 40
 REFRESH_LANCZOS_STEPS = 8
-INCREMENT_LEVELS = 32  # per halving of the increment
 
 
 def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
@@ -311,11 +311,7 @@ class Kernel:
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
         omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
                                                    REFRESH_LANCZOS_STEPS)
-        # the increment shrinks in steps of 2^(-1/32) (2%) below its start value, so that
-        # round-off in the estimate (vmapped or not) does not change it
-        level = jnp.ceil(INCREMENT_LEVELS * jnp.log2(
-            state["dt0"] * jnp.sqrt(omega2) / params["increment_factor"]))
-        dt = jnp.minimum(state["dt"], state["dt0"] * jnp.exp2(-level / INCREMENT_LEVELS))
+        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
         state = dict(state, dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
@@ -348,9 +344,7 @@ class Kernel:
             return (kv * scale * mask).reshape(-1)
 
         if start is None:
-            start = mask * jax.random.uniform(jax.random.PRNGKey(0), (2, n), self.dtype, 0.5, 1.5)
-            # alternating signs weight the top of the spectrum (neighbours out of phase)
-            start = (start * jnp.where(jnp.arange(n) % 2 == 0, 1.0, -1.0)).reshape(-1)
+            start = alternating_start(mask, self.dtype)
         value, residual, vector = lanczos_largest(apply, start, steps)
         return value + residual, vector
 

@@ -50,6 +50,26 @@ def lanczos_largest(apply, x0: jax.Array, steps: int) -> tuple[jax.Array, jax.Ar
     return values[-1], jnp.abs(beta[-1] * vectors[-1, -1]), basis.T @ vectors[:, -1]
 
 
+#: the increment shrinks in steps of 2^(-1/INCREMENT_LEVELS) below its start value
+INCREMENT_LEVELS = 32
+
+
+def shrunk_increment(dt, dt0, omega2, factor):
+    """The increment for the next chunk: factor / omega_max rounded down to a level 2^(-k/32) of
+    the start value dt0 (so that round-off in the estimate, vmapped or not, does not change it),
+    and never larger than the current dt."""
+    level = jnp.ceil(INCREMENT_LEVELS * jnp.log2(dt0 * jnp.sqrt(omega2) / factor))
+    return jnp.minimum(dt, dt0 * jnp.exp2(-level / INCREMENT_LEVELS))
+
+
+def alternating_start(mask: jax.Array, dtype) -> jax.Array:
+    """A fixed Lanczos start vector (flat) for the free entries of `mask` (n_components, n):
+    random magnitudes with signs alternating between nodes, which weights the top of the
+    spectrum (neighbours out of phase)."""
+    start = mask * jax.random.uniform(jax.random.PRNGKey(0), mask.shape, dtype, 0.5, 1.5)
+    return (start * jnp.where(jnp.arange(mask.shape[1]) % 2 == 0, 1.0, -1.0)).reshape(-1)
+
+
 def increment_factor(time_step_scale: float, bulk_viscosity_linear: float) -> float:
     """f in dt = f / omega_max: 2 x scale x (sqrt(1 + xi^2) - xi), xi the linear bulk
     viscosity's fraction of critical damping in the highest mode (as ABAQUS/Explicit)."""

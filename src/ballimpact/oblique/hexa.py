@@ -22,6 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..fe.assembly import corner_tables, gather_nodal as gather_corners
 from .mesh import HEX_CORNERS, HexMesh
 
 _GAUSS = HEX_CORNERS / np.sqrt(3.0)     # 2 x 2 x 2 points (weight 1), for volumes and masses
@@ -94,14 +95,7 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     length = volume / face_area.max(axis=0)
 
     n_nodes = len(X)
-    tables = []
-    for a in range(8):
-        counts = np.bincount(elements[:, a], minlength=n_nodes)
-        table = np.full((max(counts.max(), 1), n_nodes), len(elements), dtype=np.int64)
-        by_node = np.argsort(elements[:, a], kind="stable")
-        slot = np.arange(len(elements)) - np.repeat(np.cumsum(counts) - counts, counts)
-        table[slot, elements[by_node, a]] = by_node
-        tables.append(table)
+    tables = corner_tables(elements, n_nodes)
     nodal_volume = np.zeros((n_groups, n_nodes))
     for i, (lo, hi) in enumerate(slices):
         np.add.at(nodal_volume[i], elements[lo:hi].reshape(-1), contrib[lo:hi].reshape(-1))
@@ -112,7 +106,7 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
         grad_n=np.ascontiguousarray(b.transpose(1, 2, 0)), volume_m3=volume,
         hourglass_moment_m=np.ascontiguousarray(moment.transpose(1, 2, 0)),
         hourglass_length_m=volume * np.sum(b ** 2, axis=(1, 2)),
-        characteristic_length_m=length, corner_tables=tuple(tables),
+        characteristic_length_m=length, corner_tables=tables,
         nodal_volume_m3=nodal_volume, node_length_m=node_length)
     return geom, order
 
@@ -188,13 +182,4 @@ def corner_forces(geom: HexGeometry, P, F, u_e, hourglass_n_m):
 
 def gather_nodal(geom: HexGeometry, f_e) -> jnp.ndarray:
     """Sum corner vectors f_e[c][a] (n_el,) to nodes (3, n_nodes): gathers, no scatter."""
-    zero = jnp.zeros(1, geom.grad_n.dtype)
-    out = []
-    for c in range(3):
-        total = 0.0
-        for a, table in enumerate(geom.corner_tables):
-            padded = jnp.concatenate([f_e[c][a], zero])
-            for slot in table:
-                total = total + padded[slot]
-        out.append(total)
-    return jnp.stack(out)
+    return gather_corners(geom.corner_tables, f_e, 3, geom.grad_n.dtype)

@@ -30,9 +30,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.kernel import REFRESH_LANCZOS_STEPS, LANCZOS_STEPS, INCREMENT_LEVELS, _branch_energy
+from ..fe.kernel import LANCZOS_STEPS, REFRESH_LANCZOS_STEPS, _branch_energy
 from ..fe.materials import Sym, energy_and_stress, prony_update
-from ..fe.stable_increment import lanczos_largest
+from ..fe.stable_increment import alternating_start, lanczos_largest, shrunk_increment
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
                    determinant, first_piola, gather_nodal, right_cauchy_green)
 
@@ -323,9 +323,7 @@ class Kernel:
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
         omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
                                                    REFRESH_LANCZOS_STEPS)
-        level = jnp.ceil(INCREMENT_LEVELS * jnp.log2(
-            state["dt0"] * jnp.sqrt(omega2) / params["increment_factor"]))
-        dt = jnp.minimum(state["dt"], state["dt0"] * jnp.exp2(-level / INCREMENT_LEVELS))
+        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
         state = dict(state, dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
@@ -359,8 +357,7 @@ class Kernel:
             return (kv * scale * mask).reshape(-1)
 
         if start is None:
-            start = mask * jax.random.uniform(jax.random.PRNGKey(0), (3, n), self.dtype, 0.5, 1.5)
-            start = (start * jnp.where(jnp.arange(n) % 2 == 0, 1.0, -1.0)).reshape(-1)
+            start = alternating_start(mask, self.dtype)
         value, residual, vector = lanczos_largest(apply, start, steps)
         return value + residual, vector
 

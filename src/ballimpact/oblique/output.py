@@ -11,6 +11,7 @@ layers). A half model is written as it is (ParaView's Reflect filter mirrors it 
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -80,11 +81,7 @@ def write_series(result, path) -> Path:
     geom = result.geometry
     points, cells = np.asarray(geom.nodes_m, float), [("hexahedron", np.asarray(geom.elements))]
     if suffix == ".xdmf":
-        try:
-            import h5py  # noqa: F401
-            data_format = "HDF"
-        except ImportError:
-            data_format = "XML"
+        data_format = "HDF" if importlib.util.find_spec("h5py") else "XML"
         with meshio.xdmf.TimeSeriesWriter(str(path), data_format=data_format) as writer:
             writer.write_points_cells(points, cells)
             for t, point_data, cell_data in _frame_data(result):

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..fe.kernel import cast, time_limit_default
+from ..fe.solver import _contact_end
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
 from . import kernel as kernel_module
@@ -97,7 +98,7 @@ class ObliqueResult:
                 "half_model": self.half_model,
                 "stable_time_increment_s": self.stable_time_increment_s,
                 "final_time_increment_s": self.final_time_increment_s,
-                "principal_stretch_range": list(self.stretch_range),
+                "principal_stretch_bounds": list(self.stretch_range),  # Gershgorin bounds
                 "wall_time_s": self.wall_time_s}
 
     def record(self) -> ImpactRecord:
@@ -209,15 +210,6 @@ def _compiled(kernel: Kernel, n_steps: int, batched: bool):
     return _COMPILED[key]
 
 
-def _contact_end(time_s: np.ndarray, force: np.ndarray) -> float:
-    positive = np.flatnonzero(force > 0)
-    k = positive[-1]
-    if k == 0 or k + 1 >= len(time_s) or force[k - 1] <= force[k]:
-        return float(time_s[min(k + 1, len(time_s) - 1)])
-    slope = (force[k - 1] - force[k]) / (time_s[k] - time_s[k - 1])
-    return float(min(time_s[k] + force[k] / slope, time_s[k + 1]))
-
-
 def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Options3D(),
                      target=None, progress=None) -> ObliqueResult:
     """An oblique impact of `ball` on a rigid plane (or a `target.Target` slab)."""
@@ -289,7 +281,8 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
                 raise SimulationError(f"ball {ball.name}, {conditions[i]}: no separation within "
                                       f"the time limit {limits[i]:.4g} s")
         final = {k: np.atleast_1d(np.asarray(state[k], np.float64))
-                 for k in ("peak_force", "t_peak", "dt0", "dt", "stretch_min", "stretch_max")}
+                 for k in ("peak_force", "t_peak", "dt0", "dt", "stretch_min", "stretch_max",
+                           "ke0")}
     wall = time.perf_counter() - start
     history = np.concatenate(rows, axis=1 if batched else 0)
     if not batched:
@@ -326,11 +319,10 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
     for name in HISTORY:
         if name.endswith("_n") or name.endswith("_j"):
             h[name] = factor * h[name]
-    ke0 = factor * 0.5 * float(np.sum(arrays["mass_kg"] * 0))  # replaced below
     mass = factor * float(arrays["ball_mass_kg"])
     v, theta, w = condition.speed_m_s, math.radians(condition.angle_deg), condition.spin_rad_s
     vx, vz = v * math.sin(theta), -v * math.cos(theta)
-    ke0 = h["kinetic_energy_j"][0] + h["internal_work_j"][0] - h["contact_work_j"][0]
+    ke0 = factor * float(final["ke0"])
     balance = h["kinetic_energy_j"] + h["internal_work_j"] - h["contact_work_j"] - ke0
     h["energy_balance_error"] = balance / ke0
     h["frictional_dissipation_j"] = -h["tangential_work_j"] - h["stick_energy_j"]
