@@ -105,7 +105,7 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--integration", choices=("reduced", "full"),
                         default=SolverDefaults.integration,
                         help="reduced: one point with hourglass control (default); full: 2x2 "
-                             "points with F-bar")
+                             "(3d: 2x2x2) points with F-bar")
     parser.add_argument("--precision", choices=("float64", "float32"),
                         default=SolverDefaults.precision,
                         help="arithmetic of the explicit steps (default float64)")
@@ -265,7 +265,7 @@ def _run_simulate_3d(args: argparse.Namespace) -> dict[str, Any]:
         ball = ball.with_moduli(args.moduli)
     want_frames = args.vtk is not None or args.animate is not None
     options = Options3D(divisions=args.divisions, pole_grading=args.pole_grading,
-                        half=False if args.full_model else None,
+                        half=False if args.full_model else None, integration=args.integration,
                         penalty_scale=args.penalty_scale,
                         stick_scale=args.stick_scale, precision=args.precision,
                         chunk_steps=50 if want_frames else 200, frames=1 if want_frames else 0)

@@ -1,5 +1,7 @@
-"""8-node hexahedron, total Lagrangian, one integration point with hourglass control (as
-ABAQUS/Explicit's C3D8R and the axisymmetric engine's default "reduced" integration).
+"""8-node hexahedron, total Lagrangian: one integration point with hourglass control (as
+ABAQUS/Explicit's C3D8R and the axisymmetric engine's default "reduced" integration), or 2x2x2
+points with F-bar ("full", as the axisymmetric engine's other choice: each point's F scaled to the
+centre's volume change, Fbar = (J0 / J)^(1/3) F, forces the exact pull-back of P : dFbar).
 
 F is evaluated at the element centre, F = I + sum_a u_a (x) b_a with b_a = dN_a/dX there, which
 avoids volumetric locking; corner forces f_a = V P b_a are the exact gradient of V W(F), so the
@@ -23,6 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..fe.assembly import corner_tables, gather_nodal as gather_corners
+from ..fe.fastmath import cube_root
 from .mesh import HEX_CORNERS, HexMesh
 
 _GAUSS = HEX_CORNERS / np.sqrt(3.0)     # 2 x 2 x 2 points (weight 1), for volumes and masses
@@ -50,6 +53,8 @@ class HexGeometry:
     elements: np.ndarray          # (n_el, 8)
     group_slices: tuple[tuple[int, int], ...]
     grad_n: np.ndarray            # (8, 3, n_el) dN_a/dX_d at the centre (1/m)
+    point_grad_n: np.ndarray      # (8, 3, 8, n_el) dN_a/dX_d at the 2x2x2 Gauss points
+    point_volume_m3: np.ndarray   # (8, n_el) det(dX/dxi) at the Gauss points (weight 1)
     volume_m3: np.ndarray         # (n_el,)
     hourglass_moment_m: np.ndarray  # (4, 3, n_el) h . X_d, so that gamma_a = h_a - (h . X_d) b_ad
     hourglass_length_m: np.ndarray  # (n_el,) V (b : b): k_e / (scale mu)
@@ -81,13 +86,17 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     b = np.einsum("ak,ekd->ead", centre, np.linalg.inv(jac))  # (n_el, 8, 3)
     volume = np.zeros(len(elements))
     contrib = np.zeros((len(elements), 8))
+    point_grad, point_volume = [], []
     for point in _GAUSS:
         values, grads = _shape_gradients(point)
-        det = np.linalg.det(np.einsum("ak,ead->edk", grads, xe))
+        jac_q = np.einsum("ak,ead->edk", grads, xe)
+        det = np.linalg.det(jac_q)
         if np.any(det <= 0):
             raise ValueError("hex mesh: an element has a non-positive Jacobian")
         volume += det
         contrib += values[None] * det[:, None]
+        point_grad.append(np.einsum("ak,ekd->ead", grads, np.linalg.inv(jac_q)))
+        point_volume.append(det)
     moment = np.einsum("ma,ead->emd", _MODES, xe)
     face_area = np.stack([np.linalg.norm(np.cross(xe[:, f[2]] - xe[:, f[0]],
                                                   xe[:, f[3]] - xe[:, f[1]]), axis=1) / 2
@@ -103,7 +112,9 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     np.minimum.at(node_length, elements.reshape(-1), np.repeat(length, 8))
     geom = HexGeometry(
         nodes_m=X, elements=elements, group_slices=slices,
-        grad_n=np.ascontiguousarray(b.transpose(1, 2, 0)), volume_m3=volume,
+        grad_n=np.ascontiguousarray(b.transpose(1, 2, 0)),
+        point_grad_n=np.ascontiguousarray(np.stack(point_grad).transpose(2, 3, 0, 1)),
+        point_volume_m3=np.stack(point_volume), volume_m3=volume,
         hourglass_moment_m=np.ascontiguousarray(moment.transpose(1, 2, 0)),
         hourglass_length_m=volume * np.sum(b ** 2, axis=(1, 2)),
         characteristic_length_m=length, corner_tables=tables,
@@ -128,6 +139,23 @@ def deformation_gradient(geom: HexGeometry, u_e) -> tuple:
     b = geom.grad_n
     return tuple(tuple((1.0 if i == j else 0.0) + _corner_sum(u_e[i], b[:, j])
                        for j in range(3)) for i in range(3))
+
+
+def point_deformation_gradients(geom: HexGeometry, u_e) -> tuple:
+    """F at the 2x2x2 Gauss points: nine components, each (8, n_el)."""
+    b = geom.point_grad_n
+    return tuple(tuple((1.0 if i == j else 0.0) + sum(u_e[i][a][None] * b[a, j]
+                                                       for a in range(8))
+                       for j in range(3)) for i in range(3))
+
+
+def fbar(geom: HexGeometry, u_e) -> tuple[tuple, jnp.ndarray]:
+    """F-bar at the Gauss points (nine components (8, n_el)) and J at the centre (n_el,)."""
+    F = point_deformation_gradients(geom, u_e)
+    F0 = deformation_gradient(geom, u_e)
+    J0 = determinant(F0, cofactor(F0))
+    scale = cube_root(J0[None] / determinant(F, cofactor(F)))
+    return tuple(tuple(F[i][j] * scale for j in range(3)) for i in range(3)), J0
 
 
 def cofactor(F) -> tuple:

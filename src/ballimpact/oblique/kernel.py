@@ -34,7 +34,7 @@ from ..fe.kernel import LANCZOS_STEPS, REFRESH_LANCZOS_STEPS, _branch_energy
 from ..fe.materials import Sym, energy_and_stress, prony_update
 from ..fe.stable_increment import alternating_start, lanczos_largest, shrunk_increment
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
-                   determinant, first_piola, gather_nodal, right_cauchy_green)
+                   determinant, fbar, first_piola, gather_nodal, right_cauchy_green)
 
 HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force_y_n",
            "centre_x_m", "centre_z_m", "centre_velocity_x_m_s", "centre_velocity_y_m_s",
@@ -55,6 +55,7 @@ class Kernel:
     ball_nodes: np.ndarray       # bool (n_nodes,)
     free_dof: np.ndarray         # (3, n_nodes) 1 where the motion is free, 0 where held
     half: bool                   # a half model on y >= 0 (extensive results doubled)
+    reduced: bool                # one point with hourglass control, or 2x2x2 points with F-bar
     target: dict | None          # deformable slab: "top" node ids (nx+1, ny+1), "x_m", "y_m"
     dtype: Any
 
@@ -66,35 +67,31 @@ class Kernel:
         return jnp.zeros(shape, self.dtype)
 
     # ---- materials ---------------------------------------------------------------------------
+    @property
+    def point_shape(self) -> tuple[int, ...]:
+        """Integration points per element as an axis: () reduced, (8,) full."""
+        return () if self.reduced else (8,)
+
     def initial_materials(self, params) -> list[dict]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.group_slices, self.bulk_relaxation,
                                         params["groups"]):
-            shape = (6, b - a)
+            shape = (6,) + self.point_shape + (b - a,)
             n_terms = consts["prony_g"].shape[-1]
             mats.append({"s0_dev": self.zeros(shape),
-                         "s0_vol": self.zeros(shape if bulk else (0, b - a)),
+                         "s0_vol": self.zeros(shape if bulk else (0,) + shape[1:]),
                          "q_dev": self.zeros((n_terms,) + shape),
                          "q_vol": self.zeros(((n_terms if bulk else 0),) + shape)})
         return mats
 
-    def internal(self, params, u, mats, j_prev, dt):
-        """Internal nodal forces (3, n_nodes), new material states, J, per-element stored and
-        hourglass energies (J), the bulk-viscous stress (Pa), C's eigenvalue bounds and the
-        corner forces."""
-        g = self.geom
-        # corner values and F computed once into memory (XLA would recompute them in every
-        # consumer it fuses them into)
-        u_e = jax.lax.optimization_barrier(corners(g, u))
-        F = jax.lax.optimization_barrier(deformation_gradient(g, u_e))
-        cof = cofactor(F)
-        J = determinant(F, cof)
-        C = right_cauchy_green(F)
-        stresses, new_mats, stored = [], [], []
-        for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params["groups"],
-                                               mats):
+    def stresses(self, params, C, mats, dt):
+        """Second Piola-Kirchhoff stress (six components, elements last), new material states
+        and the stored energy density (J/m^3) of every point, from C (six components)."""
+        stresses, new_mats, densities = [], [], []
+        for (a, b), energy, consts, mat in zip(self.geom.group_slices, self.energies,
+                                               params["groups"], mats):
             (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
-                energy, Sym(*(c[a:b] for c in C)), consts)
+                energy, Sym(*(c[..., a:b] for c in C)), consts)
             s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
             tau = consts["prony_tau_s"]
             q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
@@ -112,44 +109,73 @@ class Kernel:
             if q_vol.shape[0]:
                 density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
                                                    3.0 * consts["bulk_modulus_pa"])
-            stored.append(density * g.volume_m3[a:b])
-        S = tuple(jnp.concatenate(stresses, axis=-1))
+            densities.append(density)
+        return (tuple(jnp.concatenate(stresses, axis=-1)), new_mats,
+                jnp.concatenate(densities, axis=-1))
+
+    def internal(self, params, u, mats, j_prev, dt):
+        """Internal nodal forces (3, n_nodes), new material states, J at the centres, per-element
+        stored and hourglass energies (J), the bulk-viscous stress (Pa) and bounds on C's
+        eigenvalues (per element)."""
+        g = self.geom
+        # corner values (and F) computed once into memory (XLA would recompute them in every
+        # consumer it fuses them into)
+        u_e = jax.lax.optimization_barrier(corners(g, u))
+        if self.reduced:
+            F = jax.lax.optimization_barrier(deformation_gradient(g, u_e))
+            J = determinant(F, cofactor(F))
+        else:
+            F, pull, J = jax.vjp(lambda ue: fbar(g, ue), u_e, has_aux=True)
+        C = right_cauchy_green(F)
+        S, new_mats, density = self.stresses(params, C, mats, dt)
         rate = (J - j_prev) / (dt * J)
         sigma_bv = rate * (params["bv_linear_pa_s"]
                            + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
-        P = first_piola(F, S, cof, sigma_bv)
-        f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"])
+        if self.reduced:
+            stored = density * g.volume_m3
+            P = first_piola(F, S, cofactor(F), sigma_bv)
+            f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"])
+        else:
+            weight = g.point_volume_m3
+            stored = jnp.sum(density * weight, axis=0)
+            P = first_piola(F, S, cofactor(F), sigma_bv[None])
+            (f_e,) = pull(tuple(tuple(p * weight for p in row) for row in P))
+            e_hg = self.zeros(g.n_elements)
         f = gather_nodal(g, jax.lax.optimization_barrier(f_e))
         Cd = jax.lax.stop_gradient(C)
         # Gershgorin bounds on C's eigenvalues: the stretch range, a diagnostic
+        n_el = g.n_elements
         lam_lo = jnp.min(jnp.stack([Cd[0] - jnp.abs(Cd[3]) - jnp.abs(Cd[5]),
                                     Cd[1] - jnp.abs(Cd[3]) - jnp.abs(Cd[4]),
-                                    Cd[2] - jnp.abs(Cd[4]) - jnp.abs(Cd[5])]), axis=0)
+                                    Cd[2] - jnp.abs(Cd[4]) - jnp.abs(Cd[5])]).reshape(-1, n_el),
+                         axis=0)
         lam_hi = jnp.max(jnp.stack([Cd[0] + jnp.abs(Cd[3]) + jnp.abs(Cd[5]),
                                     Cd[1] + jnp.abs(Cd[3]) + jnp.abs(Cd[4]),
-                                    Cd[2] + jnp.abs(Cd[4]) + jnp.abs(Cd[5])]), axis=0)
-        return f, new_mats, J, jnp.concatenate(stored), e_hg, sigma_bv, lam_lo, lam_hi
+                                    Cd[2] + jnp.abs(Cd[4]) + jnp.abs(Cd[5])]).reshape(-1, n_el),
+                         axis=0)
+        return f, new_mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi
 
     def cauchy_stress(self, params, u, mats):
-        """Cauchy stress (6, n_el) (Pa; xx, yy, zz, xy, yz, zx) at displacements u with the
-        Maxwell branches' overstresses of `mats` (for output)."""
+        """Cauchy stress (6, n_el) (Pa; xx, yy, zz, xy, yz, zx; the mean over the points of an
+        element) at displacements u with the Maxwell branches' overstresses of `mats` (for
+        output)."""
         g = self.geom
-        F = deformation_gradient(g, corners(g, u))
+        u_e = corners(g, u)
+        F = deformation_gradient(g, u_e) if self.reduced else fbar(g, u_e)[0]
         J = determinant(F, cofactor(F))
-        C = right_cauchy_green(F)
         parts = []
         for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params["groups"],
                                                mats):
-            (_, s_dev), (_, s_vol) = energy_and_stress(energy, Sym(*(c[a:b] for c in C)), consts)
+            (_, s_dev), (_, s_vol) = energy_and_stress(
+                energy, Sym(*(c[..., a:b] for c in right_cauchy_green(F))), consts)
             parts.append(jnp.stack(s_dev) + jnp.stack(s_vol) - jnp.sum(mat["q_dev"], axis=0)
                          - jnp.sum(mat["q_vol"], axis=0))
         S = jnp.concatenate(parts, axis=-1)
         s = ((S[0], S[3], S[5]), (S[3], S[1], S[4]), (S[5], S[4], S[2]))
         FS = [[sum(F[i][k] * s[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-        sigma = [[sum(FS[i][k] * F[j][k] for k in range(3)) / J for j in range(3)]
-                 for i in range(3)]
-        return jnp.stack([sigma[0][0], sigma[1][1], sigma[2][2], sigma[0][1], sigma[1][2],
-                          sigma[2][0]])
+        sigma = jnp.stack([sum(FS[i][k] * F[j][k] for k in range(3)) / J
+                           for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))])
+        return sigma if self.reduced else jnp.mean(sigma, axis=1)
 
     # ---- contact -----------------------------------------------------------------------------
     def surface(self, u, v_half):
@@ -363,7 +389,7 @@ class Kernel:
 
 
 def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_nodes, free_dof,
-          half: bool, target, dtype) -> Kernel:
+          half: bool, reduced: bool, target, dtype) -> Kernel:
     floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
               if isinstance(getattr(geom, f.name), np.ndarray)
               and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
@@ -372,4 +398,4 @@ def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_node
                   "y_m": np.asarray(target["y_m"], dtype)}
     return Kernel(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
                   np.asarray(contact_nodes), np.asarray(ball_nodes), np.asarray(free_dof, dtype),
-                  half, target, np.dtype(dtype))
+                  half, reduced, target, np.dtype(dtype))

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..fe.options import PRECISIONS
+from ..fe.options import INTEGRATIONS, PRECISIONS
 
 
 def _check_range(name: str, value, low: float, high: float, low_open: bool = False,
@@ -69,6 +69,8 @@ class Options3D:
     - `pole_grading`: largest over smallest arc spacing (finer toward the contact pole).
     - `half`: a half model on the plane of incidence (symmetric: no out-of-plane spin). None:
       half when every condition allows it, the full model otherwise.
+    - `integration`: "reduced" (one point with hourglass control, the default) or "full"
+      (2x2x2 points with F-bar), as the axisymmetric engine.
     - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).
@@ -77,6 +79,7 @@ class Options3D:
     divisions: int = 16
     pole_grading: float = 2.0
     half: bool | None = None
+    integration: str = "reduced"
     hourglass_scale: float = 0.05
     bulk_viscosity_linear: float = 0.06
     bulk_viscosity_quadratic: float = 1.2
@@ -105,6 +108,9 @@ class Options3D:
         _check_range("time_step_scale", self.time_step_scale, 0.0, 1.0, low_open=True)
         _check_range("energy_error_limit", self.energy_error_limit, 0.0, 1.0, low_open=True)
         _check_range("end_margin", self.end_margin, 0.0, 10.0)
+        if self.integration not in INTEGRATIONS:
+            raise InputError(f"integration = {self.integration!r}: allowed "
+                             f"{', '.join(INTEGRATIONS)}")
         if self.precision not in PRECISIONS:
             raise InputError(f"precision = {self.precision!r}: allowed {', '.join(PRECISIONS)}")
         if self.time_limit_s is not None:

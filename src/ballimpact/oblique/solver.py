@@ -145,7 +145,7 @@ def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
 
 def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, HexMesh]:
     key = (_structure(ball, target), options.divisions, options.pole_grading, half,
-           options.precision)
+           options.integration, options.precision)
     if key not in _KERNELS:
         mesh = mesh_for(ball, target, options, half)
         materials = [layer.material for layer in ball.layers]
@@ -157,7 +157,8 @@ def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, He
         free[:, mesh.fixed_nodes] = 0.0
         kernel = kernel_module.build(
             geom, [type(m).energy for m in materials], [m.sum_k > 0 for m in materials],
-            mesh.contact_nodes, mesh.ball_nodes, free, half, mesh.target,
+            mesh.contact_nodes, mesh.ball_nodes, free, half, options.integration == "reduced",
+            mesh.target,
             np.dtype(options.precision))
         _KERNELS[key] = (kernel, mesh)
     return _KERNELS[key]
