@@ -35,6 +35,18 @@ def test_universal_ball_normal_impact_equals_the_axisymmetric_solver():
     assert three.normal_cor == pytest.approx(axi.cor, abs=0.01)
 
 
+def test_three_layer_ball_with_hyperfoam_equals_the_axisymmetric_solver():
+    """Layers bonded at shared nodes, Mooney-Rivlin core and cover, a hyperfoam mantle (3D
+    principal stretches from eigenvalues)."""
+    ball = load_ball("cricket-3layer")
+    three = simulate_oblique(ball, ImpactCondition(20.8), Options3D(divisions=12))
+    axi = simulate(ball, 20.8)
+    assert three.peak_force_n == pytest.approx(axi.peak_force_n, rel=0.03)
+    assert three.contact_time_s == pytest.approx(axi.contact_time_s, rel=0.03)
+    assert three.normal_cor == pytest.approx(axi.cor, abs=0.01)
+    assert three.energy_balance_error < 0.01
+
+
 def test_hertz_case_equals_the_axisymmetric_solver_and_hertz():
     nu, e, v = 0.45, 10e6, 3.0
     ball = _sphere({"model": "linear_elastic", "youngs_modulus_pa": e, "poissons_ratio": nu})
