@@ -151,15 +151,14 @@ def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, He
         materials = [layer.material for layer in ball.layers]
         if target is not None:
             materials += [layer.material for layer in target.layers]
-        geom, order = geometry(mesh, len(materials))
+        geom, _ = geometry(mesh, len(materials))
         free = np.ones((3, len(mesh.nodes_m)))
         free[1, mesh.symmetry_nodes] = 0.0
         free[:, mesh.fixed_nodes] = 0.0
         kernel = kernel_module.build(
             geom, [type(m).energy for m in materials], [m.sum_k > 0 for m in materials],
             mesh.contact_nodes, mesh.ball_nodes, free, half, options.integration == "reduced",
-            mesh.target,
-            np.dtype(options.precision))
+            mesh.target, np.dtype(options.precision))
         _KERNELS[key] = (kernel, mesh)
     return _KERNELS[key]
 
