@@ -292,13 +292,20 @@ def _run_simulate_3d(args: argparse.Namespace) -> dict[str, Any]:
         plot_oblique([result], args.plot)
         out["plot"] = str(args.plot)
     if not args.json:
+        spin = (f"spin {condition.spin_rad_s:g} rad/s" if condition.symmetric else
+                f"spin (x, y, z) {', '.join(f'{w:g}' for w in condition.spin_vector_rad_s)} rad/s")
         print(f"{result.ball_name} in 3D at {condition.speed_m_s:g} m/s, "
-              f"{condition.angle_deg:g} deg, spin {condition.spin_rad_s:g} rad/s, friction "
-              f"{condition.friction:g} on {result.target}:")
+              f"{condition.angle_deg:g} deg, {spin}, friction {condition.friction:g} on "
+              f"{result.target}:")
         print(f"  normal COR {result.normal_cor:.4f}, tangential COR {result.tangential_cor:.4f}, "
               f"rebound angle {result.rebound_angle_deg:.2f} deg, rebound spin "
               f"{result.rebound_spin_rad_s:.1f} rad/s, rebound speed "
               f"{result.rebound_speed_m_s:.3f} m/s")
+        if not condition.symmetric:
+            print("  rebound spin (x, y, z) "
+                  f"{', '.join(f'{w:.1f}' for w in out['rebound_spin_vector_rad_s'])} rad/s, "
+                  "velocity (x, y, z) "
+                  f"{', '.join(f'{v:.3f}' for v in out['rebound_velocity_m_s'])} m/s")
         print(f"  peak normal force {result.peak_force_n:.5g} N, contact time "
               f"{result.contact_time_s * 1e3:.4g} ms")
         e = result.energies_j
