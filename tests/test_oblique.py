@@ -232,6 +232,15 @@ def test_full_integration_with_fbar_agrees_and_does_not_lock():
     assert all(r.energy_balance_error < 0.01 for r in runs)
 
 
+def test_peak_force_insensitive_to_the_penalty_scale():
+    """DESIGN.md: doubling the contact penalty changes the peak force by less than 2%."""
+    ball = _ball({"model": "mooney_rivlin", "c10_pa": 1e6, "c01_pa": 1e5})
+    runs = [simulate_oblique(ball, ImpactCondition(5.0, 30.0, 0.0, 0.3),
+                             Options3D(divisions=8, penalty_scale=scale)) for scale in (1.0, 2.0)]
+    assert runs[1].peak_force_n == pytest.approx(runs[0].peak_force_n, rel=0.02)
+    assert runs[1].contact_time_s == pytest.approx(runs[0].contact_time_s, rel=0.02)
+
+
 def test_half_model_equals_full_model():
     ball = _ball()
     condition = ImpactCondition(4.0, 40.0, 30.0, 0.3)

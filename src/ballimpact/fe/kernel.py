@@ -89,8 +89,85 @@ def cast(tree, dtype):
         else np.asarray(x), tree)
 
 
+class ChunkedSteps:
+    """What the explicit kernels share: chunks of steps, each after re-estimating the stable
+    increment from the assembled system. A kernel provides `step`, `internal`,
+    `initial_materials`, `zeros`, `dtype`, `frequency_mask()` (its free degrees of freedom,
+    components first) and `contact_springs(params, v)` (its contact springs' K v)."""
+
+    def chunk(self, params, state, n_steps: int):
+        """`n_steps` steps, after re-estimating the stable increment at the current state."""
+        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
+                                                   REFRESH_LANCZOS_STEPS)
+        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
+        state = dict(state, dt=dt, x_top=x_top)
+        steps = jnp.arange(n_steps, dtype=self.dtype)
+        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
+
+    def max_frequency_squared(self, params, u, start, steps: int):
+        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
+        (components first), with the instantaneous moduli and every contact spring active, by
+        `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
+        vector."""
+        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
+                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
+        mats = self.initial_materials(params)
+        ones = jnp.ones(self.geom.n_elements, self.dtype)
+        # an increment far below any relaxation time: the tangent at the instantaneous moduli
+        tiny_dt = jnp.asarray(1e-15, self.dtype)
+
+        def forces(u):
+            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
+
+        scale = 1.0 / jnp.sqrt(params["mass_kg"])
+        mask = self.frequency_mask()
+
+        def apply(x):
+            v = x.reshape(u.shape) * scale * mask
+            _, kv = jax.jvp(forces, (u,), (v,))
+            return ((kv + self.contact_springs(params, v)) * scale * mask).reshape(-1)
+
+        if start is None:
+            start = alternating_start(mask, self.dtype)
+        value, residual, vector = lanczos_largest(apply, start, steps)
+        return value + residual, vector
+
+
+def material_stresses(slices, energies, constants, C, mats, dt):
+    """Second Piola-Kirchhoff stresses, new Prony states and stored energy densities of every
+    point, layer by layer (`slices` of the last, element axis).
+
+    C: components (4 for axisymmetric states, 6 in 3D), each (..., n_el). Returns the stress
+    components (elements last), the new material states and the density (J/m^3, (..., n_el)):
+    the long-term strain energy plus the energy held in the Maxwell branches."""
+    stresses, new_mats, densities = [], [], []
+    for (a, b), energy, consts, mat in zip(slices, energies, constants, mats):
+        (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
+            energy, Sym(*(c[..., a:b] for c in C)), consts)
+        s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
+        tau = consts["prony_tau_s"]
+        q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
+        if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
+            q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+        else:
+            q_vol = mat["q_vol"]
+        # sums over the Prony terms written out (a reduction is a slow pass of its own)
+        stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
+        new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
+                         "q_dev": q_dev, "q_vol": q_vol})
+        density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
+                   + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
+        density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
+                                           2.0 * consts["shear_modulus_pa"])
+        if q_vol.shape[0]:
+            density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                               3.0 * consts["bulk_modulus_pa"])
+        densities.append(density)
+    return tuple(jnp.concatenate(stresses, axis=-1)), new_mats, jnp.concatenate(densities, axis=-1)
+
+
 @dataclass(frozen=True, eq=False)
-class Kernel:
+class Kernel(ChunkedSteps):
     """Static data of one mesh, ball structure, integration and precision; traced by JAX."""
 
     geom: AxiGeometry      # float arrays in `dtype`
@@ -186,32 +263,9 @@ class Kernel:
             (Fb2, Fbh), pull, J = jax.vjp(kinematics, u_e, has_aux=True)
         C = right_cauchy_green(Fb2, Fbh)
         weight = self.point_volume_m3
-        stresses, new_mats, stored = [], [], []
-        for (a, b), energy, consts, mat in zip(g.layer_slices, self.energies, params["layers"],
-                                               mats):
-            (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
-                energy, Sym(*(c[:, a:b] for c in C[:4])), consts)
-            s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
-            tau = consts["prony_tau_s"]
-            q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
-            if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
-                q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
-            else:
-                q_vol = mat["q_vol"]
-            # sums over the Prony terms written out (a reduction is a slow pass of its own)
-            stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
-            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
-                             "q_dev": q_dev, "q_vol": q_vol})
-            relaxed_dev = 1.0 - jnp.sum(consts["prony_g"])
-            relaxed_vol = 1.0 - jnp.sum(consts["prony_k"])
-            density = relaxed_dev * w_dev + relaxed_vol * w_vol  # (n_points, n_layer_el) J/m^3
-            density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
-                                               2.0 * consts["shear_modulus_pa"])
-            if q_vol.shape[0]:
-                density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
-                                                   3.0 * consts["bulk_modulus_pa"])
-            stored.append(jnp.sum(density * weight[:, a:b], axis=0))
-        S = tuple(jnp.concatenate(stresses, axis=-1))
+        S, new_mats, density = material_stresses(g.layer_slices, self.energies, params["layers"],
+                                                 C[:4], mats, dt)
+        stored = jnp.sum(density * weight, axis=0)
         j0 = J[-1]  # at the centre (the last of the F-bar points; the only reduced one)
         rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
         sigma_bv = rate * (params["bv_linear_pa_s"]
@@ -232,7 +286,7 @@ class Kernel:
         d_ = jnp.sqrt(0.25 * (Cd.xx - Cd.yy) ** 2 + Cd.xy ** 2)
         lam2_min = jnp.minimum(m_ - d_, Cd.zz)
         lam2_max = jnp.maximum(m_ + d_, Cd.zz)
-        return f, new_mats, j0, jnp.concatenate(stored), e_hg, sigma_bv, J, lam2_min, lam2_max, f_e
+        return f, new_mats, j0, stored, e_hg, sigma_bv, J, lam2_min, lam2_max, f_e
 
     def contact(self, params, u, v_half):
         """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0."""
@@ -307,46 +361,17 @@ class Kernel:
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
         return new, row
 
-    def chunk(self, params, state, n_steps: int):
-        """`n_steps` steps, after re-estimating the stable increment at the current state."""
-        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
-                                                   REFRESH_LANCZOS_STEPS)
-        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
-        state = dict(state, dt=dt, x_top=x_top)
-        steps = jnp.arange(n_steps, dtype=self.dtype)
-        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
-
     # ---- the stable increment ----------------------------------------------------------------
-    def max_frequency_squared(self, params, u, start, steps: int):
-        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
-        (2, n_nodes), with the instantaneous moduli and every surface node's contact spring
-        active, by `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top
-        Ritz vector."""
+    def frequency_mask(self):
+        """Free degrees of freedom (2, n_nodes): radial motion is zero on the axis."""
         g = self.geom
-        n = len(g.nodes_m)
-        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
-                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
-        mats = self.initial_materials(params)
-        ones = jnp.ones(g.n_elements, self.dtype)
-        # an increment far below any relaxation time: the tangent at the instantaneous moduli
-        tiny_dt = jnp.asarray(1e-15, self.dtype)
+        return jnp.stack([g.nodes_m[:, 0] > 0.0,
+                          jnp.ones(len(g.nodes_m), bool)]).astype(self.dtype)
 
-        def forces(u):
-            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
-
-        scale = 1.0 / jnp.sqrt(params["mass_kg"])
-        mask = jnp.stack([g.nodes_m[:, 0] > 0.0, jnp.ones(n, bool)]).astype(self.dtype)
-
-        def apply(x):
-            v = x.reshape(2, n) * scale * mask
-            _, kv = jax.jvp(forces, (u,), (v,))
-            kv = kv.at[1, g.surface_nodes].add(params["penalty_n_m"] * v[1, g.surface_nodes])
-            return (kv * scale * mask).reshape(-1)
-
-        if start is None:
-            start = alternating_start(mask, self.dtype)
-        value, residual, vector = lanczos_largest(apply, start, steps)
-        return value + residual, vector
+    def contact_springs(self, params, v):
+        """K_contact v (2, n_nodes): every surface node's normal spring active."""
+        s = self.geom.surface_nodes
+        return self.zeros(v.shape).at[1, s].set(params["penalty_n_m"] * v[1, s])
 
 
 def _branch_energy(q, s0, g, modulus):

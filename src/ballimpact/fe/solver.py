@@ -165,7 +165,7 @@ def _stack(trees: list) -> Any:
     return jax.tree_util.tree_map(lambda *xs: np.stack(xs), *trees)
 
 
-def _contact_end(time: np.ndarray, force: np.ndarray) -> float:
+def contact_end_time(time: np.ndarray, force: np.ndarray) -> float:
     """Time at which the force returns to zero, extrapolated from the last two positive samples."""
     positive = np.flatnonzero(force > 0)
     k = positive[-1]
@@ -367,7 +367,7 @@ def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, 
         ball_name=ball.name, impact_speed_m_s=speed, history=h,
         cor=float(h["centre_velocity_z_m_s"][-1] / speed),
         peak_force_n=float(state["peak_force"]), time_of_peak_s=float(state["t_peak"]),
-        contact_time_s=_contact_end(h["time_s"], h["contact_force_n"]),
+        contact_time_s=contact_end_time(h["time_s"], h["contact_force_n"]),
         energy_balance_error=float(np.max(np.abs(balance)) / ke0),
         stable_time_increment_s=float(state["dt0"]),
         final_time_increment_s=float(state["dt"]), steps=n, elements=geom.n_elements,

@@ -30,9 +30,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.kernel import LANCZOS_STEPS, REFRESH_LANCZOS_STEPS, _branch_energy
-from ..fe.materials import Sym, energy_and_stress, prony_update
-from ..fe.stable_increment import alternating_start, lanczos_largest, shrunk_increment
+from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses
+from ..fe.materials import Sym, energy_and_stress
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
                    determinant, fbar, first_piola, gather_nodal, right_cauchy_green)
 
@@ -45,7 +44,7 @@ HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force
 
 
 @dataclass(frozen=True, eq=False)
-class Kernel:
+class Kernel(ChunkedSteps):
     """Static data of one mesh, model structure, contact kind and precision; traced by JAX."""
 
     geom: HexGeometry            # float arrays in `dtype`
@@ -84,35 +83,6 @@ class Kernel:
                          "q_vol": self.zeros(((n_terms if bulk else 0),) + shape)})
         return mats
 
-    def stresses(self, params, C, mats, dt):
-        """Second Piola-Kirchhoff stress (six components, elements last), new material states
-        and the stored energy density (J/m^3) of every point, from C (six components)."""
-        stresses, new_mats, densities = [], [], []
-        for (a, b), energy, consts, mat in zip(self.geom.group_slices, self.energies,
-                                               params["groups"], mats):
-            (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
-                energy, Sym(*(c[..., a:b] for c in C)), consts)
-            s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
-            tau = consts["prony_tau_s"]
-            q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
-            if mat["q_vol"].shape[0]:
-                q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
-            else:
-                q_vol = mat["q_vol"]
-            stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
-            new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
-                             "q_dev": q_dev, "q_vol": q_vol})
-            density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
-                       + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
-            density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
-                                               2.0 * consts["shear_modulus_pa"])
-            if q_vol.shape[0]:
-                density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
-                                                   3.0 * consts["bulk_modulus_pa"])
-            densities.append(density)
-        return (tuple(jnp.concatenate(stresses, axis=-1)), new_mats,
-                jnp.concatenate(densities, axis=-1))
-
     def internal(self, params, u, mats, j_prev, dt):
         """Internal nodal forces (3, n_nodes), new material states, J at the centres, per-element
         stored and hourglass energies (J), the bulk-viscous stress (Pa) and bounds on C's
@@ -127,7 +97,8 @@ class Kernel:
         else:
             F, pull, J = jax.vjp(lambda ue: fbar(g, ue), u_e, has_aux=True)
         C = right_cauchy_green(F)
-        S, new_mats, density = self.stresses(params, C, mats, dt)
+        S, new_mats, density = material_stresses(g.group_slices, self.energies,
+                                                 params["groups"], C, mats, dt)
         rate = (J - j_prev) / (dt * J)
         sigma_bv = rate * (params["bv_linear_pa_s"]
                            + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
@@ -345,47 +316,18 @@ class Kernel:
                          w_tangential, e_stick])
         return new, row
 
-    def chunk(self, params, state, n_steps: int):
-        """`n_steps` steps, after re-estimating the stable increment at the current state."""
-        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
-                                                   REFRESH_LANCZOS_STEPS)
-        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
-        state = dict(state, dt=dt, x_top=x_top)
-        steps = jnp.arange(n_steps, dtype=self.dtype)
-        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
-
     # ---- the stable increment ----------------------------------------------------------------
-    def max_frequency_squared(self, params, u, start, steps: int):
-        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u,
-        with the instantaneous moduli and every contact node's normal and stick springs active
-        (tied to the ground; a target node's mass is allowed for by `target_spring_factor`)."""
-        g = self.geom
-        n = self.n_nodes
-        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
-                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
-        mats = self.initial_materials(params)
-        ones = jnp.ones(g.n_elements, self.dtype)
-        tiny_dt = jnp.asarray(1e-15, self.dtype)
+    def frequency_mask(self):
+        return jnp.asarray(self.free_dof, self.dtype)
 
-        def forces(u):
-            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
-
-        scale = 1.0 / jnp.sqrt(params["mass_kg"])
-        mask = jnp.asarray(self.free_dof, self.dtype)
+    def contact_springs(self, params, v):
+        """K_contact v (3, n_nodes): every contact node's stick (x, y) and normal (z) springs
+        active, tied to the ground; `contact_spring_factor` allows for lighter target nodes at
+        their other end."""
         s = self.contact_nodes
         springs = params["contact_spring_factor"] * jnp.stack(
             [params["stick_n_m"], params["stick_n_m"], params["penalty_n_m"]])
-
-        def apply(x):
-            v = x.reshape(3, n) * scale * mask
-            _, kv = jax.jvp(forces, (u,), (v,))
-            kv = kv.at[:, s].add(springs * v[:, s])
-            return (kv * scale * mask).reshape(-1)
-
-        if start is None:
-            start = alternating_start(mask, self.dtype)
-        value, residual, vector = lanczos_largest(apply, start, steps)
-        return value + residual, vector
+        return self.zeros(v.shape).at[:, s].set(springs * v[:, s])
 
 
 def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_nodes, free_dof,

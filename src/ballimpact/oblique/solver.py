@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..fe.kernel import cast, time_limit_default
-from ..fe.solver import _contact_end
+from ..fe.solver import contact_end_time
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
 from . import kernel as kernel_module
@@ -345,7 +345,7 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         rebound_angle_deg=float(math.degrees(math.atan2(math.hypot(vx_out, vy_out), vz_out))),
         rebound_spin_rad_s=float(w_out), rebound_speed_m_s=float(math.sqrt(vx_out ** 2 + vy_out ** 2 + vz_out ** 2)),
         peak_force_n=factor * float(final["peak_force"]), time_of_peak_s=float(final["t_peak"]),
-        contact_time_s=_contact_end(h["time_s"], h["normal_force_n"]),
+        contact_time_s=contact_end_time(h["time_s"], h["normal_force_n"]),
         energy_balance_error=float(np.max(np.abs(balance)) / ke0), energies_j=energies,
         stable_time_increment_s=float(final["dt0"]), final_time_increment_s=float(final["dt"]),
         steps=n, elements=int(kernel.geom.n_elements), nodes=int(kernel.n_nodes), mass_kg=mass,
