@@ -15,7 +15,7 @@ import warnings
 
 from .. import __version__
 from ..errors import InputError, SimulationError
-from . import calibrate, features, fit, identify, simulate, universal
+from . import calibrate, export, features, fit, identify, simulate, universal
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
 
@@ -25,14 +25,15 @@ __all__ = ["SolverDefaults", "build_parser", "main"]
 RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_models,
            "simulate": simulate.run_simulate, "balls": simulate.run_balls,
            "demo": simulate.run_demo, "universal": universal.run, "identify": identify.run,
-           "calibrate": calibrate.run}
+           "calibrate": calibrate.run, "export": export.run_export,
+           "import-material": export.run_import}
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = Parser(prog="ballimpact", description="Sports-ball impact modelling (SI units).")
     parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
-    for module in (features, fit, simulate, universal, identify, calibrate):
+    for module in (features, fit, simulate, universal, identify, calibrate, export):
         module.add_parser(verbs)
     return parser
 

@@ -1,0 +1,118 @@
+"""Ball models for other codes (DESIGN.md "export"): ABAQUS/CalculiX input decks, LS-DYNA
+keyword decks and VTK/XDMF meshes, and the import of ABAQUS materials.
+
+`export_ball` writes a complete impact on a rigid plane (or, with `ball_only`, the ball for the
+user's own model) and returns what it wrote; `read_materials` / `read_ball` read ABAQUS input
+back into the ball specification. Values are SI in and out; files carry the unit system named in
+their header (`units`).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import InputError
+from ..fe.ball import BallModel
+from . import abaqus, lsdyna, vtk
+from .geometry import SOLVERS, BallGeometry, ball_geometry
+from .importer import read_ball, read_materials
+from .materials import ExportError
+from .setup import ImpactSetup
+from .units import MM_TONNE_S, SI, UNIT_SYSTEMS, UnitSystem, unit_system
+
+FORMATS = ("abaqus", "calculix", "lsdyna", "vtk")
+SUFFIXES = {"abaqus": (".inp",), "calculix": (".inp",), "lsdyna": (".k", ".key", ".dyn"),
+            "vtk": vtk.SUFFIXES}
+DEFAULT_UNITS = {"abaqus": "mm-tonne-s", "calculix": "mm-tonne-s", "lsdyna": "mm-tonne-s",
+                 "vtk": "si"}
+
+
+@dataclass(frozen=True)
+class Export:
+    """What `export_ball` wrote."""
+
+    path: Path
+    format: str
+    units: str
+    solver: str
+    ball_only: bool
+    n_nodes: int
+    n_elements: int
+    mesh_mass_kg: float
+    notes: list[str] = field(default_factory=list)
+    step_time_s: float | None = None
+
+    def summary(self) -> dict:
+        return {"out": str(self.path), "format": self.format, "units": self.units,
+                "solver": self.solver, "ball_only": self.ball_only, "nodes": self.n_nodes,
+                "elements": self.n_elements, "mesh_mass_kg": self.mesh_mass_kg,
+                "step_time_s": self.step_time_s, "notes": self.notes}
+
+
+def check_output(path: Path, fmt: str) -> None:
+    """Refuse a path the format cannot have or that cannot be written (before any work)."""
+    if fmt not in FORMATS:
+        raise InputError(f"format = {fmt!r}: allowed {', '.join(FORMATS)}")
+    path = Path(path)
+    if path.suffix.lower() not in SUFFIXES[fmt]:
+        raise InputError(f"out = {str(path)!r}: a {fmt} file ends in "
+                         f"{' or '.join(SUFFIXES[fmt])}")
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise InputError(f"out = {str(path)!r}: folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise InputError(f"out = {str(path)!r}: not writable")
+
+
+def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymmetric",
+                setup: ImpactSetup | None = None, ball_only: bool = False,
+                units: str | None = None, moduli: str | None = None, approximate: bool = False,
+                element_size_m: float | None = None, divisions: int | None = None,
+                pole_grading: float | None = None, half: bool = False) -> Export:
+    """Write `ball` in `fmt` to `path`. A complete deck needs `setup` (the impact); `ball_only`
+    writes the ball alone (VTK is always the ball alone). `units`: si or mm-tonne-s (default
+    mm-tonne-s for the decks, si for VTK). `moduli` picks CalculiX's elastic ball of a
+    viscoelastic one; `approximate` lets LS-DYNA take the nearest card where a material has no
+    exact one. Raises `InputError` (`ExportError`) naming what a format cannot express."""
+    path = Path(path)
+    check_output(path, fmt)
+    system = unit_system(units or DEFAULT_UNITS[fmt])
+    if moduli is not None and moduli not in ("long_term", "instantaneous"):
+        raise InputError(f"moduli = {moduli!r}: allowed long_term, instantaneous")
+    if fmt == "vtk":
+        ball_only = True
+    if not ball_only and setup is None:
+        raise InputError("a complete deck needs the impact (speed_m_s); or ask for ball_only")
+    if half and (ball_only or solver != "3d"):
+        raise InputError("half: only a 3D impact deck can be a half model (a ball for "
+                         "inclusion is whole)")
+    if setup is not None and setup.angle_deg != 0.0 and solver != "3d":
+        raise ExportError(f"angle_deg = {setup.angle_deg:g}: an axisymmetric deck is a normal "
+                          "impact; use --solver 3d for oblique impacts")
+    geom = ball_geometry(ball, solver, element_size_m=element_size_m, divisions=divisions,
+                         pole_grading=pole_grading, half=half)
+    notes: list[str] = []
+    if fmt == "vtk":
+        text = None
+    elif fmt == "lsdyna":
+        text, notes = lsdyna.write_deck(ball, geom, system, setup, ball_only, approximate)
+        lsdyna.validate(text)
+    else:
+        text, notes = abaqus.write_deck(ball, geom, system, fmt, setup, ball_only, moduli)
+    try:
+        if text is None:
+            vtk.write_mesh(path, ball, geom, system)
+        else:
+            path.write_text(text, encoding="ascii")
+    except OSError as error:
+        raise InputError(f"out = {str(path)!r}: cannot write ({error.strerror or error})") from None
+    return Export(path, fmt, system.name, solver, ball_only, len(geom.nodes_m),
+                  len(geom.elements), geom.mass_kg(ball), notes,
+                  None if ball_only else setup.step_time(ball))
+
+
+__all__ = ["DEFAULT_UNITS", "FORMATS", "MM_TONNE_S", "SI", "SOLVERS", "UNIT_SYSTEMS",
+           "BallGeometry", "Export", "ExportError", "ImpactSetup", "UnitSystem", "ball_geometry",
+           "check_output", "export_ball", "read_ball", "read_materials"]

@@ -1,0 +1,182 @@
+"""Our materials in other codes' terms (SI in, the deck's units out).
+
+ABAQUS (and CalculiX, which reads the same cards):
+
+- Mooney-Rivlin: `*HYPERELASTIC, MOONEY-RIVLIN` C10, C01, D1; neo-Hookean: `*HYPERELASTIC, NEO
+  HOOKE` C10, D1; Ogden hyperfoam: `*HYPERFOAM, N=n` mu_1, alpha_1, ..., mu_n, alpha_n, nu_1, ...,
+  nu_n (eight values a line); linear elastic: `*ELASTIC` E, nu (ABAQUS integrates it
+  hypoelastically at finite strain; we use Saint Venant-Kirchhoff: the same at small strain).
+- `MODULI=LONG TERM|INSTANTANEOUS` carries our `moduli`; Prony terms are `*VISCOELASTIC,
+  TIME=PRONY` rows g_i, k_i, tau_i. Hyperfoam relaxes as a whole with g_i: k_i = g_i is written.
+- D1 = 0 is written as 0 for ABAQUS: ABAQUS/Explicit then takes K0 = 20 mu0, as we do. CalculiX
+  has no such rule (D1 = 0 divides by zero), so its decks get D1 = 2 / K with our K.
+- CalculiX has no Prony viscoelasticity for hyperelastic materials: its decks hold the elastic
+  ball of the chosen moduli (long-term: deviatoric constants x (1 - sum g_i); instantaneous: as
+  the solver uses them), and say so.
+
+LS-DYNA (`*MAT_077`): `*MAT_HYPERELASTIC_RUBBER` (C10, C01; PR from K0/mu0: D1 = 0 gives
+K0 = 20 mu0, PR = 0.4754) and `*MAT_OGDEN_RUBBER` for hyperfoam when every term has the same
+nu >= 0.45 (then mu_i(LS-DYNA) = 2 mu_i / alpha_i gives the same energy at J = 1). Its
+viscoelasticity is an added linear overstress, g(t) = sum G_i exp(-beta_i t), on long-term
+hyperelastic constants: C10, C01 (mu_i) are written long-term, G_i = g_i mu0 (instantaneous
+mu0 = 2 (C10 + C01) / (1 - sum g)), beta_i = 1 / tau_i. The two agree at small strain; bulk
+relaxation (k_i) has no counterpart and is refused.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..errors import InputError
+from ..fe.materials import LinearElastic, Material, MooneyRivlin, NeoHookean, OgdenHyperfoam
+from .units import UnitSystem
+
+CODES = ("abaqus", "calculix", "lsdyna")
+
+#: smallest nu of a hyperfoam written as LS-DYNA's (deviatoric/volumetric split) Ogden rubber
+LSDYNA_OGDEN_MIN_NU = 0.45
+
+
+class ExportError(InputError):
+    """A ball that a code cannot express as asked (exit 2)."""
+
+
+@dataclass
+class Cards:
+    """Keyword lines of one material and the notes that go to the header and to stderr."""
+
+    lines: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+
+def number(x: float) -> str:
+    """A float with 10 significant digits, as short as the value allows."""
+    return f"{x:.10g}"
+
+
+def _rows(values: list[float], per_line: int = 8) -> list[str]:
+    return [", ".join(number(v) for v in values[i:i + per_line])
+            for i in range(0, len(values), per_line)]
+
+
+def elastic_scale(material: Material, moduli: str) -> tuple[float, float]:
+    """Factors from the constants as given to the elastic ball of `moduli` (deviatoric, bulk)."""
+    dev = material.deviatoric_factor()
+    vol = material.volumetric_factor()
+    if moduli == "long_term":
+        relaxing_bulk = material.sum_g if material.relax_whole_stress else material.sum_k
+        return dev * (1.0 - material.sum_g), vol * (1.0 - relaxing_bulk)
+    return dev, vol
+
+
+def abaqus_material(name: str, density_kg_m3: float, material: Material, units: UnitSystem,
+                    code: str = "abaqus", moduli: str | None = None) -> Cards:
+    """`*MATERIAL` block of one layer for ABAQUS or CalculiX (`code`). For CalculiX `moduli`
+    chooses the elastic ball written in place of a viscoelastic one (default: the material's)."""
+    cards = Cards([f"*MATERIAL, NAME={name}", "*DENSITY", number(density_kg_m3 * units.density)])
+    s = units.stress
+    calculix = code == "calculix"
+    viscous = bool(material.prony)
+    dev, vol = (1.0, 1.0)
+    # MODULI matters (and is written) only with a Prony series
+    tag = f", MODULI={material.moduli.upper().replace('_', ' ')}" if viscous else ""
+    if calculix:
+        tag = ""
+        if any(t.g or t.k for t in material.prony):
+            chosen = moduli or material.moduli
+            dev, vol = elastic_scale(material, chosen)
+            cards.notes.append(
+                f"{name}: CalculiX has no Prony viscoelasticity for hyperelastic materials; the "
+                f"{chosen.replace('_', '-')} elastic ball is written (Prony terms "
+                + ", ".join(f"g={t.g:g} tau={t.tau_s:g} s" for t in material.prony) + " dropped)")
+
+    if isinstance(material, (MooneyRivlin, NeoHookean)):
+        d1 = material.d1_per_pa
+        if calculix and d1 == 0.0:  # CalculiX cannot read D1 = 0: write our K explicitly
+            mu, k_given = material.given_moduli_pa()
+            d1 = 2.0 / (k_given * vol)
+            cards.notes.append(f"{name}: D1 = 0 written as D1 = 2/K with K = 20 mu0 "
+                               f"({k_given * vol:.6g} Pa), the nearly incompressible bulk modulus "
+                               "ABAQUS/Explicit substitutes")
+        elif calculix:
+            d1 = d1 / vol
+        d1_out = d1 / s
+        if isinstance(material, MooneyRivlin):
+            cards.lines += [f"*HYPERELASTIC, MOONEY-RIVLIN{tag}",
+                            _rows([material.c10_pa * dev * s, material.c01_pa * dev * s, d1_out])[0]]
+        else:
+            cards.lines += [f"*HYPERELASTIC, NEO HOOKE{tag}",
+                            _rows([material.c10_pa * dev * s, d1_out])[0]]
+    elif isinstance(material, OgdenHyperfoam):
+        values = [v for t in material.terms for v in (t.mu_pa * dev * s, t.alpha)]
+        values += [t.nu for t in material.terms]
+        cards.lines += [f"*HYPERFOAM, N={len(material.terms)}{tag}", *_rows(values)]
+    elif isinstance(material, LinearElastic):
+        mu, k = material.given_moduli_pa()
+        mu, k = mu * dev, k * vol
+        e = 9.0 * k * mu / (3.0 * k + mu)
+        nu = (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu))
+        cards.lines += ["*ELASTIC" + ("" if calculix else tag), _rows([e * s, nu])[0]]
+    else:  # a model added to fe.materials but not here
+        raise ExportError(f"{name}: material model {material.model!r} has no {code} card")
+    if viscous and not calculix:
+        cards.lines.append("*VISCOELASTIC, TIME=PRONY")
+        whole = material.relax_whole_stress
+        cards.lines += [_rows([t.g, t.g if whole else t.k, t.tau_s * units.time])[0]
+                        for t in material.prony]
+    return cards
+
+
+# ---- LS-DYNA ---------------------------------------------------------------------------------
+def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Material,
+                    units: UnitSystem, approximate: bool = False) -> tuple[str, list[list], Cards]:
+    """(keyword, cards as lists of values, notes) of `*MAT_077` for one layer. `approximate`
+    writes the nearest card where the material has no exact counterpart (and says so); without
+    it such a material raises `ExportError` naming it and what would be written."""
+    s = units.stress
+    notes = Cards()
+    if any(t.k for t in material.prony) and not material.relax_whole_stress:
+        raise ExportError(f"{name}: LS-DYNA *MAT_077 has no bulk (k_i) relaxation; set the "
+                          "Prony k to 0 to export")
+    long_dev = material.deviatoric_factor() * (1.0 - material.sum_g)   # given -> long-term
+    inst_mu = material.shear_modulus_pa(instantaneous=True)
+    mu_long, k_long = material.shear_modulus_pa(False), material.bulk_modulus_pa(False)
+    k_inst = material.bulk_modulus_pa(True)
+    pr = (3.0 * k_inst - 2.0 * inst_mu) / (2.0 * (3.0 * k_inst + inst_mu))
+    visco = [[t.g * inst_mu * s, 1.0 / (t.tau_s * units.time)] for t in material.prony]
+    head = [mid, density_kg_m3 * units.density, pr, 0, len(visco), 0.0, 0.0, 0.0]
+    if isinstance(material, (MooneyRivlin, NeoHookean)):
+        c01 = material.c01_pa if isinstance(material, MooneyRivlin) else 0.0
+        cards = [head, [material.c10_pa * long_dev * s, c01 * long_dev * s, 0.0, 0.0, 0.0, 0.0, 0.0]]
+        return "*MAT_HYPERELASTIC_RUBBER_TITLE", [*cards, *visco], notes
+    if isinstance(material, OgdenHyperfoam):
+        nus = {round(t.nu, 12) for t in material.terms}
+        if len(material.terms) > 8:
+            raise ExportError(f"{name}: LS-DYNA *MAT_OGDEN_RUBBER takes at most 8 terms")
+        if len(nus) != 1 or min(nus) < LSDYNA_OGDEN_MIN_NU:
+            what = (f"*MAT_OGDEN_RUBBER with PR = {pr:.4f} (the same small-strain shear and bulk "
+                    f"moduli, mu0 = {inst_mu:.6g} Pa, K0 = {k_inst:.6g} Pa)")
+            message = (f"{name}: ogden_hyperfoam with nu = {sorted(nus)} is a compressible foam; "
+                       f"LS-DYNA's *MAT_OGDEN_RUBBER splits off the volume change and matches it "
+                       f"only for one nu >= {LSDYNA_OGDEN_MIN_NU}")
+            if not approximate:
+                raise ExportError(message + f". With --approximate the export writes {what}")
+            notes.notes.append(message + f"; written instead: {what}")
+        mus = [2.0 * t.mu_pa * long_dev / t.alpha * s for t in material.terms]
+        alphas = [t.alpha for t in material.terms]
+        pad = [0.0] * (8 - len(mus))
+        return "*MAT_OGDEN_RUBBER_TITLE", [head, mus + pad, alphas + pad, *visco], notes
+    if isinstance(material, LinearElastic):
+        if material.prony:
+            raise ExportError(f"{name}: LS-DYNA export of a viscoelastic linear_elastic "
+                              "material is not supported")
+        e = 9.0 * k_long * mu_long / (3.0 * k_long + mu_long)
+        return "*MAT_ELASTIC_TITLE", [[mid, density_kg_m3 * units.density, e * s, pr]], notes
+    raise ExportError(f"{name}: material model {material.model!r} has no LS-DYNA card")
+
+
+def check_finite(values) -> None:
+    for v in values:
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ExportError(f"a material constant is not finite ({v!r})")

@@ -1,0 +1,57 @@
+"""What a complete deck simulates besides the ball: the impact on a rigid plane (SI)."""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from ..errors import InputError
+from ..fe.ball import BallModel
+from ..fe.kernel import time_limit_default
+
+
+@dataclass(frozen=True)
+class ImpactSetup:
+    """Impact speed (m/s), angle of the incoming velocity from the plane's normal (deg),
+    Coulomb friction, and the step time (s; default 1.5 x a Hertz estimate of the contact time
+    with the ball's softest long-term modulus, which is longer than the FE contact time)."""
+
+    speed_m_s: float
+    angle_deg: float = 0.0
+    friction: float = 0.0
+    step_time_s: float | None = None
+
+    def __post_init__(self) -> None:
+        checks = (("speed_m_s", self.speed_m_s, 0.0, 1000.0, True),
+                  ("angle_deg", self.angle_deg, 0.0, 89.0, False),
+                  ("friction", self.friction, 0.0, 10.0, False))
+        for name, value, low, high, low_open in checks:
+            ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
+                  and math.isfinite(value) and (value > low if low_open else value >= low)
+                  and value <= high)
+            if not ok:
+                raise InputError(f"{name} = {value!r}: allowed range "
+                                 f"{'(' if low_open else '['}{low:g}, {high:g}]")
+        if self.step_time_s is not None and not (math.isfinite(self.step_time_s)
+                                                 and 0.0 < self.step_time_s <= 1.0):
+            raise InputError(f"step_time_s = {self.step_time_s!r}: allowed range (0, 1] s")
+
+    def velocity_m_s(self, dimension: int) -> tuple[float, ...]:
+        """Initial velocity of the ball: tangential along +x, toward the plane along -y (2D) or
+        -z (3D)."""
+        a = math.radians(self.angle_deg)
+        vt, vn = self.speed_m_s * math.sin(a), -self.speed_m_s * math.cos(a)
+        return (0.0, vn) if dimension == 2 else (vt, 0.0, vn)
+
+    def contact_time_estimate_s(self, ball: BallModel) -> float:
+        return time_limit_default(ball, self.speed_m_s * math.cos(math.radians(self.angle_deg))) / 6.0
+
+    def step_time(self, ball: BallModel) -> float:
+        return self.step_time_s or 1.5 * self.contact_time_estimate_s(ball)
+
+
+def keyword_name(name: str) -> str:
+    """A layer or ball name as a keyword label: upper case, [A-Z0-9_], starting with a letter."""
+    label = re.sub(r"[^A-Za-z0-9_]", "_", name).upper()
+    return label if label[:1].isalpha() else f"L_{label}"
