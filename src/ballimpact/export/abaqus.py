@@ -42,7 +42,7 @@ def _id_lines(ids, per_line: int = 16) -> list[str]:
 
 
 def _coords(p: np.ndarray, scale: float) -> str:
-    return ", ".join(number(float(v) * scale) for v in p)
+    return ", ".join(f"{float(v) * scale:.15g}" for v in p)  # full precision: radii read back
 
 
 def _smallest_surface_edge_m(geom: BallGeometry) -> float:
@@ -102,8 +102,19 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem, code: str
                 ")"]
     out += [f"** note: {note}" for note in notes]
 
-    out.append("*NODE, NSET=BALL_NODES")
-    out += [f"{i}, {_coords(p, L)}" for i, p in enumerate(geom.nodes_m, start=1)]
+    # one *NODE block for the whole model (meshio's reader keeps only the last block)
+    n_ball = len(geom.nodes_m)
+    plane_nodes = ([] if ball_only else
+                   (_calculix_plane_nodes if calculix else _abaqus_plane_nodes)(ball, geom, setup))
+    out.append("*NODE")
+    out += [f"{i}, {_coords(p, L)}" for i, p in
+            enumerate([*geom.nodes_m, *plane_nodes], start=1)]
+    out += ["*NSET, NSET=BALL_NODES, GENERATE", f"1, {n_ball}, 1"]
+    if not ball_only:
+        first = n_ball + (1 if calculix else 2)
+        if not calculix:
+            out += ["*NSET, NSET=PLANE_REF", str(n_ball + 1)]
+        out += ["*NSET, NSET=PLANE_NODES, GENERATE", f"{first}, {n_ball + len(plane_nodes)}, 1"]
     for k, name in enumerate(names):
         ids = np.flatnonzero(geom.element_layer == k)
         out.append(f"*ELEMENT, TYPE={element_type}, ELSET={name}")
@@ -147,27 +158,25 @@ def _plane_extent_m(ball: BallModel, setup: ImpactSetup) -> tuple[float, float]:
     return -1.2 * r, 1.2 * r + travel
 
 
+def _abaqus_plane_nodes(ball, geom, setup) -> list[np.ndarray]:
+    """The reference node (origin), then the plane's corners (normal toward the ball)."""
+    r = ball.outer_radius_m
+    if geom.dimension == 2:
+        return [np.zeros(2), np.array([1.5 * r, 0.0]), np.zeros(2)]
+    x0, x1 = _plane_extent_m(ball, setup)
+    return [np.zeros(3)] + [np.array([x, y, 0.0]) for x, y in
+                            ((x0, -1.2 * r), (x1, -1.2 * r), (x1, 1.2 * r), (x0, 1.2 * r))]
+
+
 def _abaqus_plane(ball, geom, units, setup) -> list[str]:
     n = len(geom.nodes_m)
-    L = units.length
-    x0, x1 = _plane_extent_m(ball, setup)
-    r = ball.outer_radius_m
-    out = ["*NODE, NSET=PLANE_REF", f"{n + 1}, " + _coords(np.zeros(geom.dimension), L),
-           "*NODE, NSET=PLANE_NODES"]
-    if geom.dimension == 2:
-        out += [f"{n + 2}, {number(1.5 * r * L)}, 0", f"{n + 3}, 0, 0",
-                "*ELEMENT, TYPE=RAX2, ELSET=PLANE", f"{len(geom.elements) + 1}, {n + 2}, {n + 3}"]
-    else:
-        corners = [(x0, -1.2 * r), (x1, -1.2 * r), (x1, 1.2 * r), (x0, 1.2 * r)]  # normal +z
-        out += [f"{n + 2 + i}, {number(x * L)}, {number(y * L)}, 0" for i, (x, y) in
-                enumerate(corners)]
-        out += ["*ELEMENT, TYPE=R3D4, ELSET=PLANE",
-                f"{len(geom.elements) + 1}, {n + 2}, {n + 3}, {n + 4}, {n + 5}"]
-    out += [f"*RIGID BODY, REF NODE={n + 1}, ELSET=PLANE",
+    corners = ", ".join(str(n + 2 + i) for i in range(2 if geom.dimension == 2 else 4))
+    kind = "RAX2" if geom.dimension == 2 else "R3D4"
+    return [f"*ELEMENT, TYPE={kind}, ELSET=PLANE", f"{len(geom.elements) + 1}, {corners}",
+            f"*RIGID BODY, REF NODE={n + 1}, ELSET=PLANE",
             "** no face label: a double-sided surface, whichever way the plane's normal points",
             "*SURFACE, TYPE=ELEMENT, NAME=PLANE_SURFACE", "PLANE",
             "*SURFACE INTERACTION, NAME=BALL_PLANE", "*FRICTION", number(setup.friction)]
-    return out
 
 
 def _abaqus_step(ball, geom, units, setup) -> list[str]:
@@ -185,23 +194,27 @@ def _abaqus_step(ball, geom, units, setup) -> list[str]:
             "*END STEP"]
 
 
-def _calculix_plane(ball, geom, units, setup) -> list[str]:
-    """One layer of fixed C3D8 elements under the ball, top face z = 0, about R/6 wide."""
-    n, m = len(geom.nodes_m), len(geom.elements)
-    L = units.length
+def _calculix_grid(ball, geom, setup) -> tuple[np.ndarray, np.ndarray, float]:
+    """x and y lines of the plane's slab (about R/6 apart) and its thickness (m)."""
     r = ball.outer_radius_m
     x0, x1 = _plane_extent_m(ball, setup)
     y0 = 0.0 if geom.half else -1.2 * r
     xs = np.linspace(x0, x1, max(2, round((x1 - x0) / (r / 6))) + 1)
     ys = np.linspace(y0, 1.2 * r, max(2, round((1.2 * r - y0) / (r / 6))) + 1)
-    thickness = r / 6
+    return xs, ys, r / 6
+
+
+def _calculix_plane_nodes(ball, geom, setup) -> list[np.ndarray]:
+    xs, ys, thickness = _calculix_grid(ball, geom, setup)
+    return [np.array([x, y, z]) for z in (-thickness, 0.0) for y in ys for x in xs]
+
+
+def _calculix_plane(ball, geom, units, setup) -> list[str]:
+    """One layer of fixed C3D8 elements under the ball, top face z = 0."""
+    n, m = len(geom.nodes_m), len(geom.elements)
+    xs, ys, _ = _calculix_grid(ball, geom, setup)
     ids = (n + 1 + np.arange(2 * len(ys) * len(xs))).reshape(2, len(ys), len(xs))
-    out = ["*NODE, NSET=PLANE_NODES"]
-    for k, z in enumerate((-thickness, 0.0)):
-        for j, y in enumerate(ys):
-            out += [f"{ids[k, j, i]}, {number(x * L)}, {number(y * L)}, {number(z * L)}"
-                    for i, x in enumerate(xs)]
-    out.append("*ELEMENT, TYPE=C3D8, ELSET=PLANE")
+    out = ["*ELEMENT, TYPE=C3D8, ELSET=PLANE"]
     e = m
     for j in range(len(ys) - 1):
         for i in range(len(xs) - 1):
@@ -212,16 +225,16 @@ def _calculix_plane(ball, geom, units, setup) -> list[str]:
     wave = max(layer.material.wave_modulus_pa() for layer in ball.layers)
     density = ball.layers[-1].density_kg_m3
     e_plane = ball.layers[-1].material.shear_modulus_pa() * 3.0  # fixed: only sets the increment
-    slope = CALCULIX_PENALTY * wave / _smallest_surface_edge_m(geom)
+    slope = CALCULIX_PENALTY * wave / _smallest_surface_edge_m(geom) * units.stress / units.length
     out += ["*SURFACE, TYPE=ELEMENT, NAME=PLANE_SURFACE", "PLANE, S2",
             "*MATERIAL, NAME=PLANE", "*ELASTIC", f"{number(e_plane * units.stress)}, 0.3",
             "*DENSITY", number(density * units.density),
             "*SOLID SECTION, ELSET=PLANE, MATERIAL=PLANE",
             "*SURFACE INTERACTION, NAME=BALL_PLANE",
             "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
-            f"{number(slope * units.stress / units.length)}, {number(1e-3 * wave * units.stress)}"]
+            f"{number(slope)}, {number(1e-3 * wave * units.stress)}"]
     if setup.friction > 0.0:
-        out += ["*FRICTION", f"{number(setup.friction)}, {number(slope * units.stress / units.length)}"]
+        out += ["*FRICTION", f"{number(setup.friction)}, {number(slope)}"]
     out += ["*CONTACT PAIR, INTERACTION=BALL_PLANE, TYPE=SURFACE TO SURFACE",
             "BALL_SURFACE, PLANE_SURFACE"]
     return out
@@ -236,8 +249,9 @@ def _calculix_step(ball, geom, units, setup) -> list[str]:
     T = units.time
     return ["*STEP, NLGEOM, INC=1000000", "*DYNAMIC, DIRECT",
             f"{number(dt * T)}, {number(t * T)}, {number(dt * T * 1e-3)}, {number(dt * T)}",
-            "*NODE PRINT, NSET=PLANE_NODES, TOTALS=ONLY, FREQUENCY=1", "RF",
-            "*EL PRINT, ELSET=BALL_ELEMENTS, TOTALS=ONLY, FREQUENCY=1", "ELKE, ELSE",
             f"*NODE FILE, FREQUENCY={frames}", "U, V",
             f"*EL FILE, FREQUENCY={frames}", "S",
+            "** .dat every increment (after the .frd requests: ccx applies the last FREQUENCY)",
+            "*NODE PRINT, NSET=PLANE_NODES, TOTALS=ONLY, FREQUENCY=1", "RF",
+            "*EL PRINT, ELSET=BALL_ELEMENTS, TOTALS=ONLY, FREQUENCY=1", "ELKE, ELSE",
             "*END STEP"]

@@ -178,34 +178,35 @@ def read_ball(text: str, units: str | None = None, name: str = "imported") -> di
     sets: dict[str, list[list[int]]] = {}
     sections: list[tuple[str, str]] = []
     for keyword, params, rows, line in blocks(text):
-        if keyword == "NODE" and params.get("NSET", "").upper() == "BALL_NODES":
+        if keyword == "NODE":
             for row in rows:
                 nodes[int(row[0])] = [float(v) for v in row[1:] if v != ""]
         elif keyword == "ELEMENT" and "ELSET" in params:
             sets.setdefault(params["ELSET"].lower(), []).extend(
                 [int(v) for v in row[1:] if v != ""] for row in rows)
-        elif keyword == "SOLID SECTION":
+        elif keyword == "SOLID SECTION" and params.get("ELSET", "").upper() != "PLANE":
             sections.append((params.get("ELSET", "").lower(), params.get("MATERIAL", "").lower()))
-    if not nodes:
-        raise InputError("no '*NODE, NSET=BALL_NODES' block: --ball reads decks written by "
-                         "ballimpact export (use import-material for the materials alone)")
-    coords = np.array(list(nodes.values())) / system.length
+    sections = [(elset, material) for elset, material in sections if elset in sets]
+    if not nodes or not sections:
+        raise InputError("no meshed solid sections: --ball reads decks written by ballimpact "
+                         "export (use import-material for the materials alone)")
     index = {n: i for i, n in enumerate(nodes)}
+    coords = np.array(list(nodes.values())) / system.length
+    ball_nodes = sorted({index[n] for elset, _ in sections for conn in sets[elset] for n in conn})
     centre = np.zeros(coords.shape[1])
-    centre[-1] = 0.5 * coords[:, -1].max()
+    centre[-1] = 0.5 * coords[ball_nodes, -1].max()  # the ball stands on its pole at 0
     layers = []
     for elset, material_name in sections:
-        if elset not in sets or material_name not in materials:
-            continue
-        used = sorted({index[n] for conn in sets[elset] for n in conn if n in index})
+        if material_name not in materials:
+            raise InputError(f"solid section of {elset!r}: material {material_name!r} is not "
+                             "defined")
+        used = sorted({index[n] for conn in sets[elset] for n in conn})
         radius = _si(float(np.linalg.norm(coords[used] - centre, axis=1).max()))
         m = materials[material_name]
         if m["density_kg_m3"] is None:
             raise InputError(f"material {material_name!r} has no *DENSITY")
         layers.append({"name": elset, "outer_radius_m": radius,
                        "density_kg_m3": m["density_kg_m3"], "material": m["material"]})
-    if not layers:
-        raise InputError("no solid section of the ball's element sets was found")
     layers.sort(key=lambda layer: layer["outer_radius_m"])
     match = _BALL_LINE.search(text)
     return {"name": match.group(1).strip() if match else name, "layers": layers}

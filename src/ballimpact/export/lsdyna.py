@@ -68,7 +68,8 @@ CARDS: dict[str, dict] = {
 
 
 def field(value, kind: str, width: int) -> str:
-    """One fixed-width field: integers as they are, reals with as many digits as fit."""
+    """One fixed-width field: integers as they are, reals with as many digits as fit in all but
+    one column."""
     if value is None:
         return " " * width
     if kind == T:
@@ -80,7 +81,8 @@ def field(value, kind: str, width: int) -> str:
         if not math.isfinite(x):
             raise ExportError(f"LS-DYNA field: non-finite value {x!r}")
         text = "0.0" if x == 0.0 else None
-        for digits in range(width - 1, 0, -1):
+        room = width - 1  # a blank column between fields, for the eye
+        for digits in range(room - 1, 0, -1):
             if text is not None:
                 break
             candidate = f"{x:.{digits}g}"
@@ -89,7 +91,7 @@ def field(value, kind: str, width: int) -> str:
                 candidate = f"{mantissa}e{int(exponent)}"
             elif "." not in candidate:
                 candidate += "."
-            if len(candidate) <= width:
+            if len(candidate) <= room:
                 text = candidate
     if len(text) > width:
         raise ExportError(f"LS-DYNA field: {value!r} does not fit {width} characters")
@@ -144,7 +146,7 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
         out += [f"$ impact: {setup.speed_m_s:g} m/s at {setup.angle_deg:g} deg from the normal, "
                 f"friction {setup.friction:g}",
                 "*CONTROL_TERMINATION", card([t], c["*CONTROL_TERMINATION"]["cards"][0]),
-                "*CONTROL_TIMESTEP", card([0.0, 0.8], c["*CONTROL_TIMESTEP"]["cards"][0]),
+                "*CONTROL_TIMESTEP", card([None, 0.8], c["*CONTROL_TIMESTEP"]["cards"][0]),
                 "*CONTROL_BULK_VISCOSITY", card([1.2, 0.06, 1],
                                                 c["*CONTROL_BULK_VISCOSITY"]["cards"][0]),
                 "$ stiffness-form hourglass control (Flanagan-Belytschko), as our solvers",
@@ -178,11 +180,8 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
     else:
         out.append("*ELEMENT_SOLID")
         spec = c["*ELEMENT_SOLID"]["cards"][0]
-    out += [card([e, part + 1, *(conn + 1)], spec) for e, (part, conn) in
-            enumerate(zip(geom.element_layer.tolist(), geom.elements.tolist()), start=1)
-            if True] if False else [card([e, int(part) + 1, *[int(n) + 1 for n in conn]], spec)
-                                    for e, (part, conn) in enumerate(
-                                        zip(geom.element_layer, geom.elements), start=1)]
+    out += [card([e, part + 1, *[n + 1 for n in conn]], spec) for e, (part, conn) in
+            enumerate(zip(geom.element_layer.tolist(), geom.elements.tolist()), start=1)]
     out += _set_node_list(1, range(1, len(geom.nodes_m) + 1))
     spc = []
     if two_d:
@@ -200,7 +199,7 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
         out += ["*INITIAL_VELOCITY", card([1, 0, 0, 0], c["*INITIAL_VELOCITY"]["cards"][0]),
                 card([*v3, 0.0, 0.0, 0.0], c["*INITIAL_VELOCITY"]["cards"][1]),
                 "$ the plane through the origin; normal from tail to head, toward the ball",
-                "*RIGIDWALL_PLANAR", card([1, 0, 0, 0.0, 0.0, 0.0, 1.0],
+                "*RIGIDWALL_PLANAR", card([1, 0, 0, None, None, None, 1.0],  # blank: defaults
                                           c["*RIGIDWALL_PLANAR"]["cards"][0]),
                 card([0.0, 0.0, 0.0, *head, setup.friction, 0.0],
                      c["*RIGIDWALL_PLANAR"]["cards"][1])]
@@ -320,7 +319,8 @@ def read_nodes_elements(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             keyword = line.strip().upper()
             continue
         if keyword == "*NODE":
-            nodes[int(line[:8])] = [float(line[8 + 16 * i:24 + 16 * i]) for i in range(3)]
+            nodes[int(line[:8])] = [float(line[8 + 16 * i:24 + 16 * i].strip() or 0.0)
+                                    for i in range(3)]
         elif keyword in ("*ELEMENT_SOLID", "*ELEMENT_SHELL"):
             ids = [int(line[i:i + 8]) for i in range(0, len(line), 8)]
             parts.append(ids[1])

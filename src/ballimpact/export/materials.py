@@ -51,8 +51,8 @@ class Cards:
 
 
 def number(x: float) -> str:
-    """A float with 10 significant digits, as short as the value allows."""
-    return f"{x:.10g}"
+    """A float with 12 significant digits, as short as the value allows."""
+    return f"{x:.12g}"
 
 
 def _rows(values: list[float], per_line: int = 8) -> list[str]:

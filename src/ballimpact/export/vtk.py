@@ -8,6 +8,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
+from ..errors import InputError
 from ..fe.ball import BallModel
 from .geometry import BallGeometry
 from .units import UnitSystem
@@ -34,4 +35,8 @@ def write_mesh(path: Path, ball: BallModel, geom: BallGeometry, units: UnitSyste
             [l.material.bulk_modulus_pa() * units.stress for l in ball.layers]),
     }
     mesh = meshio.Mesh(points, [(cell_type, geom.elements.astype(np.int64))], cell_data=cell_data)
-    meshio.write(str(path), mesh)
+    try:
+        meshio.write(str(path), mesh)
+    except ModuleNotFoundError as error:  # XDMF needs h5py, an optional dependency of meshio
+        raise InputError(f"out = {str(path)!r}: writing {path.suffix} needs the Python package "
+                         f"{error.name!r} (pip install {error.name}); .vtu needs nothing more") from None
