@@ -9,6 +9,7 @@ must be divided by the mass that was hit).
 
 from __future__ import annotations
 
+import math
 import re
 import shutil
 import subprocess
@@ -19,6 +20,16 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..fe.solver import contact_end_time
+
+#: the issue's cross-code ball: elastic Mooney-Rivlin, C10 4.72 MPa, C01 -0.45 MPa, D1 = 0,
+#: 0.160 kg, 72 mm (the three-layer core's constants on the universal ball's size and mass)
+CROSS_RUN_BALL = {
+    "name": "elastic-mooney-rivlin",
+    "layers": [{"name": "ball", "outer_radius_m": 0.036,
+                "density_kg_m3": 0.160 / (4.0 / 3.0 * math.pi * 0.036 ** 3),
+                "material": {"model": "mooney_rivlin", "c10_pa": 4.72e6, "c01_pa": -0.45e6,
+                             "d1_per_pa": 0.0}}],
+}
 
 _TOTAL = re.compile(r"total force \(fx,fy,fz\) for set (\S+) and time\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)")
 
@@ -37,22 +48,18 @@ def ccx_path() -> str | None:
     return shutil.which("ccx")
 
 
-def read_forces(dat_text: str, force_unit_n: float = 1.0, time_unit_s: float = 1.0,
-                normal_axis: int = 2) -> tuple[np.ndarray, np.ndarray]:
-    """(time s, normal force N) of the plane's totals in a CalculiX `.dat` file."""
-    rows = np.array([[float(m.group(2)), float(m.group(3 + normal_axis))]
-                     for m in _TOTAL.finditer(dat_text)])
+def read_forces(dat_text: str) -> tuple[np.ndarray, np.ndarray]:
+    """(time, normal force) of the plane's totals in a CalculiX `.dat` file, from rest."""
+    rows = np.array([[float(m.group(2)), float(m.group(5))] for m in _TOTAL.finditer(dat_text)])
     if rows.size == 0:
         raise SimulationError("no 'total force' rows in the CalculiX .dat file")
-    time = np.concatenate([[0.0], rows[:, 0] * time_unit_s])
-    force = np.concatenate([[0.0], rows[:, 1] * force_unit_n])
-    return time, force
+    return np.concatenate([[0.0], rows[:, 0]]), np.concatenate([[0.0], rows[:, 1]])
 
 
 def run_deck(deck: Path, mass_kg: float, normal_speed_m_s: float, half: bool,
-             force_unit_n: float = 1.0, time_unit_s: float = 1.0, threads: int = 1,
-             timeout_s: float = 3600.0) -> CalculixResult:
-    """Run `ccx` on `deck` (in its folder) and summarise its contact force history."""
+             threads: int = 1, timeout_s: float = 3600.0) -> CalculixResult:
+    """Run `ccx` on `deck` (in its folder) and summarise its contact force history. Forces and
+    times in the deck's units: N and s in both systems we write."""
     import os
     import time as clock
 
@@ -70,7 +77,7 @@ def run_deck(deck: Path, mass_kg: float, normal_speed_m_s: float, half: bool,
     if done.returncode != 0 or not dat.is_file() or "Job finished" not in done.stdout:
         tail = "\n".join(done.stdout.splitlines()[-5:])
         raise SimulationError(f"ccx failed on {deck.name} (exit {done.returncode}): {tail}")
-    time, force = read_forces(dat.read_text(), force_unit_n, time_unit_s)
+    time, force = read_forces(dat.read_text())
     # the plane's reaction points up (+); it is the force on the plane's nodes holding them
     force = -force if force.sum() < 0 else force
     if half:
@@ -78,3 +85,19 @@ def run_deck(deck: Path, mass_kg: float, normal_speed_m_s: float, half: bool,
     impulse = float(np.trapezoid(force, time))
     return CalculixResult(time, force, float(force.max()), contact_end_time(time, force),
                           impulse / (mass_kg * normal_speed_m_s) - 1.0, wall)
+
+
+def run_impact(ball, speed_m_s: float, folder: Path, *, units: str = "mm-tonne-s",
+               divisions: int = 8, step_time_s: float | None = None,
+               threads: int = 1) -> CalculixResult:
+    """Export `ball`'s normal impact at `speed_m_s` as a CalculiX deck (3D half model,
+    `divisions`) into `folder`, run it and summarise it."""
+    from . import ImpactSetup, ball_geometry, export_ball
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    deck = folder / "ball.inp"
+    export_ball(ball, deck, "calculix", solver="3d", units=units, divisions=divisions,
+                half=True, setup=ImpactSetup(speed_m_s, step_time_s=step_time_s))
+    mass = ball_geometry(ball, "3d", divisions=divisions, half=True).mass_kg(ball)
+    return run_deck(deck, mass, speed_m_s, half=True, threads=threads)
