@@ -216,6 +216,11 @@ def test_lsdyna_validator_catches_defects(tmp_path):
             lsdyna.validate(text)
 
 
+def written_2d_elements(ball):
+    from ballimpact.export import ball_geometry
+    return len(ball_geometry(ball, "axisymmetric").elements)
+
+
 def test_lsdyna_reads_in_pydyna(tmp_path):
     """The deck in Ansys' maintained reader (ansys-dyna-core, a test dependency)."""
     dyna = pytest.importorskip("ansys.dyna.core", reason="ansys-dyna-core is not installed")
@@ -235,6 +240,13 @@ def test_lsdyna_reads_in_pydyna(tmp_path):
     assert kinds["InitialVelocity"].vz == pytest.approx(-25e3 * np.cos(np.radians(30)), rel=1e-6)
     assert kinds["RigidwallPlanar"].fric == pytest.approx(0.4)
     assert kinds["RigidwallPlanar"].zh == 1.0
+    # the axisymmetric deck: 2D solids as shells of formulation 15, the wall normal along +y
+    export_ball(ball, path, "lsdyna", setup=ImpactSetup(25.0))
+    deck = dyna.Deck()
+    deck.loads(path.read_text())
+    kinds = {type(kw).__name__: kw for kw in deck.all_keywords}
+    assert kinds["SectionShell"].elform == 15 and kinds["RigidwallPlanar"].yh == 1.0
+    assert len(kinds["ElementShell"].elements) == written_2d_elements(ball)
 
 
 def test_lsdyna_refuses_what_it_cannot_express_unless_approximate(tmp_path, capsys):
@@ -326,3 +338,19 @@ def test_import_material_reads_users_blocks(tmp_path, capsys):
     bad.write_text("*MATERIAL, NAME=x\n*HYPERELASTIC, OGDEN, N=2\n1, 2, 3, 4, 0, 0\n")
     code, _, err = run(capsys, "import-material", bad, "--units", "si")
     assert code == 2 and "OGDEN: not supported" in err and "bad.inp" in err
+    code, _, err = run(capsys, "import-material", tmp_path / "missing.inp")
+    assert code == 2 and "missing.inp: cannot read" in err
+    code, _, err = run(capsys, "import-material", user, "--units", "furlongs")
+    assert code == 2 and "--units" in err
+
+
+def test_layer_labels_stay_distinct_from_each_other_and_the_decks_own():
+    from ballimpact.export.setup import layer_labels
+
+    layer = {"outer_radius_m": 0.01, "density_kg_m3": 1000.0,
+             "material": {"model": "neo_hookean", "c10_pa": 1e6}}
+    ball = load_ball({"name": "odd", "layers": [
+        {**layer, "name": "plane"}, {**layer, "name": "a b", "outer_radius_m": 0.02},
+        {**layer, "name": "a_b", "outer_radius_m": 0.03},
+        {**layer, "name": "2nd", "outer_radius_m": 0.04}]})
+    assert layer_labels(ball) == ["PLANE_0", "A_B", "A_B_2", "L_2ND"]

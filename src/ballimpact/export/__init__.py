@@ -88,9 +88,6 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
     if half and (ball_only or solver != "3d"):
         raise InputError("half: only a 3D impact deck can be a half model (a ball for "
                          "inclusion is whole)")
-    if setup is not None and setup.angle_deg != 0.0 and solver != "3d":
-        raise ExportError(f"angle_deg = {setup.angle_deg:g}: an axisymmetric deck is a normal "
-                          "impact; use --solver 3d for oblique impacts")
     geom = ball_geometry(ball, solver, element_size_m=element_size_m, divisions=divisions,
                          pole_grading=pole_grading, half=half)
     notes: list[str] = []

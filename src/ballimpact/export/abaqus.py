@@ -22,9 +22,9 @@ import numpy as np
 
 from .. import __version__
 from ..fe.ball import BallModel
-from .geometry import BallGeometry
+from .geometry import HEX_FACES, QUAD_FACES, BallGeometry
 from .materials import ExportError, abaqus_material, number
-from .setup import ImpactSetup, keyword_name
+from .setup import ImpactSetup, layer_labels
 from .units import UnitSystem
 
 #: CalculiX contact: pressure-overclosure slope = this x the wave modulus / the smallest surface
@@ -46,7 +46,6 @@ def _coords(p: np.ndarray, scale: float) -> str:
 
 
 def _smallest_surface_edge_m(geom: BallGeometry) -> float:
-    from .geometry import HEX_FACES, QUAD_FACES
     faces = QUAD_FACES if geom.dimension == 2 else HEX_FACES
     lengths = []
     for e, f in geom.surface_faces:
@@ -67,12 +66,9 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem, code: str
                           "elements (it expands them to 3D), so an axisymmetric impact deck "
                           "would not move; use --solver 3d, or --ball-only for the mesh and "
                           "materials")
-    if setup is not None and two_d and setup.angle_deg != 0.0:
-        raise ExportError(f"angle_deg = {setup.angle_deg:g}: an axisymmetric deck is a normal "
-                          "impact; use --solver 3d for oblique impacts")
     L = units.length
     element_type = ("CAX4" if calculix else "CAX4R") if two_d else ("C3D8" if calculix else "C3D8R")
-    names = [keyword_name(layer.name) for layer in ball.layers]
+    names = layer_labels(ball)
     notes: list[str] = []
     material_cards = []
     for layer, name in zip(ball.layers, names):
@@ -94,7 +90,6 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem, code: str
             "** layers (centre out): " + ", ".join(
                 f"{n} r={layer.outer_radius_m:g} m" for n, layer in zip(names, ball.layers))]
     if not ball_only:
-        v = setup.velocity_m_s(geom.dimension)
         out += [f"** impact: {setup.speed_m_s:g} m/s at {setup.angle_deg:g} deg from the normal, "
                 f"friction {setup.friction:g}, step {setup.step_time(ball):.6g} s",
                 "** contact force: the plane's reaction force (" +
@@ -137,7 +132,7 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem, code: str
         boundary.append("SYMMETRY, 2, 2")
     if not ball_only:
         out += (_calculix_plane(ball, geom, units, setup) if calculix
-                else _abaqus_plane(ball, geom, units, setup))
+                else _abaqus_plane(ball, geom, setup))
         boundary.append("PLANE_NODES, 1, 3" if calculix else "PLANE_REF, ENCASTRE")
     if boundary:
         out += ["*BOUNDARY", *boundary]
@@ -168,7 +163,7 @@ def _abaqus_plane_nodes(ball, geom, setup) -> list[np.ndarray]:
                             ((x0, -1.2 * r), (x1, -1.2 * r), (x1, 1.2 * r), (x0, 1.2 * r))]
 
 
-def _abaqus_plane(ball, geom, units, setup) -> list[str]:
+def _abaqus_plane(ball, geom, setup) -> list[str]:
     n = len(geom.nodes_m)
     corners = ", ".join(str(n + 2 + i) for i in range(2 if geom.dimension == 2 else 4))
     kind = "RAX2" if geom.dimension == 2 else "R3D4"

@@ -115,9 +115,6 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
                approximate: bool = False) -> tuple[str, list[str]]:
     """The keyword deck's text and its notes (also for stderr)."""
     two_d = geom.dimension == 2
-    if setup is not None and two_d and setup.angle_deg != 0.0:
-        raise ExportError(f"angle_deg = {setup.angle_deg:g}: an axisymmetric deck is a normal "
-                          "impact; use --solver 3d for oblique impacts")
     c = CARDS
     L = units.length
     notes: list[str] = []

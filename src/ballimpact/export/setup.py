@@ -40,6 +40,9 @@ class ImpactSetup:
     def velocity_m_s(self, dimension: int) -> tuple[float, ...]:
         """Initial velocity of the ball: tangential along +x, toward the plane along -y (2D) or
         -z (3D)."""
+        if dimension == 2 and self.angle_deg != 0.0:
+            raise InputError(f"angle_deg = {self.angle_deg:g}: an axisymmetric deck is a normal "
+                             "impact; use --solver 3d for oblique impacts")
         a = math.radians(self.angle_deg)
         vt, vn = self.speed_m_s * math.sin(a), -self.speed_m_s * math.cos(a)
         return (0.0, vn) if dimension == 2 else (vt, 0.0, vn)
@@ -51,7 +54,19 @@ class ImpactSetup:
         return self.step_time_s or 1.5 * self.contact_time_estimate_s(ball)
 
 
-def keyword_name(name: str) -> str:
-    """A layer or ball name as a keyword label: upper case, [A-Z0-9_], starting with a letter."""
-    label = re.sub(r"[^A-Za-z0-9_]", "_", name).upper()
-    return label if label[:1].isalpha() else f"L_{label}"
+#: labels of the decks' own sets and surfaces, which a layer's label must not take
+RESERVED_LABELS = {"BALL_NODES", "BALL_ELEMENTS", "BALL_SURFACE", "BALL_PLANE", "PLANE",
+                   "PLANE_NODES", "PLANE_REF", "PLANE_SURFACE", "AXIS", "SYMMETRY"}
+
+
+def layer_labels(ball: BallModel) -> list[str]:
+    """Each layer's name as an ABAQUS label: upper case, [A-Z0-9_], starting with a letter, and
+    distinct from the others and from the decks' own labels (suffixed by its index if not)."""
+    labels: list[str] = []
+    for k, layer in enumerate(ball.layers):
+        label = re.sub(r"[^A-Za-z0-9_]", "_", layer.name).upper()
+        label = label if label[:1].isalpha() else f"L_{label}"
+        if label in RESERVED_LABELS or label in labels:
+            label = f"{label}_{k}"
+        labels.append(label)
+    return labels
