@@ -39,7 +39,8 @@ def main() -> None:
                          "cor": ours.cor, "wall_time_s": ours.wall_time_s},
                 "calculix": {"peak_force_n": theirs.peak_force_n,
                              "contact_time_s": theirs.contact_time_s, "cor": theirs.cor,
-                             "wall_time_s": theirs.wall_time_s, "increments": len(theirs.time_s) - 1},
+                             "wall_time_s": theirs.wall_time_s,
+                             "increments": len(theirs.time_s) - 1},
                 "peak_force_difference": theirs.peak_force_n / ours.peak_force_n - 1.0,
                 "contact_time_difference": theirs.contact_time_s / ours.contact_time_s - 1.0,
                 "cor_difference": theirs.cor - ours.cor})
@@ -54,7 +55,8 @@ def main() -> None:
 
         fig, ax = plt.subplots(figsize=(6.5, 4.0))
         for (speed, ours, theirs), color in zip(curves, ("tab:blue", "tab:red", "tab:green")):
-            ax.plot(ours.history["time_s"] * 1e3, ours.history["contact_force_n"] * 1e-3, color=color,
+            history = ours.history
+            ax.plot(history["time_s"] * 1e3, history["contact_force_n"] * 1e-3, color=color,
                     label=f"ballimpact, {speed:g} m/s")
             ax.plot(theirs.time_s * 1e3, theirs.force_n * 1e-3, "o", ms=3, color=color,
                     mfc="none", label=f"CalculiX, {speed:g} m/s")

@@ -31,7 +31,8 @@ CROSS_RUN_BALL = {
                              "d1_per_pa": 0.0}}],
 }
 
-_TOTAL = re.compile(r"total force \(fx,fy,fz\) for set (\S+) and time\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)")
+_TOTAL = re.compile(r"total force \(fx,fy,fz\) for set (\S+) and time"
+                    r"\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)")
 
 
 @dataclass(frozen=True)

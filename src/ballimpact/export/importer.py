@@ -99,8 +99,10 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
                        "prony": [], "line": line}
             found.append(current)
             continue
-        if current is None or keyword not in _MATERIAL_OPTIONS:
-            current = None if keyword not in _MATERIAL_OPTIONS else current
+        if keyword not in _MATERIAL_OPTIONS:
+            current = None  # any other keyword ends the material block
+            continue
+        if current is None:
             continue
         values = _floats(rows, where)
         if keyword == "DENSITY":

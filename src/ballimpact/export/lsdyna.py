@@ -28,7 +28,6 @@ from .setup import ImpactSetup
 from .units import UnitSystem
 
 I, F, T = "I", "F", "T"  # integer, real, title (80 characters of text)
-W10 = 10
 
 #: keyword -> cards: each card is a tuple of (type, width); "rows" repeats the last card
 CARDS: dict[str, dict] = {
@@ -123,7 +122,7 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
         keyword, cards, extra = lsdyna_material(k, layer.name, layer.density_kg_m3,
                                                 layer.material, units, approximate)
         materials.append((keyword, cards))
-        notes += extra.notes
+        notes += extra
     if geom.half:
         notes.append("half model (y >= 0, symmetry on y = 0): wall forces and energies are half "
                      "the ball's")
@@ -163,8 +162,9 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
     for k, (layer, (keyword, cards)) in enumerate(zip(ball.layers, materials), start=1):
         spec = c[keyword]
         out += [keyword, layer.name[:80]]
-        out += [card(values, spec["cards"][i + 1]) for i, values in enumerate(cards[:len(spec["cards"]) - 1])]
-        out += [card(values, spec["visco"]) for values in cards[len(spec["cards"]) - 1:]]
+        n_fixed = len(spec["cards"]) - 1  # after the title card
+        out += [card(values, spec["cards"][i + 1]) for i, values in enumerate(cards[:n_fixed])]
+        out += [card(values, spec["visco"]) for values in cards[n_fixed:]]
         out += ["*PART", layer.name[:80], card([k, section_id, k, 0, 0, 0, 0, 0],
                                                 c["*PART"]["cards"][1])]
     out.append("*NODE")

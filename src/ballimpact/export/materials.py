@@ -25,7 +25,6 @@ relaxation (k_i) has no counterpart and is refused.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from ..errors import InputError
@@ -130,12 +129,13 @@ def abaqus_material(name: str, density_kg_m3: float, material: Material, units: 
 
 # ---- LS-DYNA ---------------------------------------------------------------------------------
 def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Material,
-                    units: UnitSystem, approximate: bool = False) -> tuple[str, list[list], Cards]:
+                    units: UnitSystem,
+                    approximate: bool = False) -> tuple[str, list[list], list[str]]:
     """(keyword, cards as lists of values, notes) of `*MAT_077` for one layer. `approximate`
     writes the nearest card where the material has no exact counterpart (and says so); without
     it such a material raises `ExportError` naming it and what would be written."""
     s = units.stress
-    notes = Cards()
+    notes: list[str] = []
     if any(t.k for t in material.prony) and not material.relax_whole_stress:
         raise ExportError(f"{name}: LS-DYNA *MAT_077 has no bulk (k_i) relaxation; set the "
                           "Prony k to 0 to export")
@@ -162,7 +162,7 @@ def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Materia
                        f"only for one nu >= {LSDYNA_OGDEN_MIN_NU}")
             if not approximate:
                 raise ExportError(message + f". With --approximate the export writes {what}")
-            notes.notes.append(message + f"; written instead: {what}")
+            notes.append(message + f"; written instead: {what}")
         mus = [2.0 * t.mu_pa * long_dev / t.alpha * s for t in material.terms]
         alphas = [t.alpha for t in material.terms]
         pad = [0.0] * (8 - len(mus))
@@ -175,8 +175,3 @@ def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Materia
         return "*MAT_ELASTIC_TITLE", [[mid, density_kg_m3 * units.density, e * s, pr]], notes
     raise ExportError(f"{name}: material model {material.model!r} has no LS-DYNA card")
 
-
-def check_finite(values) -> None:
-    for v in values:
-        if isinstance(v, float) and not math.isfinite(v):
-            raise ExportError(f"a material constant is not finite ({v!r})")

@@ -48,7 +48,8 @@ class ImpactSetup:
         return (0.0, vn) if dimension == 2 else (vt, 0.0, vn)
 
     def contact_time_estimate_s(self, ball: BallModel) -> float:
-        return time_limit_default(ball, self.speed_m_s * math.cos(math.radians(self.angle_deg))) / 6.0
+        normal_speed = self.speed_m_s * math.cos(math.radians(self.angle_deg))
+        return time_limit_default(ball, normal_speed) / 6.0  # the Hertz contact time
 
     def step_time(self, ball: BallModel) -> float:
         return self.step_time_s or 1.5 * self.contact_time_estimate_s(ball)

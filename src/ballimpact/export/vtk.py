@@ -39,4 +39,5 @@ def write_mesh(path: Path, ball: BallModel, geom: BallGeometry, units: UnitSyste
         meshio.write(str(path), mesh)
     except ModuleNotFoundError as error:  # XDMF needs h5py, an optional dependency of meshio
         raise InputError(f"out = {str(path)!r}: writing {path.suffix} needs the Python package "
-                         f"{error.name!r} (pip install {error.name}); .vtu needs nothing more") from None
+                         f"{error.name!r} (pip install {error.name}); .vtu needs nothing "
+                         "more") from None
