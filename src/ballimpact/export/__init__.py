@@ -25,6 +25,8 @@ from .units import MM_TONNE_S, SI, UNIT_SYSTEMS, UnitSystem, unit_system
 FORMATS = ("abaqus", "calculix", "lsdyna", "vtk")
 SUFFIXES = {"abaqus": (".inp",), "calculix": (".inp",), "lsdyna": (".k", ".key", ".dyn"),
             "vtk": vtk.SUFFIXES}
+#: largest shortfall of the mesh's mass below the ball's before the export says so
+MESH_MASS_TOLERANCE = 0.02
 DEFAULT_UNITS = {"abaqus": "mm-tonne-s", "calculix": "mm-tonne-s", "lsdyna": "mm-tonne-s",
                  "vtk": "si"}
 
@@ -91,13 +93,20 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
     geom = ball_geometry(ball, solver, element_size_m=element_size_m, divisions=divisions,
                          pole_grading=pole_grading, half=half)
     notes: list[str] = []
+    shortfall = 1.0 - geom.mass_kg(ball) / ball.mass_kg
+    if shortfall > MESH_MASS_TOLERANCE:  # the chords of a coarse mesh cut off the surface
+        notes.append(f"the mesh's mass {geom.mass_kg(ball):.4g} kg is {100 * shortfall:.1f}% "
+                     f"below the ball's {ball.mass_kg:.4g} kg: refine the mesh (divisions, "
+                     "element_size_m) for a faithful ball")
     if fmt == "vtk":
         text = None
     elif fmt == "lsdyna":
-        text, notes = lsdyna.write_deck(ball, geom, system, setup, ball_only, approximate)
+        text, deck_notes = lsdyna.write_deck(ball, geom, system, setup, ball_only, approximate)
         lsdyna.validate(text)
     else:
-        text, notes = abaqus.write_deck(ball, geom, system, fmt, setup, ball_only, moduli)
+        text, deck_notes = abaqus.write_deck(ball, geom, system, fmt, setup, ball_only, moduli)
+    if text is not None:
+        notes = deck_notes + notes
     try:
         if text is None:
             vtk.write_mesh(path, ball, geom, system)

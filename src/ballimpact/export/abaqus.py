@@ -5,9 +5,10 @@ per layer, the initial velocity, the plane, contact, the step and output request
 reaction force, i.e. the contact force, and the energies). `ball_only` writes the ball alone
 (mesh, sets, sections, materials) for inclusion in a larger model (`*INCLUDE`).
 
-- ABAQUS: CAX4R or C3D8R, a rigid plane of RAX2 or R3D4 elements on a fixed reference node
-  (a double-sided surface, so no normal convention can turn it away), penalty contact pair with
-  Coulomb friction, `*DYNAMIC, EXPLICIT` with the bulk viscosity we use (0.06, 1.2).
+- ABAQUS: CAX4R or C3D8R, a rigid plane of RAX2 or R3D4 elements on a fixed reference node,
+  its positive side (SPOS) toward the ball (RAX2: the normal is the direction from node 1 to
+  node 2 turned 90 degrees counter-clockwise; R3D4: the right-hand rule), penalty contact pair
+  with Coulomb friction, `*DYNAMIC, EXPLICIT` with the bulk viscosity we use (0.06, 1.2).
 - CalculiX (ccx 2.20): C3D8 ball; the plane is one layer of C3D8 elements with every node fixed,
   surface-to-surface penalty contact, implicit `*DYNAMIC, DIRECT` with fixed increments.
   CalculiX loses initial velocities on axisymmetric elements (they are expanded to 3D), so an
@@ -156,8 +157,8 @@ def _plane_extent_m(ball: BallModel, setup: ImpactSetup) -> tuple[float, float]:
 def _abaqus_plane_nodes(ball, geom, setup) -> list[np.ndarray]:
     """The reference node (origin), then the plane's corners (normal toward the ball)."""
     r = ball.outer_radius_m
-    if geom.dimension == 2:
-        return [np.zeros(2), np.array([1.5 * r, 0.0]), np.zeros(2)]
+    if geom.dimension == 2:  # node 1 at the axis, node 2 out along +x: normal +y
+        return [np.zeros(2), np.zeros(2), np.array([1.5 * r, 0.0])]
     x0, x1 = _plane_extent_m(ball, setup)
     return [np.zeros(3)] + [np.array([x, y, 0.0]) for x, y in
                             ((x0, -1.2 * r), (x1, -1.2 * r), (x1, 1.2 * r), (x0, 1.2 * r))]
@@ -169,8 +170,7 @@ def _abaqus_plane(ball, geom, setup) -> list[str]:
     kind = "RAX2" if geom.dimension == 2 else "R3D4"
     return [f"*ELEMENT, TYPE={kind}, ELSET=PLANE", f"{len(geom.elements) + 1}, {corners}",
             f"*RIGID BODY, REF NODE={n + 1}, ELSET=PLANE",
-            "** no face label: a double-sided surface, whichever way the plane's normal points",
-            "*SURFACE, TYPE=ELEMENT, NAME=PLANE_SURFACE", "PLANE",
+            "*SURFACE, TYPE=ELEMENT, NAME=PLANE_SURFACE", "PLANE, SPOS",
             "*SURFACE INTERACTION, NAME=BALL_PLANE", "*FRICTION", number(setup.friction)]
 
 

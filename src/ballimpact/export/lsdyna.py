@@ -43,7 +43,7 @@ CARDS: dict[str, dict] = {
     "*DATABASE_BINARY_D3PLOT": {"cards": [((F, 10),)]},
     "*PART": {"cards": [((T, 80),), ((I, 10),) * 8]},
     "*SECTION_SOLID": {"cards": [((I, 10), (I, 10), (I, 10))]},
-    "*SECTION_SHELL": {"cards": [((I, 10), (I, 10), (F, 10), (F, 10), (F, 10), (F, 10), (I, 10)),
+    "*SECTION_SHELL": {"cards": [((I, 10), (I, 10), (F, 10), (I, 10), (F, 10), (I, 10), (I, 10)),
                                  ((F, 10),) * 4]},
     "*MAT_HYPERELASTIC_RUBBER_TITLE": {"cards": [((T, 80),), ((I, 10), (F, 10), (F, 10),
                                                               (I, 10), (I, 10), (F, 10), (F, 10),
@@ -135,7 +135,8 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
            f"mesh mass {geom.mass_kg(ball):.6g} kg (ball {ball.mass_kg:.6g} kg)",
            "$ Prony terms as *MAT_077 GI, BETAI: G_i = g_i x instantaneous mu0, BETA_i = 1/tau_i, "
            "on long-term C10, C01 (mu_i)",
-           "$ PR carries the bulk modulus: D1 = 0 means K0 = 20 mu0, PR = 0.4754"]
+           "$ PR gives our bulk modulus from the long-term shear modulus 2(C10 + C01) "
+           "(D1 = 0: K0 = 20 x instantaneous mu0)"]
     out += [f"$ note: {note}" for note in notes]
     if not ball_only:
         t = setup.step_time(ball) * units.time
@@ -152,8 +153,9 @@ def write_deck(ball: BallModel, geom: BallGeometry, units: UnitSystem,
         out += ["*DATABASE_BINARY_D3PLOT", card([t / 50], c["*DATABASE_BINARY_D3PLOT"]["cards"][0])]
     section_id = 1
     if two_d:
-        out += ["$ axisymmetric solid, volume weighted: x radial, y the axis",
-                "*SECTION_SHELL", card([section_id, 15, 1.0, 2.0, 0.0, 0.0, 0],
+        out += ["$ axisymmetric solid, volume weighted: x radial, y the axis; LS-DYNA may "
+                "report its forces per radian (check d3hsp; x 2 pi for the whole ball)",
+                "*SECTION_SHELL", card([section_id, 15, 1.0, None, None, None, 0],
                                        c["*SECTION_SHELL"]["cards"][0]),
                 card([0.0] * 4, c["*SECTION_SHELL"]["cards"][1])]
     else:

@@ -14,13 +14,17 @@ ABAQUS (and CalculiX, which reads the same cards):
   ball of the chosen moduli (long-term: deviatoric constants x (1 - sum g_i); instantaneous: as
   the solver uses them), and say so.
 
-LS-DYNA (`*MAT_077`): `*MAT_HYPERELASTIC_RUBBER` (C10, C01; PR from K0/mu0: D1 = 0 gives
-K0 = 20 mu0, PR = 0.4754) and `*MAT_OGDEN_RUBBER` for hyperfoam when every term has the same
+LS-DYNA (`*MAT_077`): `*MAT_HYPERELASTIC_RUBBER` (C10, C01, PR) and `*MAT_OGDEN_RUBBER` for
+hyperfoam when every term has the same
 nu >= 0.45 (then mu_i(LS-DYNA) = 2 mu_i / alpha_i gives the same energy at J = 1). Its
 viscoelasticity is an added linear overstress, g(t) = sum G_i exp(-beta_i t), on long-term
 hyperelastic constants: C10, C01 (mu_i) are written long-term, G_i = g_i mu0 (instantaneous
 mu0 = 2 (C10 + C01) / (1 - sum g)), beta_i = 1 / tau_i. The two agree at small strain; bulk
-relaxation (k_i) has no counterpart and is refused.
+relaxation (k_i) has no counterpart and is refused. LS-DYNA takes the bulk modulus from PR and
+the shear modulus of the hyperelastic constants, which are the long-term ones here, so PR is
+chosen to give our bulk modulus K (D1 = 0: K0 = 20 x the instantaneous mu0) from the long-term
+mu: PR = (3K - 2 mu)/(2 (3K + mu)), 0.4948 for the universal ball (g = 0.79), 0.4754 without
+Prony terms.
 """
 
 from __future__ import annotations
@@ -100,6 +104,13 @@ def abaqus_material(name: str, density_kg_m3: float, material: Material, units: 
                                "ABAQUS/Explicit substitutes")
         elif calculix:
             d1 = d1 / vol
+        elif d1 == 0.0 and viscous:
+            k = material.bulk_modulus_pa(True)
+            cards.notes.append(
+                f"{name}: D1 = 0 with MODULI={material.moduli.upper().replace('_', ' ')}: "
+                f"ballimpact reads it as K0 = 20 x the instantaneous mu0 = {k:.6g} Pa, as "
+                f"ABAQUS/Explicit's substitute; to pin it (or for ABAQUS/Standard) write "
+                f"D1 = {2.0 / k / s:.6g} in the deck's units")
         d1_out = d1 / s
         if isinstance(material, MooneyRivlin):
             cards.lines += [f"*HYPERELASTIC, MOONEY-RIVLIN{tag}",
@@ -143,7 +154,7 @@ def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Materia
     inst_mu = material.shear_modulus_pa(instantaneous=True)
     mu_long, k_long = material.shear_modulus_pa(False), material.bulk_modulus_pa(False)
     k_inst = material.bulk_modulus_pa(True)
-    pr = (3.0 * k_inst - 2.0 * inst_mu) / (2.0 * (3.0 * k_inst + inst_mu))
+    pr = (3.0 * k_long - 2.0 * mu_long) / (2.0 * (3.0 * k_long + mu_long))
     visco = [[t.g * inst_mu * s, 1.0 / (t.tau_s * units.time)] for t in material.prony]
     head = [mid, density_kg_m3 * units.density, pr, 0, len(visco), 0.0, 0.0, 0.0]
     if isinstance(material, (MooneyRivlin, NeoHookean)):
