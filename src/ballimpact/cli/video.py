@@ -1,0 +1,76 @@
+"""`ballimpact video`: impact and rebound speeds from a high-speed recording."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import check_plot_path
+
+
+def add_parser(verbs) -> None:
+    video = verbs.add_parser(
+        "video", help="impact and rebound speeds, angles and COR from a high-speed video",
+        description="Track the ball (background subtraction, circle fit to its edge), fit its "
+                    "free flight before and after contact (a line across, a parabola under "
+                    "gravity down the image), and report the speeds and angles where each "
+                    "trajectory meets the surface, the normal COR, and their standard errors. "
+                    "Frames in contact, at the border or with a poor fit are left out. The "
+                    "surface is a horizontal row; rows grow downward.")
+    video.add_argument("file", type=Path,
+                       help="video (MP4, AVI, ... through OpenCV), a folder of images, or .npz")
+    video.add_argument("--fps", type=float, help="recording frame rate (frames/s)")
+    scale = video.add_mutually_exclusive_group(required=True)
+    scale.add_argument("--ball-diameter-m", type=float, help="ball diameter (m), for the scale")
+    scale.add_argument("--scale-m-per-px", type=float, help="calibrated scale (m per pixel)")
+    video.add_argument("--surface-row", type=float,
+                       help="image row of the surface (px; default: the lowest row the ball "
+                            "reaches)")
+    video.add_argument("--gravity-m-s2", type=float, default=9.81,
+                       help="gravity along the image's downward rows (default 9.81; 0: lines)")
+    video.add_argument("--side-file", type=Path,
+                       help="write impact_speed_m_s and rebound_speed_m_s (and --mass-kg) as the "
+                            "JSON side file of a force record (features, fit, identify)")
+    video.add_argument("--mass-kg", type=float, help="ball mass (kg), for the side file")
+    video.add_argument("--plot", type=Path, help="write the tracked and fitted trajectory (PNG)")
+    video.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..video import analyse
+
+    check_plot_path(args.plot)
+    if args.side_file is not None and not args.side_file.parent.is_dir():
+        raise InputError(f"--side-file: folder {args.side_file.parent} does not exist")
+    if args.mass_kg is not None and not args.mass_kg > 0:
+        raise InputError(f"--mass-kg = {args.mass_kg!r}: must be > 0")
+    if args.fps is not None and not args.fps > 0:
+        raise InputError(f"--fps = {args.fps!r}: must be > 0")
+    print(f"tracking {args.file} ...", file=sys.stderr)
+    m, detections = analyse(args.file, args.fps, scale_m_per_px=args.scale_m_per_px,
+                            ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
+                            gravity_m_s2=args.gravity_m_s2)
+    out = dict(m.summary)
+    if args.side_file is not None:
+        side = {"impact_speed_m_s": out["impact_speed_m_s"],
+                "rebound_speed_m_s": out["rebound_speed_m_s"]}
+        if args.mass_kg is not None:
+            side["mass_kg"] = args.mass_kg
+        args.side_file.write_text(json.dumps(side, indent=2) + "\n")
+        out["side_file"] = str(args.side_file)
+    if args.plot is not None:
+        from ..video.plots import plot_measurement
+
+        plot_measurement(detections, m, args.plot)
+    if not args.json:
+        print(f"impact  {out['impact_speed_m_s']:.3f} +- {out['impact_speed_se_m_s']:.3f} m/s at "
+              f"{out['impact_angle_deg']:.2f} +- {out['impact_angle_se_deg']:.2f} deg from the "
+              f"normal ({out['frames_before']} frames)")
+        print(f"rebound {out['rebound_speed_m_s']:.3f} +- {out['rebound_speed_se_m_s']:.3f} m/s at "
+              f"{out['rebound_angle_deg']:.2f} +- {out['rebound_angle_se_deg']:.2f} deg "
+              f"({out['frames_after']} frames); COR {out['cor']:.4f} +- {out['cor_se']:.4f}")
+    return out

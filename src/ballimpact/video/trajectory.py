@@ -1,0 +1,195 @@
+"""Impact and rebound speeds from the tracked ball: the free-flight frames before and after
+contact, a straight line (columns) and a parabola under known gravity (rows) fitted to each,
+and the velocities where each trajectory meets the surface, with standard errors.
+
+Frames are left out when the ball is not found, touches the image border, fits a circle
+badly (deformed or merged with something), or reaches to within `CONTACT_MARGIN_PX` of the
+surface row (contact; motion blur stretches the blob toward the surface, so this leaves out
+the frames just before contact too). The surface row is given, or the lowest row the blob
+reaches (where the ball is flattened against it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from .track import Detection
+
+#: least free-flight frames on each side of the contact
+MIN_FLIGHT_FRAMES = 5
+#: a frame whose blob reaches this close to the surface row (px) counts as in contact
+CONTACT_MARGIN_PX = 1.5
+#: a circle fit worse than this multiple of the median rms residual is left out
+RESIDUAL_FACTOR = 3.0
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """The figures (`summary`, JSON-able, SI) and the fits behind them, for plots."""
+
+    summary: dict
+    phases: tuple          # (incoming, outgoing) `Phase`
+    contact_frames: tuple  # first and last frame in contact
+    gravity_px_s2: float
+
+
+@dataclass(frozen=True)
+class Phase:
+    """A fitted free-flight phase: x = a + b t, y = c + d t + g t^2 / 2 (px, s)."""
+
+    frames: np.ndarray
+    coefficients: np.ndarray   # a, b, c, d
+    covariance: np.ndarray     # 4 x 4
+    residual_px: float         # rms of both coordinates
+
+    def position(self, t):
+        a, b, c, d = self.coefficients
+        return a + b * t, c + d * t
+
+    def velocity(self, t: float, g: float) -> np.ndarray:
+        return np.array([self.coefficients[1], self.coefficients[3] + g * t])
+
+
+def _fit_phase(frames, t, x, y, g) -> Phase:
+    basis = np.column_stack([np.ones_like(t), t])
+    cx, res_x, *_ = np.linalg.lstsq(basis, x, rcond=None)
+    cy, res_y, *_ = np.linalg.lstsq(basis, y - 0.5 * g * t ** 2, rcond=None)
+    dof = max(1, len(t) - 2)
+    rx = x - basis @ cx
+    ry = y - 0.5 * g * t ** 2 - basis @ cy
+    inv = np.linalg.inv(basis.T @ basis)
+    cov = np.zeros((4, 4))
+    cov[:2, :2] = inv * (rx @ rx) / dof
+    cov[2:, 2:] = inv * (ry @ ry) / dof
+    rms = float(np.sqrt((rx @ rx + ry @ ry) / (2 * len(t))))
+    return Phase(frames, np.concatenate([cx, cy]), cov, rms)
+
+
+def _meeting_time(phase: Phase, g: float, bottom_offset: float, surface: float,
+                  guess: float) -> float:
+    """When the trajectory's lowest point (centre row + radius) reaches the surface row."""
+    a, b, c, d = phase.coefficients
+    # 0.5 g t^2 + d t + (c + r - s) = 0, the root nearest the guess
+    k = c + bottom_offset - surface
+    if abs(g) < 1e-12:
+        return -k / d if d else guess
+    disc = d * d - 2.0 * g * k
+    if disc < 0:
+        return guess
+    roots = np.array([(-d - math.sqrt(disc)) / g, (-d + math.sqrt(disc)) / g])
+    return float(roots[np.argmin(np.abs(roots - guess))])
+
+
+def _speed_and_errors(v: np.ndarray, var: np.ndarray, scale: float, scale_rel_se: float):
+    speed = float(np.hypot(*v))
+    se_px = math.sqrt((v[0] ** 2 * var[0] + v[1] ** 2 * var[1])) / speed
+    se = scale * math.hypot(se_px, speed * scale_rel_se)
+    return speed * scale, se
+
+
+def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | None = None,
+            ball_diameter_m: float | None = None, surface_row: float | None = None,
+            gravity_m_s2: float = 9.81) -> Measurement:
+    """Speeds (m/s), angles from the surface normal (deg), normal COR, with standard errors
+    (`Measurement.summary`)."""
+    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
+        raise InputError(f"fps = {fps!r}: must be a positive number of frames per second")
+    if (scale_m_per_px is None) == (ball_diameter_m is None):
+        raise InputError("give exactly one of scale_m_per_px (--scale-m-per-px) or "
+                         "ball_diameter_m (--ball-diameter-m)")
+    for name, value in (("scale_m_per_px", scale_m_per_px), ("ball_diameter_m", ball_diameter_m)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise InputError(f"{name} = {value!r}: must be > 0")
+    found = np.array([d.found and not d.touches_border for d in detections])
+    if found.sum() < 2 * MIN_FLIGHT_FRAMES:
+        raise InputError(f"video: the ball was found whole in {int(found.sum())} of "
+                         f"{len(detections)} frames; at least {2 * MIN_FLIGHT_FRAMES} are needed "
+                         "(no ball found? check the lighting, or the ball leaves the picture)")
+    residual = np.array([d.residual_px if f else np.nan for d, f in zip(detections, found)])
+    good = found & (residual <= RESIDUAL_FACTOR * np.nanmedian(residual) + 0.2)
+    bottom = np.array([d.bottom_row if f else np.nan for d, f in zip(detections, found)])
+    if surface_row is None:
+        surface_row = float(np.nanmax(bottom))
+        estimated = True
+    else:
+        estimated = False
+    contact = found & (bottom >= surface_row - CONTACT_MARGIN_PX)
+    touching = np.flatnonzero(contact)
+    if touching.size == 0:
+        raise InputError(f"video: no frame reaches the surface row {surface_row:g} px: the "
+                         "impact is not in the video (or --surface-row is wrong)")
+    first, last = touching[0], touching[-1]
+    free = good & ~contact
+    before = np.flatnonzero(free[:first])
+    after = last + 1 + np.flatnonzero(free[last + 1:])
+    for name, frames in (("before", before), ("after", after)):
+        if len(frames) < MIN_FLIGHT_FRAMES:
+            raise InputError(f"video: {len(frames)} usable frames {name} the impact; at least "
+                             f"{MIN_FLIGHT_FRAMES} are needed")
+    flight = np.concatenate([before, after])
+    radius_px = _perpendicular_radius(detections, flight)
+    radius = float(np.median(radius_px))
+    radius_rel_se = float(np.std(radius_px) / math.sqrt(len(radius_px)) / radius)
+    if scale_m_per_px is None:
+        scale = ball_diameter_m / (2.0 * radius)
+        scale_rel_se = radius_rel_se
+    else:
+        scale, scale_rel_se = scale_m_per_px, 0.0
+    g = gravity_m_s2 / scale  # px/s^2 along +row
+    centres = np.array([d.centre_px for d in detections])
+    t = np.arange(len(detections)) / fps
+    phases = [_fit_phase(f, t[f], centres[f, 0], centres[f, 1], g) for f in (before, after)]
+    t_in = _meeting_time(phases[0], g, radius, surface_row, t[first])
+    t_out = _meeting_time(phases[1], g, radius, surface_row, t[last])
+    v_in, v_out = phases[0].velocity(t_in, g), phases[1].velocity(t_out, g)
+    var_in = np.array([phases[0].covariance[1, 1], phases[0].covariance[3, 3]])
+    var_out = np.array([phases[1].covariance[1, 1], phases[1].covariance[3, 3]])
+    s_in, se_in = _speed_and_errors(v_in, var_in, scale, scale_rel_se)
+    s_out, se_out = _speed_and_errors(v_out, var_out, scale, scale_rel_se)
+    cor = float(-v_out[1] / v_in[1])
+    cor_se = abs(cor) * math.hypot(math.sqrt(var_out[1]) / v_out[1], math.sqrt(var_in[1]) / v_in[1])
+    out = {
+        "impact_speed_m_s": s_in, "impact_speed_se_m_s": se_in,
+        "rebound_speed_m_s": s_out, "rebound_speed_se_m_s": se_out,
+        "impact_angle_deg": math.degrees(math.atan2(v_in[0], v_in[1])),
+        "impact_angle_se_deg": _angle_se(v_in, var_in),
+        "rebound_angle_deg": math.degrees(math.atan2(v_out[0], -v_out[1])),
+        "rebound_angle_se_deg": _angle_se(v_out, var_out),
+        "cor": cor, "cor_se": cor_se, "speed_ratio": s_out / s_in,
+        "impact_time_s": t_in, "rebound_time_s": t_out,
+        "scale_m_per_px": scale, "scale_from": "ball_diameter" if scale_m_per_px is None
+        else "given", "ball_radius_px": radius, "surface_row_px": surface_row,
+        "surface_row_estimated": estimated, "frames": len(detections),
+        "frames_before": len(before), "frames_after": len(after),
+        "frames_contact": int(last - first + 1), "centre_residual_px":
+        [phases[0].residual_px, phases[1].residual_px],
+        "gravity_m_s2": gravity_m_s2, "fps": fps}
+    return Measurement(out, tuple(phases), (int(first), int(last)), g)
+
+
+def _angle_se(v: np.ndarray, var: np.ndarray) -> float:
+    n2 = v @ v
+    return math.degrees(math.sqrt((v[1] ** 2 * var[0] + v[0] ** 2 * var[1])) / n2)
+
+
+def _perpendicular_radius(detections, frames) -> np.ndarray:
+    """Each frame's half-width of the blob across its motion (px), from the sub-pixel width
+    profiles: blur stretches the blob along the motion, so the widths near the across
+    direction are the ball's diameter."""
+    from .track import PROFILE_ANGLES
+
+    centres = np.array([detections[i].centre_px for i in frames])
+    radii = []
+    for k, i in enumerate(frames):
+        step = centres[min(k + 1, len(frames) - 1)] - centres[max(k - 1, 0)]
+        across = math.atan2(step[0], -step[1])  # the motion turned by 90 degrees
+        gap = np.abs((PROFILE_ANGLES - across + np.pi / 2) % np.pi - np.pi / 2)
+        # the median over the directions within 45 degrees of across: one direction alone
+        # follows the ball's shading against the local background
+        radii.append(0.5 * np.nanmedian(detections[i].widths_px[gap <= np.pi / 4 + 1e-9]))
+    radii = np.array(radii)
+    return radii[np.isfinite(radii)]
