@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .track import Detection
+from .track import PROFILE_ANGLES, Detection
 
 #: least free-flight frames on each side of the contact
 MIN_FLIGHT_FRAMES = 5
@@ -180,8 +180,6 @@ def _perpendicular_radius(detections, frames) -> np.ndarray:
     """Each frame's half-width of the blob across its motion (px), from the sub-pixel width
     profiles: blur stretches the blob along the motion, so the widths near the across
     direction are the ball's diameter."""
-    from .track import PROFILE_ANGLES
-
     centres = np.array([detections[i].centre_px for i in frames])
     radii = []
     for k, i in enumerate(frames):
