@@ -106,6 +106,7 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
 def run_import(args: argparse.Namespace) -> dict[str, Any]:
     from ..export import read_ball, read_materials
     from ..fe import load_ball
+    from ..fe.materials import material_from_dict
 
     try:
         text = args.file.read_text(encoding="utf-8", errors="replace")
@@ -118,7 +119,6 @@ def run_import(args: argparse.Namespace) -> dict[str, Any]:
             out: dict[str, Any] = {"ball": spec}
         else:
             materials = read_materials(text, args.units)
-            from ..fe.materials import material_from_dict
             for m in materials:
                 material_from_dict(m["material"], where=m["name"])
             out = {"materials": materials}

@@ -93,9 +93,10 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
     geom = ball_geometry(ball, solver, element_size_m=element_size_m, divisions=divisions,
                          pole_grading=pole_grading, half=half)
     notes: list[str] = []
-    shortfall = 1.0 - geom.mass_kg(ball) / ball.mass_kg
+    mesh_mass = geom.mass_kg(ball)
+    shortfall = 1.0 - mesh_mass / ball.mass_kg
     if shortfall > MESH_MASS_TOLERANCE:  # the chords of a coarse mesh cut off the surface
-        notes.append(f"the mesh's mass {geom.mass_kg(ball):.4g} kg is {100 * shortfall:.1f}% "
+        notes.append(f"the mesh's mass {mesh_mass:.4g} kg is {100 * shortfall:.1f}% "
                      f"below the ball's {ball.mass_kg:.4g} kg: refine the mesh (divisions, "
                      "element_size_m) for a faithful ball")
     if fmt == "vtk":
@@ -115,7 +116,7 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
     except OSError as error:
         raise InputError(f"out = {str(path)!r}: cannot write ({error.strerror or error})") from None
     return Export(path, fmt, system.name, solver, ball_only, len(geom.nodes_m),
-                  len(geom.elements), geom.mass_kg(ball), notes,
+                  len(geom.elements), mesh_mass, notes,
                   None if ball_only else setup.step_time(ball))
 
 

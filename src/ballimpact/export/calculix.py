@@ -10,9 +10,11 @@ must be divided by the mass that was hit).
 from __future__ import annotations
 
 import math
+import os
 import re
 import shutil
 import subprocess
+import time as clock
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -61,9 +63,6 @@ def run_deck(deck: Path, mass_kg: float, normal_speed_m_s: float, half: bool,
              threads: int = 1, timeout_s: float = 3600.0) -> CalculixResult:
     """Run `ccx` on `deck` (in its folder) and summarise its contact force history. Forces and
     times in the deck's units: N and s in both systems we write."""
-    import os
-    import time as clock
-
     ccx = ccx_path()
     if ccx is None:
         raise InputError("ccx (CalculiX) is not installed: on Debian/Ubuntu `apt-get install "
@@ -93,12 +92,11 @@ def run_impact(ball, speed_m_s: float, folder: Path, *, units: str = "mm-tonne-s
                threads: int = 1) -> CalculixResult:
     """Export `ball`'s normal impact at `speed_m_s` as a CalculiX deck (3D half model,
     `divisions`) into `folder`, run it and summarise it."""
-    from . import ImpactSetup, ball_geometry, export_ball
+    from . import ImpactSetup, export_ball
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     deck = folder / "ball.inp"
-    export_ball(ball, deck, "calculix", solver="3d", units=units, divisions=divisions,
-                half=True, setup=ImpactSetup(speed_m_s, step_time_s=step_time_s))
-    mass = ball_geometry(ball, "3d", divisions=divisions, half=True).mass_kg(ball)
-    return run_deck(deck, mass, speed_m_s, half=True, threads=threads)
+    written = export_ball(ball, deck, "calculix", solver="3d", units=units, divisions=divisions,
+                          half=True, setup=ImpactSetup(speed_m_s, step_time_s=step_time_s))
+    return run_deck(deck, written.mesh_mass_kg, speed_m_s, half=True, threads=threads)

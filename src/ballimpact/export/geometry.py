@@ -48,11 +48,6 @@ class BallGeometry:
     def dimension(self) -> int:
         return self.nodes_m.shape[1]
 
-    @property
-    def axis(self) -> int:
-        """Index of the coordinate normal to the contact plane (y in 2D, z in 3D)."""
-        return self.dimension - 1
-
     def layer_volumes_m3(self, n_layers: int) -> np.ndarray:
         """Meshed volume of each layer (m^3; a half model's is half the ball's)."""
         return np.bincount(self.element_layer, self.element_volume_m3, minlength=n_layers)
@@ -88,7 +83,7 @@ def ball_geometry(ball: BallModel, solver: str = "axisymmetric", *,
         on_surface = np.zeros(len(nodes), bool)
         on_surface[mesh.surface_nodes] = True
         elements = np.asarray(mesh.elements)
-        volume = _ring_volumes(nodes[elements, 0], nodes[elements, 1])
+        volume = mesh.element_volumes_m3()
         return BallGeometry(solver, nodes, elements, np.asarray(mesh.element_layer),
                             _surface_faces(elements, on_surface, QUAD_FACES),
                             np.flatnonzero(nodes[:, 0] == 0.0), np.zeros(0, np.int64), False,
@@ -109,8 +104,3 @@ def ball_geometry(ball: BallModel, solver: str = "axisymmetric", *,
                             np.zeros(0, np.int64), np.asarray(mesh.symmetry_nodes), half, volume)
     raise InputError(f"solver = {solver!r}: allowed {', '.join(SOLVERS)}")
 
-
-def _ring_volumes(r: np.ndarray, z: np.ndarray) -> np.ndarray:
-    """Volume swept by each polygon about the axis (m^3), exact for straight edges (Pappus)."""
-    r_next, z_next = np.roll(r, -1, axis=1), np.roll(z, -1, axis=1)
-    return np.pi / 3.0 * np.sum((r + r_next) * (r * z_next - r_next * z), axis=1)

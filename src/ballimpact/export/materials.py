@@ -68,8 +68,7 @@ def elastic_scale(material: Material, moduli: str) -> tuple[float, float]:
     dev = material.deviatoric_factor()
     vol = material.volumetric_factor()
     if moduli == "long_term":
-        relaxing_bulk = material.sum_g if material.relax_whole_stress else material.sum_k
-        return dev * (1.0 - material.sum_g), vol * (1.0 - relaxing_bulk)
+        return dev * (1.0 - material.sum_g), vol * (1.0 - material.sum_bulk_relaxation)
     return dev, vol
 
 
@@ -150,7 +149,7 @@ def lsdyna_material(mid: int, name: str, density_kg_m3: float, material: Materia
     if any(t.k for t in material.prony) and not material.relax_whole_stress:
         raise ExportError(f"{name}: LS-DYNA *MAT_077 has no bulk (k_i) relaxation; set the "
                           "Prony k to 0 to export")
-    long_dev = material.deviatoric_factor() * (1.0 - material.sum_g)   # given -> long-term
+    long_dev = elastic_scale(material, "long_term")[0]   # constants as given -> long-term
     inst_mu = material.shear_modulus_pa(instantaneous=True)
     mu_long, k_long = material.shear_modulus_pa(False), material.bulk_modulus_pa(False)
     k_inst = material.bulk_modulus_pa(True)

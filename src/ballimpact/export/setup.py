@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..fe.ball import BallModel
-from ..fe.kernel import time_limit_default
+from ..fe.kernel import hertz_contact_time_s
+from ..oblique.options import _check_range
 
 
 @dataclass(frozen=True)
@@ -23,19 +24,11 @@ class ImpactSetup:
     step_time_s: float | None = None
 
     def __post_init__(self) -> None:
-        checks = (("speed_m_s", self.speed_m_s, 0.0, 1000.0, True),
-                  ("angle_deg", self.angle_deg, 0.0, 89.0, False),
-                  ("friction", self.friction, 0.0, 10.0, False))
-        for name, value, low, high, low_open in checks:
-            ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
-                  and math.isfinite(value) and (value > low if low_open else value >= low)
-                  and value <= high)
-            if not ok:
-                raise InputError(f"{name} = {value!r}: allowed range "
-                                 f"{'(' if low_open else '['}{low:g}, {high:g}]")
-        if self.step_time_s is not None and not (math.isfinite(self.step_time_s)
-                                                 and 0.0 < self.step_time_s <= 1.0):
-            raise InputError(f"step_time_s = {self.step_time_s!r}: allowed range (0, 1] s")
+        _check_range("speed_m_s", self.speed_m_s, 0.0, 1000.0, low_open=True)
+        _check_range("angle_deg", self.angle_deg, 0.0, 89.0)
+        _check_range("friction", self.friction, 0.0, 10.0)
+        if self.step_time_s is not None:
+            _check_range("step_time_s", self.step_time_s, 0.0, 1.0, low_open=True)
 
     def velocity_m_s(self, dimension: int) -> tuple[float, ...]:
         """Initial velocity of the ball: tangential along +x, toward the plane along -y (2D) or
@@ -49,7 +42,7 @@ class ImpactSetup:
 
     def contact_time_estimate_s(self, ball: BallModel) -> float:
         normal_speed = self.speed_m_s * math.cos(math.radians(self.angle_deg))
-        return time_limit_default(ball, normal_speed) / 6.0  # the Hertz contact time
+        return hertz_contact_time_s(ball, normal_speed)
 
     def step_time(self, ball: BallModel) -> float:
         return self.step_time_s or 1.5 * self.contact_time_estimate_s(ball)

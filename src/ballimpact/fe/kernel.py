@@ -394,12 +394,17 @@ def _branch_energy(q, s0, g, modulus):
     return sum(scale[i] * hh[i] for i in range(q.shape[0]))
 
 
-def time_limit_default(ball, speed: float) -> float:
-    """6 times the contact time of a Hertz sphere with the ball's softest long-term Young's
-    modulus and nu = 0.5 (the longest plausible contact)."""
+def hertz_contact_time_s(ball, speed: float) -> float:
+    """Contact time of a Hertz sphere with the ball's softest long-term Young's modulus and
+    nu = 0.5: longer than the ball's (the longest plausible contact)."""
     e_min = min(9 * m.bulk_modulus_pa(False) * m.shear_modulus_pa(False)
                 / (3 * m.bulk_modulus_pa(False) + m.shear_modulus_pa(False))
                 for m in (layer.material for layer in ball.layers))
-    return 6.0 * hertz_impact(e_min, 0.5, ball.outer_radius_m, ball.mass_kg, speed)[2]
+    return hertz_impact(e_min, 0.5, ball.outer_radius_m, ball.mass_kg, speed)[2]
+
+
+def time_limit_default(ball, speed: float) -> float:
+    """6 times `hertz_contact_time_s`."""
+    return 6.0 * hertz_contact_time_s(ball, speed)
 
 

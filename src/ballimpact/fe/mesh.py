@@ -108,17 +108,21 @@ class AxisymmetricMesh:
         r, z = _corner_coordinates(self)
         return 0.5 * np.sum(r * np.roll(z, -1, axis=1) - np.roll(r, -1, axis=1) * z, axis=1)
 
-    def volume_m3(self) -> float:
-        """Volume of the solid swept by the elements about the z axis (m^3).
+    def element_volumes_m3(self) -> np.ndarray:
+        """Volume of the ring each element sweeps about the z axis (m^3), shape (n_elements,).
 
         Pappus: each element sweeps 2 pi r_c A, with r_c the r of its polygon centroid and A its
-        area. This is exact for the polygons as meshed (straight edges), so it differs from
-        4/3 pi R^3 only by the chords cut off the surface.
+        area. This is exact for the polygons as meshed (straight edges).
         """
         r, z = _corner_coordinates(self)
         r_next, z_next = np.roll(r, -1, axis=1), np.roll(z, -1, axis=1)
         # 2 pi A r_c = pi/3 sum_i (r_i + r_i+1)(r_i z_i+1 - r_i+1 z_i)
-        return float(np.pi / 3.0 * np.sum((r + r_next) * (r * z_next - r_next * z)))
+        return np.pi / 3.0 * np.sum((r + r_next) * (r * z_next - r_next * z), axis=1)
+
+    def volume_m3(self) -> float:
+        """Volume of the solid swept by the elements about the z axis (m^3): it differs from
+        4/3 pi R^3 only by the chords cut off the surface."""
+        return float(np.sum(self.element_volumes_m3()))
 
 
 def layered_sphere_mesh(

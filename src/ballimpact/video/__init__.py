@@ -3,7 +3,9 @@ in Image-Pro Plus): `read_frames`, `track` (background subtraction and a circle 
 frame), `measure` (free-flight fits before and after contact: speeds, angles and COR with
 standard errors), and `synthetic` videos with known answers."""
 
-from .frames import read_frames
+from pathlib import Path
+
+from .frames import frame_rate, read_frames
 from .synthetic import SyntheticImpact, render
 from .track import Detection, track
 from .trajectory import Measurement, measure
@@ -11,10 +13,6 @@ from .trajectory import Measurement, measure
 
 def analyse(path, fps=None, **options) -> tuple[Measurement, list[Detection]]:
     """Read, track and measure a recording; `options` as `measure`'s."""
-    from pathlib import Path
-
-    from .frames import frame_rate
-
     frames, fps_file = read_frames(path)
     fps = frame_rate(fps, fps_file, Path(path))
     detections = track(frames)

@@ -56,8 +56,8 @@ class Phase:
 
 def _fit_phase(frames, t, x, y, g) -> Phase:
     basis = np.column_stack([np.ones_like(t), t])
-    cx, res_x, *_ = np.linalg.lstsq(basis, x, rcond=None)
-    cy, res_y, *_ = np.linalg.lstsq(basis, y - 0.5 * g * t ** 2, rcond=None)
+    cx = np.linalg.lstsq(basis, x, rcond=None)[0]
+    cy = np.linalg.lstsq(basis, y - 0.5 * g * t ** 2, rcond=None)[0]
     dof = max(1, len(t) - 2)
     rx = x - basis @ cx
     ry = y - 0.5 * g * t ** 2 - basis @ cy

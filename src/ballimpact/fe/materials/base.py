@@ -103,14 +103,19 @@ class Material(ABC):
     def sum_k(self) -> float:
         return float(sum(t.k for t in self.prony))
 
+    @property
+    def sum_bulk_relaxation(self) -> float:
+        """Fraction of the bulk modulus that relaxes: sum k_i, or sum g_i for a material whose
+        whole stress relaxes (hyperfoam)."""
+        return self.sum_g if self.relax_whole_stress else self.sum_k
+
     def deviatoric_factor(self) -> float:
         """Factor from the constants as given to instantaneous deviatoric constants."""
         return 1.0 / (1.0 - self.sum_g) if self.moduli == "long_term" else 1.0
 
     def volumetric_factor(self) -> float:
         """Factor from the bulk modulus as given to the instantaneous one."""
-        sum_k = self.sum_g if self.relax_whole_stress else self.sum_k
-        return 1.0 / (1.0 - sum_k) if self.moduli == "long_term" else 1.0
+        return 1.0 / (1.0 - self.sum_bulk_relaxation) if self.moduli == "long_term" else 1.0
 
     @abstractmethod
     def given_moduli_pa(self) -> tuple[float, float]:
@@ -127,9 +132,8 @@ class Material(ABC):
 
     def bulk_modulus_pa(self, instantaneous: bool = True) -> float:
         _, k = self.given_moduli_pa()
-        relaxing = self.sum_g if self.relax_whole_stress else self.sum_k
         inst = k * self.volumetric_factor()
-        return inst if instantaneous else inst * (1.0 - relaxing)
+        return inst if instantaneous else inst * (1.0 - self.sum_bulk_relaxation)
 
     def wave_modulus_pa(self) -> float:
         """Instantaneous dilatational (P-wave) modulus K + 4/3 mu, for the stable increment."""
