@@ -48,6 +48,12 @@ def max_shift_s(test) -> float:
 def aligned_nrmse(test, t_model: np.ndarray, f_model: np.ndarray) -> float:
     """Force NRMSE (`pulse_nrmse`) at the best time shift of the model pulse within
     +/- `max_shift_s`."""
+    return best_alignment(test, t_model, f_model)[0]
+
+
+def best_alignment(test, t_model: np.ndarray, f_model: np.ndarray) -> tuple[float, float]:
+    """(NRMSE, shift in s) of `aligned_nrmse`: the model pulse's times plus the shift line up
+    with the test's."""
     from scipy.optimize import minimize_scalar
 
     limit = max_shift_s(test)
@@ -58,22 +64,25 @@ def aligned_nrmse(test, t_model: np.ndarray, f_model: np.ndarray) -> float:
 
     best = minimize_scalar(misfit, bounds=(-limit, limit), method="bounded",
                            options={"xatol": 1e-3 * limit})
-    return float(min(best.fun, misfit(0.0)))
+    unshifted = misfit(0.0)
+    return (float(best.fun), float(best.x)) if best.fun < unshifted else (float(unshifted), 0.0)
 
 
-def measured_like(test, fe):
-    """The features of an FE run's pulse measured as the test's was: resampled at the test's
+def measured_like(test, run):
+    """The features of a model's pulse measured as the test's was: resampled at the test's
     rate and windowed at the test's threshold (a fraction of the peak). A noisy test's window
     starts and ends where its pulse crosses a threshold above the noise (5 x its RMS, 5% of the
     peak at 1% noise), extrapolated to zero; the clean FE pulse measured at 1e-3 of its peak would
-    differ in contact time by the pulse's tails alone (5% on the thesis' ball)."""
+    differ in contact time by the pulse's tails alone (5% on the thesis' ball). `run`: an FE run
+    or any model's `ImpactRecord`."""
     from ..features import extract_features
-    from ..records import resample
+    from ..records import ImpactRecord, resample
 
     features = test.features
     spacing = float(np.median(np.diff(features.time_s)))
     fraction = max(1e-3, features.window.threshold_n / features.values["P6"])
-    return extract_features(resample(fe.record(), 1.0 / spacing), threshold_fraction=fraction)
+    record = run if isinstance(run, ImpactRecord) else run.record()
+    return extract_features(resample(record, 1.0 / spacing), threshold_fraction=fraction)
 
 
 def compare_run(test, fe) -> dict:

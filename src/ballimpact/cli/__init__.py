@@ -15,7 +15,7 @@ import warnings
 
 from .. import __version__
 from ..errors import InputError, SimulationError
-from . import calibrate, export, features, fit, identify, simulate, universal, video
+from . import calibrate, export, features, fit, identify, report, simulate, universal, video
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
 
@@ -26,14 +26,16 @@ RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_model
            "simulate": simulate.run_simulate, "balls": simulate.run_balls,
            "demo": simulate.run_demo, "universal": universal.run, "identify": identify.run,
            "calibrate": calibrate.run, "export": export.run_export,
-           "import-material": export.run_import, "video": video.run}
+           "import-material": export.run_import, "video": video.run,
+           "report": report.run}
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = Parser(prog="ballimpact", description="Sports-ball impact modelling (SI units).")
     parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
-    for module in (features, fit, simulate, universal, identify, calibrate, export, video):
+    for module in (features, fit, simulate, universal, identify, calibrate, export, video,
+                   report):
         module.add_parser(verbs)
     return parser
 

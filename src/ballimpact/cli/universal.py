@@ -86,7 +86,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.study import make_config, progress_bar, run_study
+    from ..progress import progress_bar
+    from ..universal.study import make_config, run_study
 
     use_compilation_cache()
     settings = dict(runs=args.runs, seed=args.seed, method=args.method,

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -225,15 +224,3 @@ def _run_distributed(config, todo, finished, workers, scheduler) -> None:
         client.close()
         if cluster is not None:
             cluster.close()
-
-
-def progress_bar(done: int, total: int, elapsed_s: float, new: int) -> None:
-    """One stderr line: runs done, runs/s of this session and time left."""
-    rate = new / elapsed_s if elapsed_s > 0 else 0.0
-    left = (total - done) / rate if rate > 0 else math.inf
-    width = 30
-    filled = int(width * done / total)
-    eta = f"{left:.0f} s left" if math.isfinite(left) else "time left unknown"
-    end = "\n" if done >= total else ""
-    print(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total} runs, {rate:.2f} runs/s, "
-          f"{eta}   ", end=end, file=sys.stderr, flush=True)

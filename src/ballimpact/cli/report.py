@@ -1,0 +1,103 @@
+"""`ballimpact report`: every model against every test, as an HTML page, JSON and CSV tables."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..features import DEFAULT_IMPULSE_TOLERANCE
+from ..filters import FILTER_NAMES
+from .common import add_record_options, load, process_record, use_compilation_cache
+
+DEFAULT_MODELS = "single_element,three_element,universal"
+
+
+def add_parser(verbs) -> None:
+    report = verbs.add_parser(
+        "report", help="compare lumped, universal and FE models against tests at several speeds",
+        description="Fit each lumped model to each test, identify the universal ball from each "
+                    "test and run it, run each ball file as it is, and write DIR/report.html "
+                    "(self-contained: tables and inline figures), DIR/report.json and a CSV per "
+                    "table: force-time overlays, NRMSE, COR and contact time against speed, "
+                    "parameters against speed and the computing cost (thesis chapter 7).")
+    report.add_argument("files", type=Path, nargs="*", metavar="TEST",
+                        help="test record(s): CSV with unit headers or WAV, one per speed "
+                             "(speeds from side files or flags)")
+    report.add_argument("--builtin", choices=("sample", "speeds"),
+                        help="built-in SYNTHETIC tests instead of files: the sample test at "
+                             "20.8 m/s, or an FE three-layer ball at 5.5, 10, 20.8 and 25 m/s "
+                             "(then its generating ball joins the models as the detailed FE model)")
+    report.add_argument("--models", default=None,
+                        help="comma-separated: lumped models (`ballimpact models`), universal, "
+                             f"ball presets or ball files (default {DEFAULT_MODELS})")
+    report.add_argument("--universal-model", help="universal model path (MODEL.json + MODEL.npz);"
+                                                  " default: the built-in cricket-ball model")
+    report.add_argument("--out", type=Path, required=True, metavar="DIR",
+                        help="output folder (made if missing; its parent must exist)")
+    report.add_argument("--seed", type=int, default=0,
+                        help="seed of the lumped GA fits (default 0)")
+    report.add_argument("--filter", default="none",
+                        help=f"one of {', '.join(FILTER_NAMES)}, or cfc<N> (default none)")
+    report.add_argument("--filter-window-s", type=float,
+                        help="window of savgol/lowess/loess (s); default 10%% of contact time")
+    report.add_argument("--resample-hz", type=float, help="resample to this uniform rate first")
+    report.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
+                        help="relative misfit allowed between impulse and m(v_in + v_out) "
+                             f"(default {DEFAULT_IMPULSE_TOLERANCE})")
+    report.add_argument("--quiet", action="store_true", help="no progress bar")
+    report.add_argument("--json", action="store_true", help="print one JSON object")
+    add_record_options(report)
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..report import build_report, builtin_files, parse_models
+    from ..report.inputs import builtin_ball, label_tests
+
+    if bool(args.files) == bool(args.builtin):
+        raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
+    if not args.out.parent.is_dir():
+        raise InputError(f"--out: folder {args.out.parent} does not exist")
+    if args.out.exists() and not args.out.is_dir():
+        raise InputError(f"--out: {args.out} is a file, not a folder")
+    names = args.models or DEFAULT_MODELS
+    ball = builtin_ball(args.builtin) if args.builtin else None
+    if args.models is None and ball is not None:
+        names += f",{ball}"
+    models = parse_models(names)
+    files = builtin_files(args.builtin) if args.builtin else args.files
+    processed = [process_record(load(path, args), args) for path in files]
+    tests = label_tests([str(f) for f in files], processed)
+    universal = None
+    if any(m.kind == "universal" for m in models):
+        from ..universal.model import load_model
+
+        universal = load_model(args.universal_model)
+    use_compilation_cache()
+    note = ""
+    if args.builtin:
+        note = (f"SYNTHETIC tests (the built-in set '{args.builtin}', see docs/report.md), not "
+                "measurements.")
+        if ball is not None and args.models is None:
+            note += (f" The model 'FE {ball.stem}' is the ball that generated them, run on the "
+                     "default mesh (the tests used one twice as fine): its errors are the "
+                     "floor set by the noise and the mesh.")
+    result = build_report(tests, models, args.out, seed=args.seed, universal_model=universal,
+                          note=note, progress=not args.quiet)
+    if not args.json:
+        _print(result)
+    return result
+
+
+def _print(result: dict[str, Any]) -> None:
+    tables = result["tables"]
+    for key in ("nrmse", "cor_error"):
+        table = tables[key]
+        print(table["title"])
+        print("  " + "".join(f"{c:>18}" for c in table["columns"]))
+        for row in table["rows"]:
+            cells = [f"{row[0]:>18}"] + [f"{v:>18.2%}" if key == "nrmse" else f"{v:>+18.4f}"
+                                         for v in row[1:]]
+            print("  " + "".join(cells))
+    print(f"report: {result['report_html']} ({result['wall_time_s']:.1f} s)")

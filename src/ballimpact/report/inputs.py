@@ -1,0 +1,61 @@
+"""The tests a report compares models against: files given by the user, or a built-in set.
+
+Built-in sets (both SYNTHETIC, made by scripts in `examples/`, documented in docs/report.md):
+
+- `sample`: the built-in sample test (a Hunt-Crossley ball at 20.8 m/s dressed as a load-cell
+  record; `examples/make_sample_record.py`);
+- `speeds`: a three-layer FE ball at the thesis' speeds 5.5, 10, 20.8 and 25 m/s, 100 kHz with 1%
+  noise (`examples/make_speed_set.py`); its generating ball is `speed_set/synthetic-3layer.json`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from ..errors import InputError
+from ..pipeline import ProcessedImpact
+
+BUILTIN_SETS = ("sample", "speeds")
+
+
+@dataclass(frozen=True)
+class Test:
+    """One processed test of the report: `label` names it in tables and figures."""
+
+    label: str
+    file: str
+    processed: ProcessedImpact
+
+    @property
+    def speed_m_s(self) -> float:
+        return float(self.processed.features.values["P15"])
+
+
+def data_folder() -> Path:
+    return Path(str(resources.files("ballimpact") / "data"))
+
+
+def builtin_files(name: str) -> list[Path]:
+    """The record files of a built-in set (see the module notes)."""
+    if name == "sample":
+        return [data_folder() / "sample_impact.csv"]
+    if name == "speeds":
+        return sorted((data_folder() / "speed_set").glob("synthetic_*.csv"))
+    raise InputError(f"builtin: {name!r} is not a built-in test set; allowed "
+                     f"{', '.join(BUILTIN_SETS)}")
+
+
+def builtin_ball(name: str) -> Path | None:
+    """The ball that generated a built-in set, where it is an FE ball (else None)."""
+    return data_folder() / "speed_set" / "synthetic-3layer.json" if name == "speeds" else None
+
+
+def label_tests(files: list[str], processed: list[ProcessedImpact]) -> list[Test]:
+    """Tests ordered by impact speed, labelled by speed ("20.8 m/s"), with the file name added
+    where two share a speed."""
+    speeds = [f"{p.features.values['P15']:g} m/s" for p in processed]
+    labels = [s if speeds.count(s) == 1 else f"{s} ({Path(f).name})" for s, f in zip(speeds, files)]
+    tests = [Test(label, file, p) for label, file, p in zip(labels, files, processed)]
+    return sorted(tests, key=lambda t: (t.speed_m_s, t.label))

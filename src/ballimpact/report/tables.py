@@ -1,0 +1,118 @@
+"""The report's tables: one definition each, written as HTML in the page and as a CSV beside it."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .inputs import Test
+from .models import ModelRun
+
+
+@dataclass(frozen=True)
+class Table:
+    """`columns` name SI units in their names; `rows` hold numbers or strings."""
+
+    name: str      # the CSV's stem
+    title: str
+    columns: list[str]
+    rows: list[list[Any]]
+
+    def to_csv(self) -> str:
+        out = io.StringIO()
+        writer = csv.writer(out, lineterminator="\n")
+        writer.writerow(self.columns)
+        writer.writerows([[_csv_cell(v) for v in row] for row in self.rows])
+        return out.getvalue()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"title": self.title, "csv": f"{self.name}.csv", "columns": self.columns,
+                "rows": self.rows}
+
+
+def _csv_cell(value: Any) -> Any:
+    if isinstance(value, float):
+        return "" if not math.isfinite(value) else f"{value:.8g}"
+    return value
+
+
+def tests_table(tests: list[Test]) -> Table:
+    rows = []
+    for t in tests:
+        f = t.processed.features
+        v = f.values
+        rows.append([t.label, Path(t.file).name, v["P15"], v["P16"], f.rebound_speed_source,
+                     v["P17"], v["P6"], v["P1"], f.mass_kg])
+    return Table("tests", "Tests", ["test", "file", "impact_speed_m_s", "rebound_speed_m_s",
+                                    "rebound_speed_source", "cor", "peak_force_n",
+                                    "contact_time_s", "mass_kg"], rows)
+
+
+def comparison_table(runs: list[ModelRun]) -> Table:
+    rows = []
+    for r in runs:
+        c = r.comparison
+        rows.append([r.model, r.test, r.impact_speed_m_s, c["peak_force_simulated_n"],
+                     c["peak_force_measured_n"], c["peak_force_relative_error"],
+                     c["contact_time_simulated_s"], c["contact_time_measured_s"],
+                     c["contact_time_relative_error"], c["cor_simulated"], c["cor_measured"],
+                     c["cor_error"], c["force_nrmse"]])
+    return Table("comparison", "Every model against every test",
+                 ["model", "test", "impact_speed_m_s", "peak_force_n", "peak_force_test_n",
+                  "peak_force_relative_error", "contact_time_s", "contact_time_test_s",
+                  "contact_time_relative_error", "cor", "cor_test", "cor_error", "force_nrmse"],
+                 rows)
+
+
+def by_speed_table(runs: list[ModelRun], tests: list[Test], key: str, name: str,
+                   title: str) -> Table:
+    """One row per model, one column per test (ordered by speed): `comparison[key]`, and the
+    mean of its magnitude over the tests."""
+    models = list(dict.fromkeys(r.model for r in runs))
+    cells = {(r.model, r.test): r.comparison[key] for r in runs}
+    rows = []
+    for model in models:
+        values = [cells.get((model, t.label), math.nan) for t in tests]
+        finite = [abs(v) for v in values if math.isfinite(v)]
+        rows.append([model, *values, sum(finite) / len(finite) if finite else math.nan])
+    return Table(name, title, ["model", *[t.label for t in tests], "mean_abs"], rows)
+
+
+def cost_table(runs: list[ModelRun], timed_run_s: dict[str, float]) -> Table:
+    """Per model: the mean identification time per test, one (compiled) run, and the total."""
+    rows = []
+    for model in dict.fromkeys(r.model for r in runs):
+        mine = [r for r in runs if r.model == model]
+        identification = sum(r.identification_s for r in mine) / len(mine)
+        total = sum(r.identification_s + r.simulation_s for r in mine)
+        rows.append([model, mine[0].kind, identification, timed_run_s[model], total])
+    return Table("cost", "Computing cost (this machine)",
+                 ["model", "kind", "identification_s_per_test", "run_s", "total_s"], rows)
+
+
+def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
+    """Per fitted or identified model, its parameters against impact speed laid out as thesis
+    tables 7-1..7-3 (a row per parameter, a column per test), each followed by its standard
+    error (lumped fits) or the ends of its 90% interval (universal identifications)."""
+    tables = {}
+    for model in dict.fromkeys(r.model for r in runs if r.parameters):
+        mine = sorted((r for r in runs if r.model == model), key=lambda r: r.impact_speed_m_s)
+        rows: list[list[Any]] = [["impact_speed_m_s", *[r.impact_speed_m_s for r in mine]]]
+        for name in mine[0].parameters:
+            rows.append([f"{name} [{mine[0].units.get(name, '')}]",
+                         *[r.parameters[name] for r in mine]])
+            if "standard_error" in mine[0].uncertainty:
+                rows.append([f"{name} standard error",
+                             *[r.uncertainty["standard_error"].get(name, 0.0) for r in mine]])
+            elif name in mine[0].uncertainty.get("interval_90", {}):
+                for end, label in ((0, "low"), (1, "high")):
+                    rows.append([f"{name} 90% {label}",
+                                 *[r.uncertainty["interval_90"][name][end] for r in mine]])
+        stem = "parameters_" + "".join(c if c.isalnum() else "_" for c in model)
+        tables[model] = Table(stem, f"Parameters of {model} against impact speed",
+                              ["parameter", *[r.test for r in mine]], rows)
+    return tables
