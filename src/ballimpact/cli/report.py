@@ -95,9 +95,9 @@ def _print(result: dict[str, Any]) -> None:
     for key in ("nrmse", "cor_error"):
         table = tables[key]
         print(table["title"])
-        print("  " + "".join(f"{c:>18}" for c in table["columns"]))
+        print("  " + "".join(f"{c:>20}" for c in table["columns"]))
         for row in table["rows"]:
-            cells = [f"{row[0]:>18}"] + [f"{v:>18.2%}" if key == "nrmse" else f"{v:>+18.4f}"
+            cells = [f"{row[0]:>20}"] + [f"{v:>20.2%}" if key == "nrmse" else f"{v:>+20.4f}"
                                          for v in row[1:]]
             print("  " + "".join(cells))
     print(f"report: {result['report_html']} ({result['wall_time_s']:.1f} s)")
