@@ -33,6 +33,13 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
 
 
 def add_processing(parser: argparse.ArgumentParser) -> None:
+    add_filtering(parser)
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--plot", type=Path, help="write force-time and force-displacement PNG")
+
+
+def add_filtering(parser: argparse.ArgumentParser) -> None:
+    """The options of `process_record`: filter, its window, resampling, impulse tolerance."""
     parser.add_argument("--filter", default="none",
                         help=f"one of {', '.join(FILTER_NAMES)}, or cfc<N> (default none)")
     parser.add_argument("--filter-window-s", type=float,
@@ -41,8 +48,6 @@ def add_processing(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
                         help="relative misfit allowed between impulse and m(v_in + v_out) "
                              f"(default {DEFAULT_IMPULSE_TOLERANCE})")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument("--plot", type=Path, help="write force-time and force-displacement PNG")
 
 
 def load(path: Path, args: argparse.Namespace):

@@ -7,9 +7,13 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..features import DEFAULT_IMPULSE_TOLERANCE
-from ..filters import FILTER_NAMES
-from .common import add_record_options, load, process_record, use_compilation_cache
+from .common import (
+    add_filtering,
+    add_record_options,
+    load,
+    process_record,
+    use_compilation_cache,
+)
 
 DEFAULT_MODELS = "single_element,three_element,universal"
 
@@ -38,14 +42,7 @@ def add_parser(verbs) -> None:
                         help="output folder (made if missing; its parent must exist)")
     report.add_argument("--seed", type=int, default=0,
                         help="seed of the lumped GA fits (default 0)")
-    report.add_argument("--filter", default="none",
-                        help=f"one of {', '.join(FILTER_NAMES)}, or cfc<N> (default none)")
-    report.add_argument("--filter-window-s", type=float,
-                        help="window of savgol/lowess/loess (s); default 10%% of contact time")
-    report.add_argument("--resample-hz", type=float, help="resample to this uniform rate first")
-    report.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
-                        help="relative misfit allowed between impulse and m(v_in + v_out) "
-                             f"(default {DEFAULT_IMPULSE_TOLERANCE})")
+    add_filtering(report)
     report.add_argument("--quiet", action="store_true", help="no progress bar")
     report.add_argument("--json", action="store_true", help="print one JSON object")
     add_record_options(report)
