@@ -163,3 +163,33 @@ def test_bad_input_exits_2_naming_it(tmp_path, capsys, argv, message):
     assert code == 2
     assert message in err and err.count("\n") == 1
     assert not (tmp_path / "r").exists()
+
+
+def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, monkeypatch, capsys):
+    import ballimpact.report.build as build
+    from ballimpact.errors import SimulationError
+
+    def run_model(spec, test, **options):
+        if spec.name == "kelvin_voigt":
+            raise SimulationError("inverted element at t = 1e-4 s")
+        return original(spec, test, **options)
+
+    original = build.run_model
+    monkeypatch.setattr(build, "run_model", run_model)
+    code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz,kelvin_voigt",
+                       "--out", tmp_path / "r", "--quiet")
+    assert code == 0
+    assert "warning: kelvin_voigt at 20.8 m/s: failed run: inverted element" in err
+    report = json.loads((tmp_path / "r" / "report.json").read_text())
+    assert [r["model"] for r in report["runs"]] == ["hertz"]
+    assert report["failures"] == [{"model": "kelvin_voigt", "test": "20.8 m/s",
+                                   "error": "inverted element at t = 1e-4 s"}]
+    assert "Failed runs" in (tmp_path / "r" / "report.html").read_text()
+
+    def always_fails(spec, test, **options):
+        raise SimulationError("energy blow-up")
+
+    monkeypatch.setattr(build, "run_model", always_fails)  # nothing to report: a failed run
+    code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz", "--out",
+                       tmp_path / "s", "--quiet")
+    assert code == 1 and "every model run failed: hertz at 20.8 m/s: energy blow-up" in err

@@ -63,6 +63,9 @@ def build_report(tests: list[Test], models: list[ModelSpec], out: Path, *, seed:
                 failures.append({"model": spec.label, "test": test.label, "error": str(error)})
                 warnings.warn(f"{spec.label} at {test.label}: failed run: {error}", stacklevel=2)
             step(f"{spec.label} at {test.label}")
+    if not runs:
+        raise SimulationError("every model run failed: " + "; ".join(
+            f"{f['model']} at {f['test']}: {f['error']}" for f in failures))
     timed = {}
     for spec in models:
         mine = sorted((r for r in runs if r.model == spec.label), key=lambda r: r.impact_speed_m_s)
