@@ -9,7 +9,7 @@ question). Prints JSON; writes identify-layered.png.
 import json
 import sys
 
-from ballimpact.fe import SolverOptions, load_ball, simulate
+from ballimpact.fe import load_ball, simulate
 from ballimpact.features import extract_features
 from ballimpact.universal import identify, load_model
 from ballimpact.universal.plots import plot_layered
@@ -22,7 +22,7 @@ class Processed:  # what `identify` reads of a processed test: its features
 
 def main(name: str = "cricket-3layer", speed: float = 25.0) -> None:
     model = load_model()
-    options = SolverOptions(element_size_m=model.metadata["study"]["element_size_m"])
+    options = model.solver_options()
     layered = simulate(load_ball(name, impact_speed_m_s=speed), speed, options)
     found = identify(Processed(extract_features(layered.record())), model, options=options)
     plot_layered(name, layered, found.simulated, found.verification, "identify-layered.png")

@@ -45,7 +45,6 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import SolverOptions
     from ..universal.identify import identify
     from ..universal.model import load_model
 
@@ -56,7 +55,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     model = load_model(args.model)
     if args.verify:
         use_compilation_cache()
-    options = SolverOptions(element_size_m=model.metadata["study"]["element_size_m"])
+    options = model.solver_options()
     results = []
     for path in args.files:
         processed = process_record(load(path, args), args)
@@ -105,12 +104,14 @@ def speed_table_ball(found: list, model) -> dict[str, Any]:
 
 
 def _print(path: Path, found) -> None:
+    from ..universal.model import TARGET_UNITS
+
     print(f"{path.name}: universal ball at {found.impact_speed_m_s:g} m/s "
           f"(refine: {found.refine})")
-    units = {"c10_pa": "Pa", "c01_pa": "Pa", "g1": "", "tau1_s": "s", "mu0_pa": "Pa"}
     for name, value in found.params.items():
         low, high = found.interval_90[name]
-        print(f"  {name:<8} {value:11.5g} {units[name]:<3} 90% interval {low:.4g} .. {high:.4g}")
+        unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""
+        print(f"  {name:<8} {value:11.5g} {unit:<3} 90% interval {low:.4g} .. {high:.4g}")
     v = found.verification
     if v:
         print(f"  FE check: force NRMSE {v['force_nrmse']:.2%}; COR {v['cor_simulated']:.4f} vs "

@@ -152,7 +152,6 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
     """The built-in sample test identified as a universal ball with the built-in model."""
     from importlib import resources
 
-    from ..fe import SolverOptions
     from ..loaders import load_record
     from ..pipeline import process
     from ..universal import identify, load_model
@@ -161,8 +160,7 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
           file=sys.stderr, flush=True)
     sample = Path(str(resources.files("ballimpact") / "data" / "sample_impact.csv"))
     model = load_model()
-    found = identify(process(load_record(sample)), model, options=SolverOptions(
-        element_size_m=model.metadata["study"]["element_size_m"]))
+    found = identify(process(load_record(sample)), model, options=model.solver_options())
     if not quiet:
         p, v = found.params, found.verification
         print(f"identify (built-in sample test at {found.impact_speed_m_s:g} m/s, built-in "

@@ -6,6 +6,7 @@ models from `models.parse_models`; `browser.check_page` opens a report in headle
 """
 
 from .build import build_report as build_report
-from .inputs import BUILTIN_SETS as BUILTIN_SETS, Test as Test, builtin_files as builtin_files
+from .inputs import BUILTIN_SETS as BUILTIN_SETS, ReportTest as ReportTest
+from .inputs import builtin_files as builtin_files
 from .models import ModelRun as ModelRun, ModelSpec as ModelSpec, parse_models as parse_models
 from .models import run_model as run_model

@@ -38,8 +38,8 @@ def find_browser() -> str | None:
 class _Pipe:
     """DevTools protocol over the browser's pipe: commands with ids, events kept as they come."""
 
-    def __init__(self, process: subprocess.Popen, write_fd: int, read_fd: int):
-        self.process, self.write_fd, self.read_fd = process, write_fd, read_fd
+    def __init__(self, write_fd: int, read_fd: int):
+        self.write_fd, self.read_fd = write_fd, read_fd
         self.buffer = b""
         self.events: list[dict[str, Any]] = []
         self.next_id = 0
@@ -109,7 +109,7 @@ def check_page(html_path: str | Path, screenshot: str | Path | None = None, *,
         pass_fds=(to_browser_read, from_browser_write))
     os.close(to_browser_read)
     os.close(from_browser_write)
-    pipe = _Pipe(process, to_browser_write, from_browser_read)
+    pipe = _Pipe(to_browser_write, from_browser_read)
     try:
         target = pipe.send("Target.createTarget", {"url": "about:blank"}, timeout_s=timeout_s)
         session = pipe.send("Target.attachToTarget", {"targetId": target["targetId"],

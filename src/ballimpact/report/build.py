@@ -16,7 +16,7 @@ from ..cli.common import json_safe
 from ..errors import SimulationError
 from ..progress import progress_bar
 from . import figures
-from .inputs import Test
+from .inputs import ReportTest
 from .models import ModelRun, ModelSpec, run_model
 from .page import figure_html, page, table_html
 from .tables import (
@@ -34,7 +34,7 @@ _THESIS = ("The thesis (section 7.2) found the three-element and the universal m
            "(detailed) each on a 2008 PC.")
 
 
-def build_report(tests: list[Test], models: list[ModelSpec], out: Path, *, seed: int = 0,
+def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *, seed: int = 0,
                  universal_model=None, options=None, note: str = "",
                  progress: bool = True) -> dict[str, Any]:
     """Run every model against every test and write the report into the folder `out` (made if
@@ -93,7 +93,8 @@ def build_report(tests: list[Test], models: list[ModelSpec], out: Path, *, seed:
     return result
 
 
-def _tables(tests: list[Test], runs: list[ModelRun], timed: dict[str, float]) -> dict[str, Table]:
+def _tables(tests: list[ReportTest], runs: list[ModelRun],
+            timed: dict[str, float]) -> dict[str, Table]:
     tables = {
         "tests": tests_table(tests),
         "comparison": comparison_table(runs),

@@ -11,7 +11,7 @@ import math
 import numpy as np
 
 from ..plotting import plt
-from .inputs import Test
+from .inputs import ReportTest
 from .models import ModelRun
 from .tables import Table
 
@@ -32,7 +32,7 @@ def _colors(runs: list[ModelRun]) -> dict[str, str]:
     return {m: f"C{i % 10}" for i, m in enumerate(dict.fromkeys(r.model for r in runs))}
 
 
-def force_overlays(tests: list[Test], runs: list[ModelRun]):
+def force_overlays(tests: list[ReportTest], runs: list[ModelRun]):
     colors = _colors(runs)
     n = len(tests)
     columns = min(n, 2)
@@ -54,7 +54,7 @@ def force_overlays(tests: list[Test], runs: list[ModelRun]):
     return figure
 
 
-def versus_speed(tests: list[Test], runs: list[ModelRun], key: str, label: str,
+def versus_speed(tests: list[ReportTest], runs: list[ModelRun], key: str, label: str,
                  scale: float = 1.0):
     """`key` a feature (P17 COR, P1 contact time, P6 peak force) of the tests (markers) and of
     each model (lines) against the impact speed."""
@@ -72,7 +72,7 @@ def versus_speed(tests: list[Test], runs: list[ModelRun], key: str, label: str,
     return figure
 
 
-def nrmse_bars(tests: list[Test], runs: list[ModelRun]):
+def nrmse_bars(tests: list[ReportTest], runs: list[ModelRun]):
     colors = _colors(runs)
     figure, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
     width = 0.8 / len(colors)
@@ -117,12 +117,12 @@ def parameters_vs_speed(model: str, runs: list[ModelRun]):
                                 constrained_layout=True, squeeze=False)
     speeds = [r.impact_speed_m_s for r in mine]
     for ax, name in zip(axes.flat, names):
-        factor, unit = _SHOWN.get(mine[0].units.get(name, ""), (1.0, mine[0].units.get(name, "")))
-        values = np.array([r.parameters[name] for r in mine]) * factor
-        low, high = _spread(mine, name, values / factor)
-        ax.errorbar(speeds, values, yerr=[(values / factor - low) * factor,
-                                          (high - values / factor) * factor],
-                    fmt="o-", ms=4, capsize=3)
+        si_unit = mine[0].units.get(name, "")
+        factor, unit = _SHOWN.get(si_unit, (1.0, si_unit))
+        values = np.array([r.parameters[name] for r in mine])
+        low, high = _spread(mine, name, values)
+        ax.errorbar(speeds, values * factor, fmt="o-", ms=4, capsize=3,
+                    yerr=[(values - low) * factor, (high - values) * factor])
         if np.all(values > 0) and values.max() > 30 * values.min():
             ax.set_yscale("log", nonpositive="clip")  # power-law stiffnesses span decades
         ax.set_title(f"{name} ({unit})" if unit and unit != "1" else name, fontsize=9)

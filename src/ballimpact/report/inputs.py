@@ -21,7 +21,7 @@ BUILTIN_SETS = ("sample", "speeds")
 
 
 @dataclass(frozen=True)
-class Test:
+class ReportTest:
     """One processed test of the report: `label` names it in tables and figures."""
 
     label: str
@@ -52,10 +52,10 @@ def builtin_ball(name: str) -> Path | None:
     return data_folder() / "speed_set" / "synthetic-3layer.json" if name == "speeds" else None
 
 
-def label_tests(files: list[str], processed: list[ProcessedImpact]) -> list[Test]:
+def label_tests(files: list[str], processed: list[ProcessedImpact]) -> list[ReportTest]:
     """Tests ordered by impact speed, labelled by speed ("20.8 m/s"), with the file name added
     where two share a speed."""
     speeds = [f"{p.features.values['P15']:g} m/s" for p in processed]
     labels = [s if speeds.count(s) == 1 else f"{s} ({Path(f).name})" for s, f in zip(speeds, files)]
-    tests = [Test(label, file, p) for label, file, p in zip(labels, files, processed)]
+    tests = [ReportTest(label, file, p) for label, file, p in zip(labels, files, processed)]
     return sorted(tests, key=lambda t: (t.speed_m_s, t.label))

@@ -29,7 +29,7 @@ from ..errors import InputError, InputWarning
 from ..calibrate.evaluate import best_alignment, measured_like
 from ..calibrate.problem import CalibrationTest
 from ..universal.compare import compare
-from .inputs import Test
+from .inputs import ReportTest
 
 @dataclass(frozen=True)
 class ModelSpec:
@@ -105,14 +105,14 @@ def parse_models(text: str) -> list[ModelSpec]:
     return specs
 
 
-def run_model(spec: ModelSpec, test: Test, *, seed: int = 0, universal_model=None,
+def run_model(spec: ModelSpec, test: ReportTest, *, seed: int = 0, universal_model=None,
               options=None) -> ModelRun:
     """Fit, identify or run `spec` for `test` and compare its pulse with the test's."""
     runner = {"lumped": _lumped, "universal": _universal, "ball": _ball}[spec.kind]
     return runner(spec, test, seed=seed, universal_model=universal_model, options=options)
 
 
-def _compared(spec: ModelSpec, test: Test, run, pulse: tuple[np.ndarray, np.ndarray],
+def _compared(spec: ModelSpec, test: ReportTest, run, pulse: tuple[np.ndarray, np.ndarray],
               **fields) -> ModelRun:
     """`run`: the model's `ImpactRecord` or FE run; `pulse`: its force (N) against time (s) from
     first touch."""
@@ -146,15 +146,15 @@ def _lumped(spec, test, *, seed, **_):
 
 
 def _universal(spec, test, *, universal_model, options, **_):
-    from ..fe import SolverOptions, load_ball, simulate
+    from ..fe import load_ball, simulate
     from ..universal.identify import identify
+    from ..universal.model import TARGET_UNITS
 
-    model = universal_model
-    options = options or SolverOptions(element_size_m=model.metadata["study"]["element_size_m"])
-    found = identify(test.processed, model, verify=True, options=options)
+    options = options or universal_model.solver_options()
+    found = identify(test.processed, universal_model, verify=True, options=options)
     fe = found.simulated
-    units = {"c10_pa": "Pa", "c01_pa": "Pa", "g1": "1", "tau1_s": "s", "mu0_pa": "Pa"}
-    return _compared(spec, test, fe, _fe_pulse(fe), parameters=dict(found.params), units=units,
+    return _compared(spec, test, fe, _fe_pulse(fe), parameters=dict(found.params),
+                     units=dict(TARGET_UNITS),
                      uncertainty={"interval_90": dict(found.interval_90)},
                      identification_s=max(found.wall_time_s - fe.wall_time_s, 0.0),
                      simulation_s=fe.wall_time_s,

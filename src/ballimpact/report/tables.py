@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .inputs import Test
+from .inputs import ReportTest
 from .models import ModelRun
 
 
@@ -40,7 +40,7 @@ def _csv_cell(value: Any) -> Any:
     return value
 
 
-def tests_table(tests: list[Test]) -> Table:
+def tests_table(tests: list[ReportTest]) -> Table:
     rows = []
     for t in tests:
         f = t.processed.features
@@ -68,7 +68,7 @@ def comparison_table(runs: list[ModelRun]) -> Table:
                  rows)
 
 
-def by_speed_table(runs: list[ModelRun], tests: list[Test], key: str, name: str,
+def by_speed_table(runs: list[ModelRun], tests: list[ReportTest], key: str, name: str,
                    title: str) -> Table:
     """One row per model, one column per test (ordered by speed): `comparison[key]`, and the
     mean of its magnitude over the tests."""

@@ -27,6 +27,7 @@ COR_COLUMN = FEATURES.index("P17")
 #: what the inverse ensemble predicts: the four parameters and mu0 = 2 (C10 + C01), each in the
 #: unit scale of its range (mu0: the range implied by C10's and C01's)
 TARGETS = (*space.MATERIAL_PARAMETERS, "mu0_pa")
+TARGET_UNITS = {"c10_pa": "Pa", "c01_pa": "Pa", "g1": "1", "tau1_s": "s", "mu0_pa": "Pa"}
 BUILTIN = "cricket-universal-model"
 INTERVAL_LEVEL = 0.9
 
@@ -84,6 +85,13 @@ class UniversalModel:
     @property
     def ranges(self) -> dict[str, tuple[float, float]]:
         return {k: tuple(v) for k, v in self.metadata["ranges"].items()}
+
+    def solver_options(self):
+        """FE settings of the model's study (its element size): identified balls run as the
+        training runs did."""
+        from ..fe import SolverOptions
+
+        return SolverOptions(element_size_m=self.metadata["study"]["element_size_m"])
 
     # -- inverse ---------------------------------------------------------------------------------
     def estimate(self, features: np.ndarray, level: float = INTERVAL_LEVEL) -> dict[str, np.ndarray]:
