@@ -28,12 +28,14 @@ y(t) = v_in t - (1/m) double integral of F; energy lost = loop integral of F dy
 from __future__ import annotations
 
 import warnings
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from .errors import InputError, InputWarning
+from .plausibility import check_allow, check_momentum, select_pulse
 from .records import ContactWindow, ImpactRecord, check_positive, contact_window
 
 FEATURE_NAMES: dict[str, str] = {
@@ -264,6 +266,7 @@ def extract_features(
     impulse_tolerance: float = DEFAULT_IMPULSE_TOLERANCE,
     threshold_fraction: float = 1e-3,
     noise_factor: float = 5.0,
+    allow: Collection[str] = (),
 ) -> ImpactFeatures:
     """The 19 characteristic values and the load-cell identities of one impact.
 
@@ -275,22 +278,28 @@ def extract_features(
       the rebound speed is measured; beyond it an `InputWarning` is issued (and listed in
       `warnings`).
     - `threshold_fraction`, `noise_factor`: the contact-window threshold (see `contact_window`).
+    - `allow`: plausibility checks to turn from errors into warnings (`plausibility.CHECKS`).
 
-    **Raises:** `InputError` if the mass or impact speed is missing, if there is no pulse, or if the
-    impulse is too small for the ball to have stopped (J < m v_in).
+    **Raises:** `InputError` if the mass or impact speed is missing, if there is no pulse or
+    several (`plausibility.select_pulse`), if the impulse and the speeds cannot belong together
+    (`plausibility.check_momentum`: a unit slip, COR > 1), or if the impulse is too small for the
+    ball to have stopped (J < m v_in).
     """
     impulse_tolerance = check_positive("impulse_tolerance", impulse_tolerance)
+    allow = check_allow(allow)
     if record.mass_kg is None:
         raise InputError("mass_kg: the ball mass is required (e.g. --mass-kg 0.16)")
     if record.impact_speed_m_s is None:
         raise InputError("impact_speed_m_s: the impact speed is required (e.g. --impact-speed-m-s 25)")
     mass, v_in = record.mass_kg, record.impact_speed_m_s
 
+    select_pulse(record)  # several pulses: an error that lists them
     window = contact_window(
         record, threshold_fraction=threshold_fraction, noise_factor=noise_factor
     )
     curve = pulse_curve(record, window)
     impulse = curve.integral(0.0, curve.duration_s)
+    check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow)
     notes: list[str] = []
     if impulse < mass * v_in:
         raise InputError(
@@ -310,9 +319,6 @@ def extract_features(
                 f"m (v_in + v_out) = {expected:.4g} N s by {relative_error:+.1%} "
                 f"(tolerance {impulse_tolerance:.1%})"
             )
-    if v_out > v_in:
-        notes.append(f"COR {v_out / v_in:.3g} > 1: the ball left faster than it came; check the "
-                     "speeds, the mass and the force scaling")
     for note in notes:
         warnings.warn(note, InputWarning, stacklevel=2)
 

@@ -117,9 +117,11 @@ def read_wav(
     sensitivity_v_per_n: float | None,
     amplifier_gain: float = 1.0,
     full_scale_v: float = 1.0,
-    channel: int = 0,
+    channel: int | None = None,
 ) -> dict[str, np.ndarray]:
-    """Force samples of a WAV export as {time_s, force_n}."""
+    """Force samples of a WAV export as {time_s, force_n}, plus `full_scale_n`: the forces of the
+    extreme codes (low, high), for the clipping check. A file with several channels needs
+    `channel` (0 = first)."""
     path = Path(path)
     if sensitivity_v_per_n is None:
         raise InputError(f"{path}: sensitivity_v_per_n: a WAV file needs the load-cell "
@@ -132,25 +134,46 @@ def read_wav(
     except Exception as error:  # noqa: BLE001 - scipy raises many kinds on a malformed file
         raise InputError(f"{path}: not a readable WAV file ({type(error).__name__}: {error})") from None
     if data.ndim == 2:
-        if not 0 <= channel < data.shape[1]:
-            raise InputError(f"{path}: channel: {channel} out of range 0..{data.shape[1] - 1}")
-        data = data[:, channel]
-    elif channel != 0:
+        data = data[:, _channel(path, data, channel)]
+    elif channel not in (None, 0):
         raise InputError(f"{path}: channel: the file has one channel, asked for {channel}")
     if data.size == 0:
         raise InputError(f"{path}: the file is empty (no samples)")
+    newtons_per_unit = full_scale / (sensitivity * gain)
     if data.dtype == np.uint8:
         fraction = (data.astype(float) - 128.0) / 128.0
+        extremes = (-1.0, 127 / 128)
     elif np.issubdtype(data.dtype, np.integer):
-        fraction = data.astype(float) / float(np.iinfo(data.dtype).max + 1)
-    else:
-        fraction = data.astype(float)
-    volts = fraction * full_scale
-    return {"time_s": np.arange(data.size) / float(rate), "force_n": volts / (sensitivity * gain)}
+        codes = np.iinfo(data.dtype)
+        fraction = data.astype(float) / float(codes.max + 1)
+        extremes = (codes.min / (codes.max + 1), codes.max / (codes.max + 1))
+    else:  # float samples may exceed 1: no known full scale (the flat-top test applies)
+        return {"time_s": np.arange(data.size) / float(rate),
+                "force_n": data.astype(float) * newtons_per_unit}
+    return {"time_s": np.arange(data.size) / float(rate), "force_n": fraction * newtons_per_unit,
+            "full_scale_n": tuple(level * newtons_per_unit for level in extremes)}
+
+
+def _channel(path: Path, data: np.ndarray, channel: int | None) -> int:
+    """The channel to read from a multi-channel WAV: given, or an error that describes them."""
+    count = data.shape[1]
+    if channel is None:
+        scale = float(np.iinfo(data.dtype).max) if np.issubdtype(data.dtype, np.integer) else 1.0
+        centre = 128.0 if data.dtype == np.uint8 else 0.0
+        peaks = np.max(np.abs(data.astype(float) - centre), axis=0) / scale
+        described = ", ".join(f"{k}: peak {peak:.1%} of full scale" for k, peak in enumerate(peaks))
+        raise InputError(f"{path}: channel: the file has {count} channels ({described}); choose "
+                         f"the load cell's with --channel N (channel=N in Python), N in "
+                         f"0..{count - 1}")
+    if isinstance(channel, bool) or not isinstance(channel, (int, np.integer)) or \
+            not 0 <= channel < count:
+        raise InputError(f"{path}: channel: {channel} out of range 0..{count - 1}")
+    return int(channel)
 
 
 def read_side_file(path: str | Path) -> dict[str, float]:
-    """Scalars from a JSON side file; unknown keys and bad values are errors naming the key."""
+    """Scalars from a JSON side file; unknown keys and bad values are errors naming the file and
+    the key. Values must be JSON numbers (not strings or booleans)."""
     path = Path(path)
     try:
         content = json.loads(path.read_text(encoding="utf-8"))
@@ -164,7 +187,13 @@ def read_side_file(path: str | Path) -> dict[str, float]:
             continue
         if key not in SIDE_KEYS:
             raise InputError(f"{path}: unknown key {key!r}; allowed: {', '.join(SIDE_KEYS)}")
-        scalars[key] = check_positive(key, value, allow_zero=key == "rebound_speed_m_s")
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise InputError(f"{path}: {key}: expected a JSON number, got {json.dumps(value)} "
+                             f"({type(value).__name__})")
+        try:
+            scalars[key] = check_positive(key, value, allow_zero=key == "rebound_speed_m_s")
+        except InputError as error:
+            raise InputError(f"{path}: {error}") from None
     return scalars
 
 
@@ -176,6 +205,8 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
     WAV files `sensitivity_v_per_n`, `amplifier_gain`, `full_scale_v`, `channel`.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder; give a test record file (.csv, .txt or .wav)")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
     side = path.with_suffix(".json")
@@ -191,19 +222,21 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
             sensitivity_v_per_n=scalars.get("sensitivity_v_per_n"),
             amplifier_gain=scalars.get("amplifier_gain", 1.0),
             full_scale_v=scalars.get("full_scale_v", 1.0),
-            channel=int(scalars.get("channel", 0)),
+            channel=scalars.get("channel"),
         )
     elif suffix in (".csv", ".txt"):
         columns = read_csv(path)
     else:
         raise InputError(f"{path}: unknown file type {suffix!r}; expected .csv or .wav")
+    full_scale = columns.pop("full_scale_n", None)
+    metadata = {"source": str(path)} | ({} if full_scale is None else {"full_scale_n": full_scale})
     try:
         return ImpactRecord(
             **columns,
             mass_kg=scalars.get("mass_kg"),
             impact_speed_m_s=scalars.get("impact_speed_m_s"),
             rebound_speed_m_s=scalars.get("rebound_speed_m_s"),
-            metadata={"source": str(path)},
+            metadata=metadata,
         )
     except InputError as error:
         raise InputError(f"{path}: {error}") from None

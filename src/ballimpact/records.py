@@ -62,7 +62,7 @@ class ImpactRecord:
             i = int(bad[0]) + 1
             kind = "repeated" if steps[bad[0]] == 0 else "decreasing"
             raise InputError(
-                f"time_s: must be strictly increasing; sample {i} ({time[i]!r} s) is {kind}"
+                f"time_s: must be strictly increasing; sample {i} ({float(time[i])!r} s) is {kind}"
             )
         for name in ("force_n", "velocity_m_s", "tangential_force_n"):
             value = getattr(self, name)
@@ -102,7 +102,7 @@ def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
         raise InputError(f"{name}: expected a number, got {value!r}") from None
     if not np.isfinite(number) or number < 0 or (number == 0 and not allow_zero):
         allowed = ">= 0" if allow_zero else "> 0"
-        raise InputError(f"{name}: must be finite and {allowed}, got {value!r}")
+        raise InputError(f"{name}: must be finite and {allowed}, got {number!r}")
     return number
 
 
@@ -115,7 +115,7 @@ def _as_series(name: str, value: Any) -> np.ndarray:
         raise InputError(f"{name}: expected a 1-D series, got shape {array.shape}")
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
-        raise InputError(f"{name}: sample {int(bad[0])} is not finite ({array[bad[0]]!r})")
+        raise InputError(f"{name}: sample {int(bad[0])} is not finite ({float(array[bad[0]])!r})")
     return array
 
 
@@ -245,7 +245,7 @@ def contact_window(
             raise InputError("force_n: no positive pulse (is the load-cell polarity inverted?)")
         raise InputError("force_n: no pulse (the force is zero throughout)")
     pre = force[pre_impact_slice(force, time)]
-    noise = float(np.sqrt(np.mean(pre**2))) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
+    noise = rms(pre) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
     threshold = max(threshold_fraction * peak, noise_factor * noise)
 
     below = force <= threshold
@@ -260,7 +260,7 @@ def contact_window(
         )
     outside = np.concatenate([force[:first], force[last + 1 :]])
     if outside.size >= MIN_BASELINE_SAMPLES:
-        outside_rms = float(np.sqrt(np.mean(outside**2)))
+        outside_rms = rms(outside)
         if peak < min_snr * outside_rms:
             raise InputError(
                 f"force_n: no pulse above the noise (peak {peak:.4g} N is less than {min_snr:g} "
@@ -269,6 +269,12 @@ def contact_window(
     start = _edge_zero(time, force, first, step=+1)
     end = _edge_zero(time, force, last, step=-1)
     return ContactWindow(first, last, start, end, threshold, noise)
+
+
+def rms(values: np.ndarray) -> float:
+    """Root mean square, scaled so that no square overflows (forces near 1e300 N stay finite)."""
+    scale = float(np.max(np.abs(values))) if values.size else 0.0
+    return scale * float(np.sqrt(np.mean((values / scale) ** 2))) if scale > 0 else 0.0
 
 
 def _edge_zero(time: np.ndarray, force: np.ndarray, edge: int, *, step: int) -> float:

@@ -14,6 +14,7 @@ from ..features import DEFAULT_IMPULSE_TOLERANCE
 from ..filters import FILTER_NAMES
 from ..loaders import load_record
 from ..pipeline import ProcessedImpact, process
+from ..plausibility import CHECKS
 
 
 class Parser(argparse.ArgumentParser):
@@ -48,6 +49,17 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
                         help="relative misfit allowed between impulse and m(v_in + v_out) "
                              f"(default {DEFAULT_IMPULSE_TOLERANCE})")
+    parser.add_argument("--pulse", type=int, metavar="N",
+                        help="a record with several pulses (a bounce, a double hit): take pulse "
+                             "N, 1 for the first")
+    add_allow(parser)
+
+
+def add_allow(parser: argparse.ArgumentParser) -> None:
+    """`--allow NAME`: a plausibility check whose failure becomes a warning (docs/features.md)."""
+    parser.add_argument("--allow", action="append", default=[], metavar="CHECK",
+                        help="go on when this plausibility check fails, with a warning "
+                             f"(repeatable): {', '.join(CHECKS)}; see docs/features.md")
 
 
 def load(path: Path, args: argparse.Namespace):
@@ -59,7 +71,8 @@ def load(path: Path, args: argparse.Namespace):
 
 def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
     return process(record, filter=args.filter, window_s=args.filter_window_s,
-                   resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance)
+                   resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance,
+                   pulse=args.pulse, allow=args.allow)
 
 
 def check_plot_path(path: Path | None) -> None:
