@@ -5,15 +5,18 @@ import json
 import numpy as np
 import pytest
 
+from ballimpact import InputError
 from ballimpact.cli import main
+from ballimpact.lumped import SpeedTable
 from lumped_cases import SINGLE, clean, noisy
 
 FIT_KEYS = {"model", "params", "units", "rmse_n", "nrmse", "wall_time_s", "standard_errors",
             "history", "seed", "method", "cor", "contact_time_s", "measured"}
 
 
-def write_test(folder, name, speed, noise=0.01):
-    record = noisy(clean("single_element", SINGLE, speed), noise, seed=int(speed))
+def write_test(folder, name, speed, noise=0.01, seed=None):
+    seed = int(speed) if seed is None else seed
+    record = noisy(clean("single_element", SINGLE, speed), noise, seed=seed)
     path = folder / f"{name}.csv"
     np.savetxt(path, np.c_[record.time_s, record.force_n], delimiter=",", header="time_s,force_n",
                comments="")
@@ -57,6 +60,84 @@ def test_fit_several_speeds_writes_a_table(capsys, tmp_path):
     lines = table.read_text().splitlines()
     assert lines[0].startswith("impact_speed_m_s,k [N/m^n]") and len(lines) == 3
     assert "fit 2/2" in err
+
+
+def test_hunt_crossley_bounds_are_in_the_units_of_k_and_round_trip(capsys, tmp_path):
+    """`bounds` of a power-law k are in N/m^n (not the force at y_ref that is searched), contain
+    the fitted k, and `--bound` with them gives the same bounds back."""
+    path = write_test(tmp_path, "a", 20.0)
+    options = ["--model", "hunt_crossley", "--generations", 10, "--json"]
+    code, out, err = run(capsys, "fit", path, *options)
+    assert code == 0, err
+    result = json.loads(out)
+    k, n, bounds = result["params"]["k"], result["params"]["n"], result["bounds"]["k"]
+    assert result["units"]["k"] == bounds["unit"] == "N/m^n"
+    assert bounds["low"] < k < bounds["high"]
+    y_ref = bounds["reference_compression_m"]
+    assert bounds["low"] == pytest.approx(bounds["force_low_n"] / y_ref**n, rel=1e-12)
+    assert not bounds["force_low_n"] < k < bounds["force_high_n"]  # what was reported before
+    code, out, err = run(capsys, "fit", path, *options,
+                         "--bound", f"k={bounds['low']!r}:{bounds['high']!r}")
+    assert code == 0, err
+    again = json.loads(out)["bounds"]["k"]
+    assert again == {"low": bounds["low"], "high": bounds["high"], "search": "log",
+                     "unit": "N/m^n"}
+
+
+def test_fit_help_says_which_units_bound_takes(capsys):
+    with pytest.raises(SystemExit) as stopped:
+        main(["fit", "--help"])
+    assert stopped.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "its own SI units" in text and "N/m^alpha, not a force" in text
+    assert "repeated at one speed keep a row each" in text
+
+
+def notes(err):
+    return [line for line in err.splitlines() if line.startswith("note:")]
+
+
+def test_fit_repeats_at_one_speed_keep_a_row_each(capsys, tmp_path):
+    paths = [write_test(tmp_path, name, 20.0, seed=seed)
+             for name, seed in (("first", 1), ("second", 2))]
+    code, out, err = run(capsys, "fit", *paths, "--model", "hunt_crossley", "--method", "de",
+                         "--generations", 15, "--fix", "n=1.5", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["table"]["speeds_m_s"] == [20.0, 20.0]
+    assert result["table"]["labels"] == [str(p) for p in paths]
+    assert [f["file"] for f in result["fits"]] == [str(p) for p in paths]
+    assert notes(err) == ["note: tests repeated at one speed (20 m/s: first.csv, second.csv) "
+                          "keep one row each; the table interpolates between their mean"]
+    table = SpeedTable.from_dict(result["table"])
+    assert table.params["k"][0] != table.params["k"][1]  # two fits, not one averaged
+    assert table.params_at(20.0)["k"] == pytest.approx(np.mean(table.params["k"]), rel=1e-12)
+
+
+def test_fit_repeated_and_distinct_speeds(capsys, tmp_path):
+    paths = [write_test(tmp_path, name, speed, seed=seed)
+             for name, speed, seed in (("fast1", 20.0, 1), ("slow", 10.0, 2), ("fast2", 20.0, 3))]
+    table_csv = tmp_path / "table.csv"
+    code, out, err = run(capsys, "fit", *paths, "--model", "hunt_crossley", "--method", "de",
+                         "--generations", 15, "--fix", "n=1.5", "--table", table_csv)
+    assert code == 0, err
+    assert notes(err) == ["note: tests repeated at one speed (20 m/s: fast1.csv, fast2.csv) "
+                          "keep one row each; the table interpolates between their mean"]
+    lines = table_csv.read_text().splitlines()
+    assert lines[0] == "impact_speed_m_s,k [N/m^n],n [1],lambda [s/m],label"
+    assert [(line.split(",")[0], line.split(",")[-1]) for line in lines[1:]] == [
+        ("10", str(paths[1])), ("20", str(paths[0])), ("20", str(paths[2]))]
+    assert "slow.csv: hunt_crossley" in out and out.count("fast") >= 2
+    k = [float(line.split(",")[1]) for line in lines[1:]]
+    rows = SpeedTable("hunt_crossley", (10.0, 20.0, 20.0),
+                      {"k": tuple(k), "n": (1.5,) * 3, "lambda": (0.03,) * 3})
+    assert rows.params_at(15.0)["k"] == pytest.approx((k[0] + (k[1] + k[2]) / 2) / 2, rel=1e-12)
+    # a speed absent from the table is still refused: no extrapolation
+    code, out, err = run(capsys, "fit", paths[0], paths[2], "--model", "hunt_crossley",
+                         "--generations", 2, "--population", 8, "--no-polish", "--json")
+    assert code == 0, err
+    with pytest.raises(InputError, match="outside the table's range"):
+        SpeedTable.from_dict(json.loads(out)["table"]).params_at(10.0)
 
 
 def test_fit_table_text_output(capsys, tmp_path):

@@ -50,6 +50,11 @@ def test_three_element_with_a_fixed_unit_mass():
     assert result.params["m1"] == 0.06
     assert result.params["m2"] + result.params["m3"] == pytest.approx(0.10, rel=1e-12)
     assert "m1" not in result.bounds and "m2" in result.bounds
+    assert result.bounds["m2"]["unit"] == "share"  # of the mass still to give out
+    for i in (1, 2, 3):  # stiffness bounds in N/m^alpha_i at the fitted exponent
+        bounds = result.bounds[f"k{i}"]
+        assert bounds["unit"] == f"N/m^alpha{i}"
+        assert bounds["low"] <= result.params[f"k{i}"] <= bounds["high"]
 
 
 def test_hunt_crossley_by_de_with_fixed_exponent_and_weights():
@@ -70,7 +75,7 @@ def test_user_bounds_that_exclude_the_truth_cost_fitness():
     free = fit(record, "single_element", generations=20)
     bounded = fit(record, "single_element", bounds={"alpha": (1.0, 1.2), "k": (1e5, 1e9)},
                   generations=20)
-    assert bounded.bounds["alpha"] == {"low": 1.0, "high": 1.2, "search": "linear"}
+    assert bounded.bounds["alpha"] == {"low": 1.0, "high": 1.2, "search": "linear", "unit": "1"}
     assert bounded.bounds["k"]["search"] == "log"  # a bounded stiffness is searched as log k
     assert bounded.nrmse > 10 * free.nrmse
 
@@ -122,6 +127,43 @@ def test_speed_table_fits_and_interpolates():
     assert again == table
     assert table.to_csv().splitlines()[0] == "impact_speed_m_s,k [N/m^n],n [1],lambda [s/m]"
     assert table.simulate(15.0, mass_kg=0.16).rebound_speed_m_s > 0
+
+
+def test_speed_table_keeps_repeats_and_interpolates_their_mean():
+    table = SpeedTable("kelvin_voigt", (10.0, 20.0, 20.0), {"k": (1e6, 2e6, 4e6), "c": (1, 2, 4)},
+                       labels=("slow.csv", "a,1.csv", "b.csv"))
+    assert table.params_at(20.0) == {"k": 3e6, "c": 3.0}
+    assert table.params_at(15.0) == {"k": 2e6, "c": 2.0}
+    assert table.to_csv().splitlines() == [
+        "impact_speed_m_s,k [N/m],c [N s/m],label", "10,1000000,1,slow.csv",
+        '20,2000000,2,"a,1.csv"', "20,4000000,4,b.csv"]
+    assert SpeedTable.from_dict(table.to_dict()) == table
+    single = SpeedTable("kelvin_voigt", (20.0, 20.0), {"k": (1e6, 3e6), "c": (1, 3)})
+    assert single.params_at(20.0) == {"k": 2e6, "c": 2.0}
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (((np.float64(20.0), np.float64(10.0)), {"k": (1, 2), "c": (1, 2)}),
+     r"speeds_m_s: need positive speeds in increasing order \(repeats allowed\), got "
+     r"\(20.0, 10.0\)$"),
+    (((10.0, 20.0), {"k": (1.0, np.float64("nan")), "c": (1, 2)}),
+     r"params.k: values must be finite, got \(1.0, nan\)$"),
+    (((10.0, 20.0), {"k": (1, 2), "c": (1, 2)}, "", ("a",)), "labels: 1 labels for 2 speeds"),
+])
+def test_bad_speed_tables(arguments, message):
+    with pytest.raises(InputError, match=message):
+        SpeedTable("kelvin_voigt", *arguments)
+
+
+def test_fit_speed_table_labels_follow_the_sorted_rows():
+    params = {"k": 2e7, "n": 1.5, "lambda": 0.03}
+    records = [clean("hunt_crossley", params, speed) for speed in (20.0, 10.0, 20.0)]
+    table, results = fit_speed_table(records, "hunt_crossley", progress=False, generations=2,
+                                     population=8, polish=False, labels=["a", "b", "c"])
+    assert table.speeds_m_s == (10.0, 20.0, 20.0) and table.labels == ("b", "a", "c")
+    assert [r.measured["impact_speed_m_s"] for r in results] == [10.0, 20.0, 20.0]
+    with pytest.raises(InputError, match="labels: 1 labels for 3 records"):
+        fit_speed_table(records, "hunt_crossley", labels=["a"])
 
 
 def test_polish_improves_on_the_search_alone():

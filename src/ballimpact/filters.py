@@ -65,7 +65,7 @@ def lowess(force: np.ndarray, rate_hz: float, window_s: float, degree: int = 2):
     d_max just beyond the farthest sample of the window. Not the robust (re-weighted) variant.
     """
     if degree not in (1, 2):
-        raise InputError(f"degree: must be 1 or 2, got {degree!r}")
+        raise InputError(f"degree: must be 1 or 2, got {degree}")
     count = force.size
     points = _window_points(window_s, rate_hz, minimum=degree + 3, available=count)
     starts = np.clip(np.arange(count) - points // 2, 0, count - points)

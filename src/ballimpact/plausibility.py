@@ -178,7 +178,7 @@ def select_pulse(record, pulse: int | None = None):
         return record
     if isinstance(pulse, bool) or not isinstance(pulse, (int, np.integer)) or \
             not 1 <= pulse <= max(len(pulses), 1):
-        raise InputError(f"pulse: {pulse!r} out of range 1..{max(len(pulses), 1)} (the record "
+        raise InputError(f"pulse: {pulse} out of range 1..{max(len(pulses), 1)} (the record "
                          f"holds {len(pulses)} pulse{'s' if len(pulses) != 1 else ''})")
     if len(pulses) <= 1:
         return record

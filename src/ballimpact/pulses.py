@@ -17,7 +17,7 @@ from .records import ImpactRecord, check_positive
 
 def sample_times(duration_s: float, rate_hz: float, pre_s: float, post_s: float, phase: float):
     if not 0 <= phase < 1:
-        raise InputError(f"phase: must be in [0, 1), got {phase!r}")
+        raise InputError(f"phase: must be in [0, 1), got {phase}")
     step = 1.0 / check_positive("rate_hz", rate_hz)
     first = -int(np.ceil(pre_s / step))
     last = int(np.ceil((duration_s + post_s) / step))

@@ -179,7 +179,7 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
                          "float64 (in float32 round-off over thousands of steps dominates the "
                          "derivatives)")
     if "gradient" in method and not (isinstance(max_evaluations, int) and max_evaluations >= 1):
-        raise InputError(f"--max-evaluations {max_evaluations!r}: must be an integer >= 1")
+        raise InputError(f"--max-evaluations {max_evaluations}: must be an integer >= 1")
     for path, (low, high) in bounds.items():
         free_parameter(template, path, low, high)
     for test in tests:

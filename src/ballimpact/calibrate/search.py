@@ -106,9 +106,9 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
     from pymoo.optimize import minimize
 
     if not (isinstance(population, int) and population >= 4):
-        raise InputError(f"--population {population!r}: must be an integer >= 4")
+        raise InputError(f"--population {population}: must be an integer >= 4")
     if not (isinstance(generations, int) and generations >= 1):
-        raise InputError(f"--generations {generations!r}: must be an integer >= 1")
+        raise InputError(f"--generations {generations}: must be an integer >= 1")
     started = time.perf_counter()
     n_obj = len(problem.objectives)
     cache = _load_checkpoint(problem, out) if resume else {}

@@ -1,7 +1,9 @@
 """The `ballimpact` command (DESIGN.md "Command line contract").
 
 Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run.
-With `--json` one JSON object goes to stdout; warnings and progress go to stderr.
+With `--json` one JSON object goes to stdout; warnings and progress go to stderr. A reader that
+closes stdout early (`| head -1`) ends the command quietly with exit code 1 (Python's "Note on
+SIGPIPE").
 One module per verb (or verb group) adds its parser and runs it; this module owns the
 conventions: the error-to-exit-code mapping, the warnings list and the JSON output.
 """
@@ -10,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 
@@ -42,6 +45,22 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     try:
+        code = _main(argv)
+        sys.stdout.flush()  # a closed pipe shows here rather than at the interpreter's exit
+    except BrokenPipeError:
+        # Python docs, "Note on SIGPIPE": the reader has gone; point stdout at devnull so that
+        # the interpreter's final flush does not fail again, and exit quietly
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except (AttributeError, OSError, ValueError):  # stdout replaced by an object without a file
+            pass
+        return 1
+    return code
+
+
+def _main(argv: list[str] | None) -> int:
+    try:
         args = build_parser().parse_args(argv)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -50,6 +69,8 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        raise
     except SimulationError as error:
         print(f"error: failed run: {error}", file=sys.stderr)
         return 1

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -25,8 +26,10 @@ def add_parser(verbs) -> None:
         "fit", help="identify a lumped model from a test, or from tests at several speeds",
         description="Fit a lumped model (see `ballimpact models`) to the force pulse of a test by "
                     "a genetic algorithm or differential evolution and a least-squares polish. "
-                    "With several files (one per impact speed) the parameters form a table "
-                    "against speed, as thesis tables 7-1 and 7-2.")
+                    "With several files the parameters form a table against speed, as thesis "
+                    "tables 7-1 and 7-2: one row per file, labelled with it; tests repeated at "
+                    "one speed keep a row each (their scatter stays visible) and the table "
+                    "interpolates between their mean.")
     fit.add_argument("files", type=Path, nargs="+", metavar="FILE",
                      help="test record(s): CSV with unit headers or WAV")
     fit.add_argument("--model", required=True, help="lumped model name (see `ballimpact models`)")
@@ -39,14 +42,18 @@ def add_parser(verbs) -> None:
                      help="generations (default 8 per searched quantity, at least 40)")
     fit.add_argument("--no-polish", action="store_true", help="skip the least-squares polish")
     fit.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
-                     help="search bounds of a parameter in SI (repeatable)")
+                     help="search bounds of a parameter in its own SI units, as `ballimpact "
+                          "models` lists them (a power-law k in N/m^alpha, not a force); the "
+                          "JSON `bounds` are in the same units and can be passed back "
+                          "(repeatable)")
     fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
                      help="hold a parameter at a value in SI (repeatable)")
     fit.add_argument("--cor-weight", type=float, default=0.0,
                      help="weight of the COR error in the fitness (default 0)")
     fit.add_argument("--contact-time-weight", type=float, default=0.0,
                      help="weight of the relative contact-time error in the fitness (default 0)")
-    fit.add_argument("--table", type=Path, help="with several files: write the speed table CSV")
+    fit.add_argument("--table", type=Path,
+                     help="with several files: write the speed table CSV (one row per file)")
     add_record_options(fit)
     add_processing(fit)
 
@@ -62,7 +69,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     check_plot_path(args.plot)
     check_output_folder(args.table, "--table")
     if args.table is not None and len(args.files) < 2:
-        raise InputError("--table: needs several files (one per impact speed)")
+        raise InputError("--table: needs several files")
     model = lumped.get_model(args.model)
     options = dict(method=args.method, seed=args.seed, population=args.population,
                    generations=args.generations, polish=not args.no_polish,
@@ -83,17 +90,17 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
             result["plot"] = str(args.plot)
         result["wall_time_s"] = time.perf_counter() - started
         return result
-    table, fits = lumped.fit_speed_table(processed, model, **options)
-    files = [str(path) for path in args.files]
-    order = sorted(range(len(files)), key=lambda i: processed[i].features.values["P15"])
+    table, fits = lumped.fit_speed_table(processed, model, labels=[str(p) for p in args.files],
+                                         **options)
+    _note_repeats(table)
     result = {"model": model.name, "units": model.units, "table": table.to_dict(),
-              "fits": [{**f.to_dict(), "file": files[i]} for f, i in zip(fits, order)]}
+              "fits": [{**f.to_dict(), "file": file} for f, file in zip(fits, table.labels)]}
     if args.table is not None:
         args.table.write_text(table.to_csv())
         result["table_csv"] = str(args.table)
     if not args.json:
-        for f, i in zip(fits, order):
-            _print_fit(f, Path(files[i]))
+        for f, file in zip(fits, table.labels):
+            _print_fit(f, Path(file))
         print(table.to_csv(), end="")
     if args.plot:
         from ..plotting import plot_speed_fits
@@ -102,6 +109,18 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
     return result
+
+
+def _note_repeats(table) -> None:
+    """One line on stderr naming the tests repeated at one speed (each keeps its row)."""
+    files: dict[float, list[str]] = {}
+    for speed, file in zip(table.speeds_m_s, table.labels):
+        files.setdefault(speed, []).append(Path(file).name)
+    repeated = [f"{speed:g} m/s: {', '.join(names)}" for speed, names in files.items()
+                if len(names) > 1]
+    if repeated:
+        print(f"note: tests repeated at one speed ({'; '.join(repeated)}) keep one row each; "
+              "the table interpolates between their mean", file=sys.stderr)
 
 
 def _print_fit(fitted, path: Path) -> None:

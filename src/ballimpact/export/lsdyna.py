@@ -93,7 +93,7 @@ def field(value, kind: str, width: int) -> str:
             if len(candidate) <= room:
                 text = candidate
     if len(text) > width:
-        raise ExportError(f"LS-DYNA field: {value!r} does not fit {width} characters")
+        raise ExportError(f"LS-DYNA field: {value} does not fit {width} characters")
     return text.rjust(width)
 
 

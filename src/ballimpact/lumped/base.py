@@ -10,9 +10,23 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 from ..errors import InputError
+
+
+def shown(value: Any) -> str:
+    """`value` for a message: NumPy scalars and arrays as plain numbers (NumPy 2 would print
+    `np.float64(3.0)`), tuples and lists element by element, anything else as its repr."""
+    if isinstance(value, (np.generic, np.ndarray)):
+        value = value.tolist()
+    if isinstance(value, (tuple, list)):
+        inner = ", ".join(shown(item) for item in value)
+        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) \
+            else f"[{inner}]"
+    return repr(value)
 
 
 @dataclass(frozen=True)
@@ -116,7 +130,7 @@ class LumpedModel(ABC):
             except (TypeError, ValueError):
                 finite = False
             if not finite:
-                raise InputError(f"params.{p.name}: must be a finite number, got {value!r}")
+                raise InputError(f"params.{p.name}: must be a finite number, got {shown(value)}")
 
     def full(self, params: dict[str, float]) -> dict[str, float]:
         """`params` with fixed parameters filled in from their defaults."""
@@ -127,7 +141,7 @@ class LumpedModel(ABC):
         if mass_kg is None:
             raise InputError(f"mass_kg: model {self.name!r} needs the ball mass (kg)")
         if not mass_kg > 0:
-            raise InputError(f"mass_kg: must be > 0, got {mass_kg!r}")
+            raise InputError(f"mass_kg: must be > 0, got {shown(mass_kg)}")
         return float(mass_kg)
 
     @abstractmethod
@@ -147,5 +161,5 @@ def check_range(name: str, value: float, low: float, high: float | None = None, 
         opening = "(" if strict else "["
         allowed = (f"{'>' if strict else '>='} {low:g}" if high is None
                    else f"in {opening}{low:g}, {high:g}]")
-        raise InputError(f"params.{name}: must be {allowed}, got {value!r}")
+        raise InputError(f"params.{name}: must be {allowed}, got {shown(value)}")
 

@@ -14,8 +14,9 @@ raises the contact threshold, which moves the measured start by several.
 Parameters are searched in a box mapped to [0, 1]: `linear` or `log` between bounds, power-law
 stiffnesses as the force k y_ref^alpha at the measured maximum compression y_ref (their scale
 otherwise changes by orders of magnitude with the exponent), unit masses as shares of the ball mass
-still to give out. Bounds given by the user are in the parameter's own units (for a unit mass: a
-share, 0..1) and a stiffness with user bounds is searched as log k directly.
+still to give out. Bounds given by the user are in the parameter's own units (unit masses take
+none: fix one in kg or leave it free) and a stiffness with user bounds is searched as log k
+directly; `FitResult.bounds` reports the searched box in the same units, so it can be passed back.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from scipy.optimize import least_squares
 from ..errors import InputError, InputWarning
 from ..pipeline import ProcessedImpact, process
 from ..records import ImpactRecord, sample_rate_hz
-from .base import BatchResult, LumpedModel, Scale
+from .base import BatchResult, LumpedModel, Scale, shown
 from .registry import get_model
 from .simulate import sample_on
 
@@ -65,7 +66,9 @@ class FitResult:
     leaves uncertain in each parameter (linearised, same units; large for parameters the pulse
     does not determine); `rmse_n` the RMS force error (N) and `nrmse` it divided by the measured
     peak force; `history_best` / `history_mean` the best and the mean
-    fitness of each generation; `fitted` the model's force on the record's samples."""
+    fitness of each generation; `fitted` the model's force on the record's samples. `bounds` is
+    the searched box in the parameters' own units (see `reported_bounds`), which `bounds=` takes
+    back."""
 
     model: str
     params: dict[str, float]
@@ -117,15 +120,15 @@ def _number(label: str, value: Any) -> float:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise InputError(f"{label}: must be a number in SI, got {value!r}") from None
+        raise InputError(f"{label}: must be a number in SI, got {shown(value)}") from None
     if not np.isfinite(number):
-        raise InputError(f"{label}: must be finite, got {value!r}")
+        raise InputError(f"{label}: must be finite, got {shown(value)}")
     return number
 
 
 def _pair(label: str, value: Any) -> tuple[float, float]:
     if isinstance(value, (str, bytes)) or np.ndim(value) != 1 or len(value) != 2:
-        raise InputError(f"{label}: must be a (low, high) pair in SI, got {value!r}")
+        raise InputError(f"{label}: must be a (low, high) pair in SI, got {shown(value)}")
     return _number(label, value[0]), _number(label, value[1])
 
 
@@ -181,9 +184,10 @@ def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: d
         else:
             low, high = defaults[p.name]
         if not low < high:
-            raise InputError(f"bounds.{p.name}: need low < high, got ({low!r}, {high!r})")
+            raise InputError(f"bounds.{p.name}: need low < high, got {shown((low, high))}")
         if kind in ("log", "stiffness") and low <= 0:
-            raise InputError(f"bounds.{p.name}: searched on a log scale, low must be > 0, got {low!r}")
+            raise InputError(f"bounds.{p.name}: searched on a log scale, low must be > 0, "
+                             f"got {shown(low)}")
         if kind != "mass_share":
             probe[p.name] = 1.0 if kind == "stiffness" else 0.5 * (low + high)
         genes.append(Gene(p.name, low, high, kind, p.exponent))
@@ -194,6 +198,31 @@ def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: d
         for end in ends:
             _checked(model, {**probe, name: end}, f"bounds.{name}")
     return genes, fixed
+
+
+def reported_bounds(model: LumpedModel, genes: list[Gene], params: dict[str, float],
+                    scale: Scale) -> dict[str, dict[str, Any]]:
+    """The searched box in each parameter's own units (those of `model.units`, the units that
+    `bounds` takes), so that it can be passed back: a power-law stiffness searched as the force
+    at the reference compression y_ref has the force bounds divided by y_ref^alpha at the fitted
+    exponent (the force bounds and y_ref are given too); a unit mass is searched as a share of
+    the mass still to give out, so its bounds are shares (unit "share")."""
+    units = model.units
+    reported = {}
+    for gene in genes:
+        entry = {"low": float(gene.low), "high": float(gene.high), "search": gene.kind,
+                 "unit": units[gene.name]}
+        if gene.kind == "stiffness":
+            exponent = gene.exponent if isinstance(gene.exponent, float) \
+                else params[gene.exponent]
+            reference = float(scale.max_compression_m) ** exponent
+            entry.update(low=entry["low"] / reference, high=entry["high"] / reference,
+                         force_low_n=entry["low"], force_high_n=entry["high"],
+                         reference_compression_m=float(scale.max_compression_m))
+        elif gene.kind == "mass_share":
+            entry["unit"] = "share"
+        reported[gene.name] = entry
+    return reported
 
 
 def decode(model: LumpedModel, genes: list[Gene], fixed: dict[str, float], u: np.ndarray,
@@ -378,10 +407,10 @@ def fit(
     for name, value, low in (("population", population, 4), ("generations", generations, 1),
                              ("seed", seed, 0)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-            raise InputError(f"{name}: must be an integer >= {low}, got {value!r}")
+            raise InputError(f"{name}: must be an integer >= {low}, got {shown(value)}")
     for name, value in (("cor_weight", cor_weight), ("contact_time_weight", contact_time_weight)):
         if not (np.isfinite(value) and value >= 0):
-            raise InputError(f"{name}: must be >= 0, got {value!r}")
+            raise InputError(f"{name}: must be >= 0, got {shown(value)}")
     processed = record if isinstance(record, ProcessedImpact) else process(record, filter=filter)
     features = processed.features
     scale = Scale(features.mass_kg, features.values["P15"], features.values["P1"],
@@ -418,7 +447,7 @@ def fit(
         method=method, seed=int(seed), population=int(population), generations=int(generations),
         evaluations=objective.evaluations, polished=bool(polish),
         history_best=history.best, history_mean=history.mean,
-        bounds={g.name: {"low": g.low, "high": g.high, "search": g.kind} for g in genes},
+        bounds=reported_bounds(model, genes, params, scale),
         weights=weights, wall_time_s=time.perf_counter() - started,
         time_s=objective.time, measured_force_n=objective.force, fitted_force_n=force[0],
         reproduction=model.reproduction,

@@ -9,7 +9,7 @@ from scipy.optimize import brentq
 
 from ..errors import InputError
 from ..records import check_positive
-from .base import Parameter, check_range
+from .base import Parameter, check_range, shown
 from .engine import OdeModel, signed_power
 from .single_element import split
 
@@ -58,7 +58,7 @@ def hunt_crossley_cor(damping_s_m: float, impact_speed_m_s: float) -> float:
     """COR of a Hunt-Crossley impact: the root e of z (1 + e) = ln[(1 + z)/(1 - e z)], z = lambda v."""
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
     if not (np.isfinite(damping_s_m) and damping_s_m >= 0):
-        raise InputError(f"lambda: must be >= 0 s/m, got {damping_s_m!r}")
+        raise InputError(f"lambda: must be >= 0 s/m, got {shown(damping_s_m)}")
     z = damping_s_m * speed
     if z == 0:
         return 1.0
@@ -75,7 +75,7 @@ def hunt_crossley_lambda(cor: float, impact_speed_m_s: float) -> float:
     lambda -> 3 (1 - e) / (2 v))."""
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
     if not 0 < cor <= 1 - 1e-6:
-        raise InputError(f"cor: must be in (0, 0.999999], got {cor!r}")
+        raise InputError(f"cor: must be in (0, 0.999999], got {shown(cor)}")
     z_of = lambda s: -np.expm1(-s) / cor  # noqa: E731 - z from s = -ln(1 - e z)
     # the residual is z^2 (1 - e^2)/2 - O(z^3) > 0 below the root, which is near 1.5 (1 - e)
     s_low = -np.log1p(-cor * 0.15 * (1.0 - cor))

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..records import ImpactRecord, check_positive
-from .base import BatchResult, LumpedModel
+from .base import BatchResult, LumpedModel, shown
 from .registry import get_model
 
 #: integration steps per contact time in `simulate`
@@ -84,7 +84,8 @@ def simulate(
     model = get_model(model)
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
     if not (isinstance(steps_per_contact, (int, np.integer)) and steps_per_contact >= 50):
-        raise InputError(f"steps_per_contact: must be an integer >= 50, got {steps_per_contact!r}")
+        raise InputError("steps_per_contact: must be an integer >= 50, got "
+                         f"{shown(steps_per_contact)}")
     model.check(params, mass_kg)
     mass = model.ball_mass_kg(params, mass_kg)
     result = run_one(model, params, mass, speed, steps_per_contact)

@@ -100,7 +100,7 @@ def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, flo
     if method not in METHODS:
         raise InputError(f"method = {method!r}: allowed {', '.join(METHODS)}")
     if not (isinstance(runs, int) and runs >= 1):
-        raise InputError(f"runs = {runs!r}: need an integer >= 1")
+        raise InputError(f"runs = {runs}: need an integer >= 1")
     d = len(PARAMETERS)
     if method == "sobol":
         with warnings.catch_warnings():  # balance is best at powers of 2; any count is valid

@@ -48,7 +48,7 @@ def make_config(*, template: str | Path = "cricket-universal", ranges: dict | No
     config = {**DEFAULTS, **{k: v for k, v in settings.items() if v is not None}}
     for key in ("runs", "batch_size", "group_size"):
         if not (isinstance(config[key], int) and config[key] >= 1):
-            raise InputError(f"{key} = {config[key]!r}: need an integer >= 1")
+            raise InputError(f"{key} = {config[key]}: need an integer >= 1")
     if config["method"] not in space.METHODS:
         raise InputError(f"method = {config['method']!r}: allowed {', '.join(space.METHODS)}")
     ball = load_ball(str(template), impact_speed_m_s=25.0)
@@ -209,7 +209,7 @@ def _run_distributed(config, todo, finished, workers, scheduler) -> None:
         raise InputError("--workers/--scheduler need Dask distributed: pip install "
                          "'ballimpact[distributed]'") from None
     if workers is not None and not (isinstance(workers, int) and workers >= 1):
-        raise InputError(f"--workers = {workers!r}: need an integer >= 1")
+        raise InputError(f"--workers = {workers}: need an integer >= 1")
     cluster = None
     if scheduler is None:
         # one process per worker, one thread each: the engine vmaps within a batch

@@ -97,13 +97,13 @@ def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | 
     """Speeds (m/s), angles from the surface normal (deg), normal COR, with standard errors
     (`Measurement.summary`)."""
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise InputError(f"fps = {fps!r}: must be a positive number of frames per second")
+        raise InputError(f"fps = {fps}: must be a positive number of frames per second")
     if (scale_m_per_px is None) == (ball_diameter_m is None):
         raise InputError("give exactly one of scale_m_per_px (--scale-m-per-px) or "
                          "ball_diameter_m (--ball-diameter-m)")
     for name, value in (("scale_m_per_px", scale_m_per_px), ("ball_diameter_m", ball_diameter_m)):
         if value is not None and not (math.isfinite(value) and value > 0):
-            raise InputError(f"{name} = {value!r}: must be > 0")
+            raise InputError(f"{name} = {value}: must be > 0")
     found = np.array([d.found and not d.touches_border for d in detections])
     if found.sum() < 2 * MIN_FLIGHT_FRAMES:
         raise InputError(f"video: the ball was found whole in {int(found.sum())} of "
