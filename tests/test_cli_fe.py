@@ -107,3 +107,134 @@ def test_demo_json_and_plot(capsys, tmp_path):
         assert 0.0 < impact["cor"] < 1.0
         assert 5e3 < impact["peak_force_n"] < 3e4 and 5e-4 < impact["contact_time_s"] < 2e-3
     assert plot.stat().st_size > 10_000
+
+
+def test_demo_json_flags_the_three_layer_constants(capsys, tmp_path):
+    """(The demo's JSON run is above; this one reads its notes from a coarse, quick demo.)"""
+    code, out, err = _quick_demo(capsys, tmp_path, "--json")
+    assert code == 0, err
+    impacts = json.loads(out)["impacts"]
+    assert "note" not in impacts[0]
+    assert "0.5-0.6" in impacts[1]["note"] and "docs/fe.md" in impacts[1]["note"]
+
+
+def test_demo_table_flags_the_three_layer_constants(capsys, tmp_path):
+    code, out, err = _quick_demo(capsys, tmp_path)
+    assert code == 0, err
+    rows = {line.split()[0]: line for line in out.splitlines() if line.startswith("cricket")}
+    assert rows["cricket-3layer"].split()[1] == "*"
+    assert "*" not in rows["cricket-universal@25.0m/s"]
+    note = [line for line in out.splitlines() if line.startswith("* cricket-3layer:")]
+    assert len(note) == 1 and "0.5-0.6" in note[0]
+
+
+def _quick_demo(capsys, tmp_path, *flags):
+    """`ballimpact demo` on a coarse mesh and without the identification step."""
+    import ballimpact.fe
+    from ballimpact.cli import simulate as cli_simulate
+
+    real = ballimpact.fe.simulate
+    patch = pytest.MonkeyPatch()
+    try:
+        patch.setattr(ballimpact.fe, "simulate",
+                      lambda ball, speed: real(ball, speed, SolverOptions(element_size_m=4e-3)))
+        patch.setattr(cli_simulate, "_demo_identify", lambda quiet: {})
+        return run(capsys, "demo", "--plot", tmp_path / "demo.png", *flags)
+    finally:
+        patch.undo()
+
+
+# ---- progress and the guard against very large runs ----------------------------------------------
+
+def test_progress_line_format():
+    from ballimpact.fe.progress import format_progress
+
+    line = format_progress(0.5e-3, 1.5e-3, 1000, 2.0, t_first_s=0.1e-3)
+    assert line == "  t = 0.500 ms of ~1.500 ms, 500 steps/s, ~5 s left"
+    assert format_progress(0.5e-3, 1.5e-3, 1000, 2000.0, 0.1e-3).endswith("~83.3 min left")
+    assert format_progress(0.5e-3, 1.5e-3, 1000, 4000.0, 0.1e-3).endswith("~2.8 h left")
+    assert format_progress(2e-3, 1.5e-3, 1000, 2.0).endswith("past the estimated end, time left "
+                                                             "unknown")
+
+
+def test_progress_is_quiet_for_short_runs_then_throttled():
+    import io
+
+    from ballimpact.fe.progress import RunProgress
+
+    clock = iter([10.0, 10.5, 12.9, 13.2, 14.0, 18.3, 19.0]).__next__
+    stream = io.StringIO()
+    progress = RunProgress(1e-3, 200, stream=stream, quiet_s=3.0, interval_s=5.0, clock=clock)
+    for t_s in (0.1e-3, 0.2e-3, 0.3e-3):  # the first call starts the clock; 2.9 s: quiet
+        progress(t_s)
+    assert stream.getvalue() == ""
+    for t_s in (0.4e-3, 0.5e-3, 0.6e-3, 0.7e-3):  # 3.2 s: a line; 4 s: throttled; 8.3 s: a line
+        progress(t_s)
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 2 and progress.lines == 2
+    # 600 steps in 3.2 s; 0.3 ms simulated in 3.2 s, 0.6 ms to go
+    assert lines[0] == "  t = 0.400 ms of ~1.000 ms, 188 steps/s, ~6 s left"
+    assert "steps/s" in lines[1] and "left" in lines[1]
+
+
+def test_short_run_prints_no_progress(capsys):
+    code, out, err = run(capsys, "simulate", "--ball", "cricket-universal", "--speed-m-s", 10,
+                         *COARSE, "--json")
+    assert code == 0, err
+    assert "steps/s" not in err and "large run" not in err
+
+
+def test_progress_lines_go_to_stderr(capsys, monkeypatch):
+    """(The 3d solver's: tests/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
+    import ballimpact.fe
+
+    class Chatty(ballimpact.fe.RunProgress):  # every chunk prints
+        def __init__(self, end_time_s, chunk_steps, **kwargs):
+            super().__init__(end_time_s, chunk_steps, quiet_s=0.0, interval_s=0.0)
+
+    monkeypatch.setattr(ballimpact.fe, "RunProgress", Chatty)
+    code, out, err = run(capsys, "simulate", "--ball", "cricket-universal", "--speed-m-s", 10,
+                         *COARSE, "--json")
+    assert code == 0, err
+    json.loads(out)  # stdout holds the JSON object only
+    lines = [line for line in err.splitlines() if "steps/s" in line]
+    assert lines and all(line.startswith("  t = ") and "ms of ~" in line for line in lines)
+
+
+def test_large_run_warns_before_it_starts(capsys, monkeypatch):
+    """(The 3d solver's: tests/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
+    from ballimpact.fe import solver
+
+    monkeypatch.setattr(solver, "ELEMENT_STEPS_WARNING", 1e3)
+    code, out, err = run(capsys, "simulate", "--ball", "cricket-universal", "--speed-m-s", 10,
+                         *COARSE, "--json")
+    assert code == 0, err
+    warnings = [w for w in json.loads(out)["warnings"] if w.startswith("large run: ")]
+    assert len(warnings) == 1 and "element updates, above the guard's 1e+03" in warnings[0]
+    # printed at once, before the run's own output, and again in the end's list
+    assert err.count(f"warning: {warnings[0]}") == 2
+
+
+def test_guard_flags_a_very_fine_mesh_not_the_default():
+    from ballimpact.fe import load_ball
+    from ballimpact.fe.solver import ELEMENT_STEPS_WARNING, estimate_run
+
+    ball = load_ball("cricket-universal", impact_speed_m_s=25.0)
+    default = estimate_run(ball, 25.0)
+    assert default.warning() is None
+    # on the high side of the real run (1482 elements, 2371 steps), within a factor 2
+    assert default.elements == 1482 and 2371 <= default.steps <= 2 * 2371
+    fine = estimate_run(ball, 25.0, SolverOptions(element_size_m=1.5e-4))
+    assert fine.element_steps > ELEMENT_STEPS_WARNING
+    assert fine.warning().startswith("large run: about ")
+
+
+def test_guard_in_the_help(capsys):
+    from ballimpact.fe.solver import ELEMENT_STEPS_WARNING
+    from ballimpact.oblique.solver import ELEMENT_STEPS_WARNING as ELEMENT_STEPS_WARNING_3D
+
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert (f"above {ELEMENT_STEPS_WARNING:.0e} element updates (elements x steps; 3d: "
+            f"{ELEMENT_STEPS_WARNING_3D:.0e})").replace("e+0", "e") in out

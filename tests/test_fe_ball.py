@@ -157,8 +157,10 @@ def test_describe_presets_is_json_and_complete():
                                                               "mooney_rivlin"]
     assert universal["mass_kg"] == 0.160 and universal["needs_impact_speed"]
     assert "table 7-3" in universal["source"]
-    assert [r["speed_m_s"] for r in universal["table_7_3"]] == [5.5, 10.0, 20.8, 25.0]
-    assert set(universal["table_7_3"][0]) == {"speed_m_s", "c10_pa", "c01_pa", "g1", "tau1_s"}
+    rows = universal["speed_table"]["rows"]  # thesis table 7-3, as a speed-table ball file
+    assert [r["speed_m_s"] for r in rows] == [5.5, 10.0, 20.8, 25.0]
+    assert set(rows[0]) == {"speed_m_s", "c10_pa", "c01_pa", "g1", "tau1_s"}
+    assert universal["speed_range_m_s"] == [5.5, 25.0]
 
 
 # ---- round trips and files -----------------------------------------------------------------------

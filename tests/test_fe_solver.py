@@ -160,3 +160,27 @@ def test_bad_speed_is_an_input_error():
     ball = _sphere({"model": "neo_hookean", "c10_pa": 2e6})
     with pytest.raises(InputError, match="impact_speed_m_s"):
         simulate(ball, -3.0)
+
+
+def test_messages_show_plain_numbers_not_numpy_reprs():
+    """NumPy 2 writes numpy scalars as np.float64(...) with !r: messages show plain numbers."""
+    from ballimpact.fe.materials.stability import mooney_rivlin_drucker
+    from ballimpact.oblique import ImpactCondition, Options3D
+
+    ball = _sphere({"model": "neo_hookean", "c10_pa": 2e6})
+    cases = [
+        (lambda: simulate(ball, np.float64(-3.0)), "impact_speed_m_s = -3: must be > 0"),
+        (lambda: simulate_batch([ball, ball], np.array([10.0, np.nan])), "impact_speed_m_s = nan"),
+        (lambda: SolverOptions(element_size_m=np.float64(-1e-3)), "element_size_m = -0.001"),
+        (lambda: SolverOptions(chunk_steps=np.int64(0)), "chunk_steps = 0"),
+        (lambda: ImpactCondition(np.float64(2e3)), "speed_m_s = 2000"),
+        (lambda: Options3D(time_step_scale=np.float64(1.5)), "time_step_scale = 1.5"),
+        (lambda: material_from_dict({"model": "neo_hookean", "c10_pa": np.float64(np.inf)}),
+         "c10_pa: expected a finite number, got inf"),
+        (lambda: mooney_rivlin_drucker(1e6, 0.0, np.float64(-1.0), 2.0), "stretch_min = -1"),
+    ]
+    for call, words in cases:
+        with pytest.raises(InputError) as error:
+            call()
+        assert words in str(error.value) and "np." not in str(error.value), str(error.value)
+    assert repr(ImpactCondition(np.float64(20.0))).startswith("ImpactCondition(speed_m_s=20.0,")

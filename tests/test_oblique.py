@@ -11,14 +11,16 @@ import meshio
 import numpy as np
 import pytest
 
+from ballimpact import fe
 from ballimpact.cli import main
-from ballimpact.errors import InputError
+from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import Sym, energy_and_stress, material_from_dict
 from ballimpact.fe.solver import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, rigid_oblique_impact,
                                 simulate_oblique, simulate_oblique_batch)
 from ballimpact.oblique import hexa
+from ballimpact.oblique import solver as oblique_solver
 from ballimpact.oblique.mesh import ball_mesh, centre_jacobian_det, slab_mesh
 from ballimpact.oblique.output import animate_section, write_series
 
@@ -307,6 +309,20 @@ def test_stiff_target_reproduces_the_rigid_plane():
     assert slab.energy_balance_error < 0.01
 
 
+def test_large_run_warns_before_compiling(monkeypatch):
+    estimate = oblique_solver.estimate_oblique(_ball(), [ImpactCondition(5.0)], COARSE)
+    assert estimate.warning() is None and estimate.elements > 0 and estimate.steps > 0
+    monkeypatch.setattr(oblique_solver, "ELEMENT_STEPS_WARNING", 1e3)
+    assert estimate.element_steps > 1e3
+
+    def refuse(*args):
+        raise RuntimeError("compiled")
+    monkeypatch.setattr(oblique_solver, "_compiled", refuse)
+    with pytest.warns(InputWarning, match="^large run: about .* element updates"), \
+            pytest.raises(RuntimeError, match="compiled"):
+        simulate_oblique(_ball(), ImpactCondition(5.0), COARSE)
+
+
 def test_bad_inputs_name_the_field():
     with pytest.raises(InputError, match="angle_deg"):
         ImpactCondition(10.0, 90.5)
@@ -323,14 +339,26 @@ def test_bad_inputs_name_the_field():
 
 
 # ---- output and command line -------------------------------------------------------------------
-def test_cli_3d_json_vtk_and_animation(capsys, tmp_path):
+def test_cli_3d_json_vtk_and_animation(capsys, tmp_path, monkeypatch):
     pvd, gif, plot = tmp_path / "run.pvd", tmp_path / "run.gif", tmp_path / "run.png"
+
+    class Chatty(fe.RunProgress):  # every chunk prints its progress line
+        def __init__(self, end_time_s, chunk_steps, **kwargs):
+            super().__init__(end_time_s, chunk_steps, quiet_s=0.0, interval_s=0.0)
+
+    monkeypatch.setattr(fe, "RunProgress", Chatty)
+    monkeypatch.setattr(oblique_solver, "ELEMENT_STEPS_WARNING", 1e3)  # the guard fires
     code = main(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "20",
                  "--angle-deg", "30", "--spin-rad-s", "-50", "--friction", "0.3", "--divisions",
                  "8", "--json", "--vtk", str(pvd), "--animate", str(gif), "--plot", str(plot)])
     out, err = capsys.readouterr()
     assert code == 0, err
-    result = json.loads(out)
+    result = json.loads(out)  # stdout holds the JSON object only
+    lines = [line for line in err.splitlines() if "steps/s" in line]
+    assert lines and all(line.startswith("  t = ") and "ms of ~" in line for line in lines)
+    large = [w for w in result["warnings"] if w.startswith("large run: ")]
+    assert len(large) == 1 and "above the guard's 1e+03" in large[0] and "divisions" in large[0]
+    assert err.index(f"warning: {large[0]}") < err.index(lines[0])  # before the run
     for key in ("normal_cor", "tangential_cor", "rebound_angle_deg", "rebound_spin_rad_s", "cor",
                 "peak_force_n", "contact_time_s", "features", "energies_j", "impact_speed_m_s"):
         assert key in result

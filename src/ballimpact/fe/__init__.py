@@ -9,7 +9,9 @@ from .ball import (
            load_ball,
            universal_parameters,
 )
-from .solver import FailedRun, FEResult, SolverOptions, simulate, simulate_batch
+from .progress import RunProgress
+from .solver import FailedRun, FEResult, SolverOptions, estimate_run, simulate, simulate_batch
 
-__all__ = ["PRESETS", "BallModel", "FailedRun", "FEResult", "Layer", "SolverOptions", "describe_presets",
-           "load_ball", "simulate", "simulate_batch", "universal_parameters"]
+__all__ = ["PRESETS", "BallModel", "FailedRun", "FEResult", "Layer", "RunProgress", "SolverOptions",
+           "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
+           "universal_parameters"]

@@ -1,4 +1,4 @@
-"""Layered ball models (DESIGN.md "Files": ball specification) and the built-in presets.
+"""Layered ball models (docs/balls.md: the ball specification) and the built-in presets.
 
 A ball is a stack of concentric spherical layers listed from the centre outwards; each has an outer
 radius, a density and a material (`materials.material_from_dict`). Constants are SI throughout:
@@ -25,7 +25,7 @@ import math
 import numbers
 import re
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -34,9 +34,44 @@ import numpy as np
 from ..errors import InputError, InputWarning
 from .materials import MODULI, Material, material_from_dict
 from .materials.base import _check_keys, _number
+from .options import shown
 
 _BALL_KEYS = {"name", "layers"}
 _LAYER_KEYS = {"name", "outer_radius_m", "density_kg_m3", "material"}
+#: free text kept with the ball (`BallModel.description`, `.source`); not used by the solver
+_TEXT_KEYS = {"description", "source"}
+#: figures that follow from the other keys, as `ballimpact balls --json` writes them: accepted in
+#: a ball file if they agree with the ball (a check, never an input)
+_DERIVED_BALL_KEYS = {"outer_radius_m", "mass_kg", "moduli", "needs_impact_speed"}
+_DERIVED_LAYER_KEYS = {"mass_kg", "model"}
+_DERIVED_TABLE_BALL_KEYS = _DERIVED_BALL_KEYS | {"speed_range_m_s"}
+
+
+def _text(d: dict, key: str, where: str) -> str:
+    value = d.get(key, "")
+    if not isinstance(value, str):
+        raise InputError(f"{where}.{key}: expected a string, got {type(value).__name__}")
+    return value
+
+
+def _check_derived(d: dict, where: str, actual: dict[str, Any]) -> None:
+    """Each key of `actual` that `d` has must agree with the value that follows from the ball
+    (numbers to 1e-6 relative)."""
+    def agrees(given, value) -> bool:
+        if isinstance(value, (bool, str)):
+            return given == value and type(given) is type(value)
+        if isinstance(value, (list, tuple)):
+            return (isinstance(given, list) and len(given) == len(value)
+                    and all(agrees(g, v) for g, v in zip(given, value)))
+        return (isinstance(given, (int, float)) and not isinstance(given, bool)
+                and math.isclose(given, value, rel_tol=1e-6))
+
+    for key, value in actual.items():
+        if key in d and not agrees(d[key], value):
+            raise InputError(
+                f"{where}.{key} = {shown(d[key])}: disagrees with {shown(value)}, which follows "
+                "from the other keys; it is only checked (as `ballimpact balls --json` writes "
+                "it), never used: remove it or correct it")
 
 
 def _shell_volume_m3(inner_m: float, outer_m: float) -> float:
@@ -59,7 +94,7 @@ class Layer:
     @classmethod
     def from_dict(cls, d: Any, where: str = "layer", previous_radius_m: float = 0.0,
                   default_name: str = "layer") -> Layer:
-        _check_keys(d, _LAYER_KEYS, where)
+        _check_keys(d, _LAYER_KEYS | _DERIVED_LAYER_KEYS, where)
         name = d.get("name", default_name)
         if not isinstance(name, str) or not name.strip():
             raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
@@ -71,15 +106,22 @@ class Layer:
         if "material" not in d:
             raise InputError(f"{where}: missing key 'material'")
         material = material_from_dict(d["material"], where=f"{where}.material")
+        _check_derived(d, where, {"model": material.model, "mass_kg": density * _shell_volume_m3(
+            previous_radius_m, radius)})
         return cls(name=name, outer_radius_m=radius, density_kg_m3=density, material=material)
 
 
 @dataclass(frozen=True)
 class BallModel:
-    """A layered ball, layers from the centre outwards (bonded at the interfaces)."""
+    """A layered ball, layers from the centre outwards (bonded at the interfaces).
+
+    `description` and `source` are free text carried along (ball files, `balls --json`); they
+    take no part in comparisons: two balls with the same layers are equal."""
 
     name: str
     layers: tuple[Layer, ...]
+    description: str = field(default="", compare=False)
+    source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "layers", tuple(self.layers))
@@ -145,12 +187,18 @@ class BallModel:
 
     # ---- specification -----------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "layers": [layer.to_dict() for layer in self.layers]}
+        out: dict[str, Any] = {"name": self.name}
+        out.update({key: getattr(self, key) for key in ("description", "source")
+                    if getattr(self, key)})
+        out["layers"] = [layer.to_dict() for layer in self.layers]
+        return out
 
     @classmethod
     def from_dict(cls, d: Any, where: str = "ball", default_name: str = "ball") -> BallModel:
-        """A ball from its specification; every error names the key's path from `where`."""
-        _check_keys(d, _BALL_KEYS, where)
+        """A ball from its specification; every error names the key's path from `where`.
+        Besides `name` and `layers`: `description` and `source` (kept), and the figures that
+        `ballimpact balls --json` adds (checked against the ball, see docs/balls.md)."""
+        _check_keys(d, _BALL_KEYS | _TEXT_KEYS | _DERIVED_BALL_KEYS, where)
         name = d.get("name", default_name)
         if not isinstance(name, str) or not name.strip():
             raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
@@ -169,7 +217,14 @@ class BallModel:
                 raise InputError(f"{w}.name = {layer.name!r}: layer names must be unique")
             layers.append(layer)
             previous = layer.outer_radius_m
-        return cls(name=name, layers=tuple(layers))
+        ball = cls(name=name, layers=tuple(layers), description=_text(d, "description", where),
+                   source=_text(d, "source", where))
+        moduli = ball.moduli
+        _check_derived(d, where, {
+            "outer_radius_m": ball.outer_radius_m, "mass_kg": ball.mass_kg,
+            "moduli": moduli[0] if len(set(moduli)) == 1 else list(moduli),
+            "needs_impact_speed": False})
+        return ball
 
 
 # ---- presets ---------------------------------------------------------------------------------
@@ -228,7 +283,7 @@ _SOURCES = {
 def _speed(value: Any, what: str = "impact_speed_m_s") -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real) \
             or not math.isfinite(value) or value <= 0.0:
-        raise InputError(f"{what} = {value!r}: expected a finite number > 0 (m/s)")
+        raise InputError(f"{what} = {shown(value)}: expected a finite number > 0 (m/s)")
     return float(value)
 
 
@@ -278,7 +333,10 @@ _SPEED_TABLE_KEYS = {"outer_radius_m", "density_kg_m3", "moduli", "rows"}
 def _speed_table_ball(data: dict, name: str, impact_speed_m_s: float | None) -> BallModel:
     """A ball file holding a universal-ball table against speed (as `identify` writes it):
     {"name": ..., "speed_table": {"outer_radius_m", "density_kg_m3", "moduli", "rows": [{speed_m_s,
-    c10_pa, c01_pa, g1, tau1_s}, ...]}}, interpolated at the impact speed as `cricket-universal`."""
+    c10_pa, c01_pa, g1, tau1_s}, ...]}}, interpolated at the impact speed as `cricket-universal`.
+    `description` and `source` are kept; the figures `balls --json` adds are checked."""
+    _check_keys(data, {"name", "speed_table"} | _TEXT_KEYS | _DERIVED_TABLE_BALL_KEYS, name)
+    description, source = _text(data, "description", name), _text(data, "source", name)
     table = data["speed_table"]
     where = f"{name}.speed_table"
     _check_keys(table, _SPEED_TABLE_KEYS, where)
@@ -293,6 +351,11 @@ def _speed_table_ball(data: dict, name: str, impact_speed_m_s: float | None) -> 
             _number(row, key, f"{where}.rows[{i}]")
         _speed(row["speed_m_s"], f"{where}.rows[{i}].speed_m_s")
     rows = sorted(rows, key=lambda r: r["speed_m_s"])
+    radius, density = table["outer_radius_m"], table["density_kg_m3"]
+    _check_derived(data, name, {
+        "outer_radius_m": radius, "mass_kg": density * _shell_volume_m3(0.0, radius),
+        "moduli": table.get("moduli", "long_term"), "needs_impact_speed": True,
+        "speed_range_m_s": [rows[0]["speed_m_s"], rows[-1]["speed_m_s"]]})
     if impact_speed_m_s is None:
         raise InputError(f"{name}: a ball with a speed table needs the impact speed "
                          "(impact_speed_m_s, e.g. --speed-m-s)")
@@ -300,7 +363,8 @@ def _speed_table_ball(data: dict, name: str, impact_speed_m_s: float | None) -> 
     spec = universal_spec(p, table["outer_radius_m"], table["density_kg_m3"],
                           table.get("moduli", "long_term"),
                           name=f"{name}@{float(p['impact_speed_m_s'])!r}m/s")
-    return BallModel.from_dict(spec, where=where)
+    return dataclasses.replace(BallModel.from_dict(spec, where=where), description=description,
+                               source=source)
 
 
 _UNIVERSAL_AT = re.compile(r"^cricket-universal@(.+?)(?:m/s)?$")
@@ -357,6 +421,8 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) ->
     if impact_speed_m_s is not None:
         impact_speed_m_s = _speed(impact_speed_m_s)
     if isinstance(spec, dict):
+        if "speed_table" in spec:
+            return _speed_table_ball(spec, str(spec.get("name", "ball")), impact_speed_m_s)
         return BallModel.from_dict(spec)
     if isinstance(spec, str) and (spec in PRESETS or spec.startswith("cricket-universal@")):
         return _preset(spec, impact_speed_m_s)
@@ -370,7 +436,6 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) ->
     data = _read_file(path)
     try:
         if isinstance(data, dict) and "speed_table" in data:
-            _check_keys(data, {"name", "speed_table"}, path.stem)
             return _speed_table_ball(data, str(data.get("name", path.stem)), impact_speed_m_s)
         return BallModel.from_dict(data, default_name=path.stem)
     except InputError as exc:
@@ -378,7 +443,8 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) ->
 
 
 def describe_presets() -> list[dict[str, Any]]:
-    """The built-in balls, JSON-able (for `ballimpact balls --json`)."""
+    """The built-in balls, JSON-able (for `ballimpact balls --json`). Each entry, saved as a
+    file, is a ball file that loads to the preset (`cricket-universal`'s as a speed table)."""
     out = []
     three = _preset("cricket-3layer", None)
     out.append({
@@ -395,11 +461,10 @@ def describe_presets() -> list[dict[str, Any]]:
         "source": _SOURCES["cricket-universal"], "needs_impact_speed": True,
         "outer_radius_m": UNIVERSAL_RADIUS_M, "mass_kg": UNIVERSAL_MASS_KG,
         "moduli": "long_term",
-        "layers": [{"name": "ball", "outer_radius_m": UNIVERSAL_RADIUS_M,
-                    "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "mass_kg": UNIVERSAL_MASS_KG,
-                    "model": "mooney_rivlin"}],
         "speed_range_m_s": [TABLE_7_3[0]["speed_m_s"], TABLE_7_3[-1]["speed_m_s"]],
-        "table_7_3": [dict(row) for row in TABLE_7_3]})
+        "speed_table": {"outer_radius_m": UNIVERSAL_RADIUS_M,
+                        "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "moduli": "long_term",
+                        "rows": [dict(row) for row in TABLE_7_3]}})
     return out
 
 

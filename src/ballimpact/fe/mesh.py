@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .options import shown
 
 #: half-side a of the central half-square block over the innermost layer radius: the block corners
 #: sit at 0.81 x that radius, well inside it, and the ring between block and circle is thick enough
@@ -472,13 +473,13 @@ def _validated_in_range(value, name: str, low: float, high: float, high_allowed:
     except (TypeError, ValueError):
         number = math.nan
     if not (low < number and (number <= high if high_allowed else number < high)):  # NaN fails
-        raise InputError(f"{name} must be in {allowed}, got {value!r}")
+        raise InputError(f"{name} must be in {allowed}, got {shown(value)}")
     return number
 
 
 def _validated_radii(layer_radii_m) -> np.ndarray:
     message = ("layer_radii_m must be a non-empty sequence of positive, finite, strictly "
-               f"increasing radii in m, got {layer_radii_m!r}")
+               f"increasing radii in m, got {shown(layer_radii_m)}")
     try:
         radii = np.asarray(layer_radii_m, dtype=np.float64)
     except (TypeError, ValueError):

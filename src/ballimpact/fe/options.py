@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 from dataclasses import dataclass
 
@@ -10,6 +11,20 @@ from ..errors import InputError, InputWarning
 
 INTEGRATIONS = ("reduced", "full")
 PRECISIONS = ("float64", "float32")
+
+
+def shown(value) -> str:
+    """`value` for an error message: numbers (NumPy scalars included) as plain numbers (`:g`),
+    sequences and arrays element by element, anything else by its repr. Never `np.float64(...)`."""
+    if hasattr(value, "tolist"):
+        value = value.tolist()  # NumPy (and JAX) arrays and scalars -> Python numbers and lists
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        return str(int(value))
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return f"{float(value):g}"
+    if isinstance(value, (list, tuple)):
+        return f"[{', '.join(shown(v) for v in value)}]"
+    return repr(value)
 
 
 @dataclass(frozen=True)
@@ -58,17 +73,17 @@ class SolverOptions:
             low_ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
                       and (value >= 0 if zero_ok else value > 0))
             if not (low_ok and value <= high):
-                raise InputError(f"{name} = {value!r}: allowed range "
+                raise InputError(f"{name} = {shown(value)}: allowed range "
                                  f"{'[' if zero_ok else '('}0, {high:g}]")
         for name, value, allowed in (("integration", self.integration, INTEGRATIONS),
                                      ("precision", self.precision, PRECISIONS)):
             if value not in allowed:
-                raise InputError(f"{name} = {value!r}: allowed {', '.join(allowed)}")
+                raise InputError(f"{name} = {shown(value)}: allowed {', '.join(allowed)}")
         if self.time_step_scale > 1.0:
             warnings.warn(f"time_step_scale = {self.time_step_scale:g} is above the stability "
                           "limit of the assembled system (1): expect the run to be stopped",
                           InputWarning, stacklevel=3)
         if self.time_limit_s is not None and not self.time_limit_s > 0:
-            raise InputError(f"time_limit_s = {self.time_limit_s!r}: must be > 0")
+            raise InputError(f"time_limit_s = {shown(self.time_limit_s)}: must be > 0")
         if not (isinstance(self.chunk_steps, int) and self.chunk_steps >= 1):
-            raise InputError(f"chunk_steps = {self.chunk_steps!r}: must be an integer >= 1")
+            raise InputError(f"chunk_steps = {shown(self.chunk_steps)}: must be an integer >= 1")

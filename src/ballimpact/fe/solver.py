@@ -26,14 +26,17 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
+from ..plausibility import FE_SPEED_RANGE_M_S, check_allow, check_fe_speed
 from ..records import ImpactRecord
 from .axisymmetric import geometry
-from .kernel import HISTORY, Kernel, ball_arrays, cast, time_limit_default
+from .kernel import HISTORY, Kernel, ball_arrays, cast, hertz_contact_time_s, time_limit_default
 from .mesh import layered_sphere_mesh
 from .materials.stability import drucker_warnings
-from .options import SolverOptions
+from .options import SolverOptions, shown
+from .progress import RunEstimate
 
-__all__ = ["FEResult", "SolverOptions", "default_group_size", "simulate", "simulate_batch"]
+__all__ = ["FE_SPEED_RANGE_M_S", "FEResult", "SolverOptions", "default_group_size",
+           "estimate_run", "simulate", "simulate_batch"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -189,8 +192,15 @@ def default_group_size(n_balls: int) -> int:
     return max(1, min(n_balls, ACCELERATOR_GROUP_SIZE))
 
 
-def _speeds(impact_speeds_m_s, n: int) -> np.ndarray:
-    speeds = np.asarray(impact_speeds_m_s, dtype=np.float64)
+def _speeds(impact_speeds_m_s, n: int, allow=(), solver: str = "axisymmetric") -> np.ndarray:
+    """The impact speeds (m/s) of `n` balls, checked: finite, > 0, and inside the validated range
+    of `solver` (`plausibility.check_fe_speed`) unless "speed-range" is in `allow` (a warning)."""
+    allow = check_allow(allow)
+    try:
+        speeds = np.asarray(impact_speeds_m_s, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"impact_speed_m_s = {shown(impact_speeds_m_s)}: expected numbers "
+                         "(m/s)") from None
     if speeds.ndim == 0:
         speeds = np.full(n, float(speeds))
     if speeds.shape != (n,):
@@ -198,8 +208,57 @@ def _speeds(impact_speeds_m_s, n: int) -> np.ndarray:
                          f"{speeds.shape[0] if speeds.ndim == 1 else speeds.shape}")
     bad = ~(np.isfinite(speeds) & (speeds > 0))
     if np.any(bad):
-        raise InputError(f"impact_speed_m_s = {speeds[np.argmax(bad)]!r}: must be > 0")
+        raise InputError(f"impact_speed_m_s = {shown(speeds[np.argmax(bad)])}: must be > 0")
+    for speed in np.unique(speeds):  # one error (or warning) for the first speed outside
+        check_fe_speed(float(speed), allow, solver=solver)
     return speeds
+
+
+#: elements x steps above which a run is flagged as very long (`estimate_run`): about 5 min at
+#: `SECONDS_PER_ELEMENT_STEP` (the universal ball at 25 m/s with 0.2 mm elements; the default
+#: 1.5 mm mesh is 4.6e6 by the estimate, 3.5e6 run)
+ELEMENT_STEPS_WARNING = 2e9
+#: wall time of one element update on a 2-core CPU (s; float64, reduced integration: 1.3-1.6e-7
+#: measured with 1482 to 20590 elements on the machine of this work while shared with other jobs;
+#: 8e-8 at 1482 elements when it was not, docs/fe.md "Speed")
+SECONDS_PER_ELEMENT_STEP = 1.5e-7
+#: the stable increment of the assembled system over the smallest element's L / c_d at
+#: time_step_scale 0.8 (1.52 on the default meshes of both presets; lower is safer)
+INCREMENT_OVER_SMALLEST_ELEMENT = 1.5
+
+
+def estimate_run(ball, impact_speed_m_s, options: SolverOptions = SolverOptions()) -> RunEstimate:
+    """The cost of a run of `ball` at `impact_speed_m_s` (m/s; one speed or one per run of a
+    batch of this ball's structure), estimated from the mesh before anything is compiled: steps
+    to a Hertz contact time (the ball's softest long-term modulus: longer than the ball's) plus
+    the end margin, at an increment from the smallest element. `RunEstimate.warning` flags runs
+    above `ELEMENT_STEPS_WARNING` element updates or `progress.MEMORY_WARNING_BYTES`."""
+    speeds = np.atleast_1d(np.asarray(impact_speed_m_s, dtype=np.float64))
+    return _estimate(kernel_for(ball, options), [ball] * len(speeds), speeds, options)
+
+
+def _estimate(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> RunEstimate:
+    smallest = float(np.min(kernel.geom.characteristic_length_m))
+    steps, end = 0, 0.0
+    for ball, speed in zip(balls, speeds):
+        end_s = hertz_contact_time_s(ball, float(speed)) * (1.0 + options.end_margin)
+        if options.time_limit_s is not None:
+            end_s = min(end_s, options.time_limit_s)
+        c_d = max(math.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
+                  for layer in ball.layers)
+        dt = (INCREMENT_OVER_SMALLEST_ELEMENT * options.time_step_scale / 0.8) * smallest / c_d
+        steps, end = max(steps, math.ceil(end_s / dt)), max(end, end_s)
+    return RunEstimate(elements=kernel.geom.n_elements, steps=steps, end_time_s=end,
+                       memory_bytes=8.0 * steps * len(HISTORY) * len(balls),
+                       element_steps_limit=ELEMENT_STEPS_WARNING,
+                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP,
+                       hint="a coarser mesh: element_size_m, --element-size-m")
+
+
+def _warn_if_large(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> None:
+    message = _estimate(kernel, balls, speeds, options).warning()
+    if message is not None:
+        warnings.warn(message, InputWarning, stacklevel=3)
 
 
 def _expected_steps(ball, speed: float, kernel: Kernel) -> float:
@@ -212,7 +271,7 @@ def _expected_steps(ball, speed: float, kernel: Kernel) -> float:
 
 def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = SolverOptions(),
                    progress=None, group_size: int | None = None,
-                   on_failure: str = "raise") -> list:
+                   on_failure: str = "raise", *, allow=()) -> list:
     """Normal impacts of several balls with the same layer structure, vmapped in groups.
 
     `impact_speeds_m_s` (m/s) is one speed for all, or one per ball. The balls may differ in every
@@ -225,22 +284,29 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     `on_failure`: "raise" (a `SimulationError` for the first failed ball) or "return" (a failed
     ball gets a `FailedRun` with the reason in its place, and the others run on: a design of
     experiments keeps the runs that did not fail and records the reason of those that did).
+
+    Speeds outside `FE_SPEED_RANGE_M_S` (the validated range, docs/fe.md) raise `InputError`
+    before anything is meshed or compiled, unless `allow` holds "speed-range" (then an
+    `InputWarning` starting "speed-range:"). A batch whose runs are estimated above
+    `ELEMENT_STEPS_WARNING` element updates each gets an `InputWarning` before it runs
+    (`estimate_run`).
     """
     if on_failure not in ("raise", "return"):
         raise InputError(f"on_failure = {on_failure!r}: allowed 'raise' or 'return'")
     balls = list(balls)
     if not balls:
         raise InputError("balls: need at least one ball")
-    speeds = _speeds(impact_speeds_m_s, len(balls))
+    speeds = _speeds(impact_speeds_m_s, len(balls), allow)
     if group_size is None:
         group_size = default_group_size(len(balls))
     if not (isinstance(group_size, int) and group_size >= 1):
         raise InputError(f"group_size = {group_size!r}: must be an integer >= 1")
     if any(_structure(b) != _structure(balls[0]) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
+    kernel = kernel_for(balls[0], options)
+    _warn_if_large(kernel, balls, speeds, options)
     if len(balls) <= group_size:
         return _simulate_group(balls, speeds, options, progress, on_failure)
-    kernel = kernel_for(balls[0], options)
     order = np.argsort([_expected_steps(b, s, kernel) for b, s in zip(balls, speeds)],
                        kind="stable")
     results: list[Any] = [None] * len(balls)
@@ -255,9 +321,19 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
 
 
 def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptions(),
-             progress=None) -> FEResult:
-    """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s)."""
-    return _simulate_group([ball], _speeds(impact_speed_m_s, 1), options, progress)[0]
+             progress=None, *, allow=()) -> FEResult:
+    """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s).
+
+    A speed outside `FE_SPEED_RANGE_M_S` (m/s; the range the FE model is validated over,
+    docs/fe.md) raises `InputError` before anything is meshed or compiled; with
+    `allow={"speed-range"}` it runs, with an `InputWarning` starting "speed-range:". A run
+    estimated above `ELEMENT_STEPS_WARNING` element updates (a very fine mesh) gets an
+    `InputWarning` before it starts. `progress(t_s)` is called after every chunk of steps
+    (`progress.RunProgress` prints the time reached and the time left).
+    """
+    speeds = _speeds(impact_speed_m_s, 1, allow)
+    _warn_if_large(kernel_for(ball, options), [ball], speeds, options)
+    return _simulate_group([ball], speeds, options, progress)[0]
 
 
 def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,

@@ -4,8 +4,8 @@ The axisymmetric `fe` engine stays the workhorse for normal impacts; the two agr
 
 from .options import ImpactCondition, Options3D
 from .rigid_body import rigid_oblique_impact
-from .solver import ObliqueResult, simulate_oblique, simulate_oblique_batch
+from .solver import ObliqueResult, estimate_oblique, simulate_oblique, simulate_oblique_batch
 from .target import Target, load_target
 
-__all__ = ["ImpactCondition", "ObliqueResult", "Options3D", "Target", "load_target",
-           "rigid_oblique_impact", "simulate_oblique", "simulate_oblique_batch"]
+__all__ = ["ImpactCondition", "ObliqueResult", "Options3D", "Target", "estimate_oblique",
+           "load_target", "rigid_oblique_impact", "simulate_oblique", "simulate_oblique_batch"]

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
+from ..fe.options import shown
 
 #: corner signs of the reference hexahedron, VTK order (bottom face, then top face)
 HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -152,16 +153,16 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
     `surface_thickness_m` at the surface (default: the smallest arc spacing there)."""
     radii = np.asarray(layer_radii_m, dtype=float)
     if not (isinstance(divisions, int) and divisions >= 4 and divisions % 2 == 0):
-        raise InputError(f"divisions = {divisions!r}: must be an even integer >= 4")
+        raise InputError(f"divisions = {shown(divisions)}: must be an even integer >= 4")
     if not (math.isfinite(pole_grading) and 1.0 <= pole_grading <= 10.0):
-        raise InputError(f"pole_grading = {pole_grading!r}: allowed range [1, 10]")
+        raise InputError(f"pole_grading = {shown(pole_grading)}: allowed range [1, 10]")
     outer = radii[-1]
     g = _graded_angles(divisions, pole_grading)
     t = np.tan(g)
     if surface_thickness_m is None:
         surface_thickness_m = outer * (g[divisions // 2 + 1] - g[divisions // 2])
     if not (0 < surface_thickness_m < 0.5 * outer):
-        raise InputError(f"surface_thickness_m = {surface_thickness_m!r}: allowed range "
+        raise InputError(f"surface_thickness_m = {shown(surface_thickness_m)}: allowed range "
                          f"(0, {0.5 * outer:g})")
     r_blend = min(BLEND_OF_INNERMOST * radii[0], BLEND_OF_OUTER * outer)
     a = CUBE_FRACTION * r_blend

@@ -3,19 +3,20 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..fe.options import INTEGRATIONS, PRECISIONS
+from ..fe.options import INTEGRATIONS, PRECISIONS, shown
 
 
 def _check_range(name: str, value, low: float, high: float, low_open: bool = False,
                  high_open: bool = False) -> None:
-    ok = (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+    ok = (isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
           and (value > low if low_open else value >= low)
           and (value < high if high_open else value <= high))
     if not ok:
-        raise InputError(f"{name} = {value!r}: allowed range {'(' if low_open else '['}{low:g}, "
+        raise InputError(f"{name} = {shown(value)}: allowed range {'(' if low_open else '['}{low:g}, "
                          f"{high:g}{')' if high_open else ']'}")
 
 
@@ -50,6 +51,9 @@ class ImpactCondition:
         for name in ("spin_rad_s", "spin_x_rad_s", "spin_z_rad_s"):
             _check_range(name, getattr(self, name), -1e4, 1e4)
         _check_range("friction", self.friction, 0.0, 10.0)
+        for name in ("speed_m_s", "angle_deg", "spin_rad_s", "friction", "spin_x_rad_s",
+                     "spin_z_rad_s"):  # plain floats: no np.float64(...) in reprs and messages
+            object.__setattr__(self, name, float(getattr(self, name)))
 
     @property
     def symmetric(self) -> bool:
@@ -97,7 +101,7 @@ class Options3D:
     def __post_init__(self) -> None:
         if not (isinstance(self.divisions, int) and self.divisions >= 4
                 and self.divisions % 2 == 0 and self.divisions <= 64):
-            raise InputError(f"divisions = {self.divisions!r}: must be an even integer in [4, 64]")
+            raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
         _check_range("pole_grading", self.pole_grading, 1.0, 10.0)
         _check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
         _check_range("bulk_viscosity_linear", self.bulk_viscosity_linear, 0.0, 10.0)
@@ -118,5 +122,5 @@ class Options3D:
         for name in ("chunk_steps", "frames"):
             value = getattr(self, name)
             if not (isinstance(value, int) and value >= (1 if name == "chunk_steps" else 0)):
-                raise InputError(f"{name} = {value!r}: must be an integer >= "
+                raise InputError(f"{name} = {shown(value)}: must be an integer >= "
                                  f"{1 if name == 'chunk_steps' else 0}")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,9 +23,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..errors import InputError, SimulationError
-from ..fe.kernel import cast, time_limit_default
-from ..fe.solver import contact_end_time
+from ..errors import InputError, InputWarning, SimulationError
+from ..fe.kernel import cast, hertz_contact_time_s, time_limit_default
+from ..fe.progress import RunEstimate
+from ..fe.solver import _speeds, contact_end_time
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
 from . import kernel as kernel_module
@@ -33,7 +35,7 @@ from .kernel import HISTORY, Kernel
 from .mesh import HexMesh, ball_mesh, combine, slab_mesh
 from .options import ImpactCondition, Options3D
 
-__all__ = ["ObliqueResult", "simulate_oblique", "simulate_oblique_batch"]
+__all__ = ["ObliqueResult", "estimate_oblique", "simulate_oblique", "simulate_oblique_batch"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -211,14 +213,30 @@ def _compiled(kernel: Kernel, n_steps: int, batched: bool):
 
 
 def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Options3D(),
-                     target=None, progress=None) -> ObliqueResult:
-    """An oblique impact of `ball` on a rigid plane (or a `target.Target` slab)."""
-    return simulate_oblique_batch(ball, [condition], options, target, progress)[0]
+                     target=None, progress=None, *, allow=()) -> ObliqueResult:
+    """An oblique impact of `ball` on a rigid plane (or a `target.Target` slab).
+
+    An impact speed (`condition.speed_m_s`, m/s) outside `plausibility.FE_SPEED_RANGE_M_S`
+    raises `InputError` before anything is meshed or compiled; with `allow={"speed-range"}` it
+    runs, with an `InputWarning` starting "speed-range:". `progress(t_s)` is called after every
+    chunk of steps (`fe.progress.RunProgress` prints the time reached and the time left)."""
+    return simulate_oblique_batch(ball, [condition], options, target, progress, allow=allow)[0]
 
 
-def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), target=None,
-                           progress=None) -> list[ObliqueResult]:
-    """Several impact conditions of one ball (and target) as one vmapped run."""
+#: elements x steps above which a run is flagged as very long (`estimate_oblique`): about 5 min
+#: at `SECONDS_PER_ELEMENT_STEP` (about 36 divisions, half model; the default 16 is 1.5e7 by the
+#: estimate, 1.1e7 run)
+ELEMENT_STEPS_WARNING = 3e8
+#: wall time of one hexahedron update on a 2-core CPU (s; float64, reduced integration: 5.5e-7
+#: at 1408 and 7424 hexahedra, 9.3e-7 at 22,464 in benchmarks/bench_oblique.py, docs/oblique.md)
+SECONDS_PER_ELEMENT_STEP = 9e-7
+#: the stable increment over the smallest element's L / c_d at time_step_scale 0.8 (0.84 at 8
+#: and 0.66 at 16 divisions on the universal ball; lower is safer)
+INCREMENT_OVER_SMALLEST_ELEMENT = 0.66
+
+
+def _checked(conditions, options: Options3D) -> tuple[list, bool]:
+    """The conditions as a list, checked, and whether a half model serves."""
     conditions = list(conditions)
     if not conditions:
         raise InputError("conditions: need at least one impact condition")
@@ -230,8 +248,56 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     if half and not symmetric:
         raise InputError("half = True: out-of-plane spin (spin_x_rad_s, spin_z_rad_s) needs the "
                          "full model (half = False or None)")
+    return conditions, half
+
+
+def estimate_oblique(ball, conditions, options: Options3D = Options3D(),
+                     target=None) -> RunEstimate:
+    """The cost of a run (`fe.progress.RunEstimate`), estimated from the mesh (built and cached
+    as the run would) before anything is compiled: steps to a Hertz contact time at the normal
+    speed (the ball's softest long-term modulus) plus the end margin, at an increment from the
+    smallest element; memory of the histories and of the frames kept for output (`frames`).
+    `RunEstimate.warning` flags runs above `ELEMENT_STEPS_WARNING` element updates or
+    `fe.progress.MEMORY_WARNING_BYTES`. Speeds are not range-checked here."""
+    conditions, half = _checked(conditions, options)
+    kernel, _ = kernel_for(ball, target, options, half)
+    return _estimate(ball, target, conditions, options, kernel)
+
+
+def _estimate(ball, target, conditions, options: Options3D, kernel: Kernel) -> RunEstimate:
+    geom = kernel.geom
+    smallest = float(np.min(np.asarray(geom.characteristic_length_m)))
+    layers = list(ball.layers) + (list(target.layers) if target is not None else [])
+    c_d = max(math.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
+              for layer in layers)
+    dt = (INCREMENT_OVER_SMALLEST_ELEMENT * options.time_step_scale / 0.8) * smallest / c_d
+    slack = 1.0 if target is None else 4.0  # a slab lengthens the contact
+    end = max(min(slack * hertz_contact_time_s(ball, c.speed_m_s * math.cos(math.radians(
+        c.angle_deg))) * (1.0 + options.end_margin), options.time_limit_s or math.inf)
+        for c in conditions)
+    steps = math.ceil(end / dt)
+    memory = 8.0 * steps * len(HISTORY) * len(conditions)
+    if options.frames and len(conditions) == 1:  # displacement, velocity, contact force, stress
+        frames = steps / (options.chunk_steps * options.frames)
+        memory += 8.0 * frames * (9 * kernel.n_nodes + 6 * geom.n_elements)
+    return RunEstimate(elements=int(geom.n_elements), steps=steps, end_time_s=end,
+                       memory_bytes=memory, element_steps_limit=ELEMENT_STEPS_WARNING,
+                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP,
+                       hint="a coarser mesh: fewer divisions, --divisions")
+
+
+def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), target=None,
+                           progress=None, *, allow=()) -> list[ObliqueResult]:
+    """Several impact conditions of one ball (and target) as one vmapped run. Speeds are
+    checked as in `simulate_oblique`; a run estimated above `ELEMENT_STEPS_WARNING` element
+    updates or `fe.progress.MEMORY_WARNING_BYTES` gets an `InputWarning` before it starts."""
+    conditions, half = _checked(conditions, options)
+    _speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")  # before meshing
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
+    message = _estimate(ball, target, conditions, options, kernel).warning()
+    if message is not None:
+        warnings.warn(message, InputWarning, stacklevel=2)
     per_run = [model_arrays(ball, target, kernel, options, c.friction) for c in conditions]
     batched = len(conditions) > 1
     params = jax.tree_util.tree_map(lambda *xs: np.stack(xs), *per_run) if batched else per_run[0]

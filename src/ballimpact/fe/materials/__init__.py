@@ -1,6 +1,6 @@
 """FE materials: hyperelastic strain energies with optional Prony viscoelasticity.
 
-`material_from_dict` reads the `material` object of a ball specification (DESIGN.md "Files").
+`material_from_dict` reads the `material` object of a ball specification (docs/balls.md).
 """
 
 from __future__ import annotations

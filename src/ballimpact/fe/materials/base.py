@@ -20,6 +20,7 @@ import numpy as np
 
 from ...errors import InputError
 from ..fastmath import cube_root
+from ..options import shown
 
 MODULI = ("long_term", "instantaneous")
 INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0 (instantaneous), as ABAQUS/Explicit (nu 0.475)
@@ -40,7 +41,7 @@ def _number(d: dict, key: str, where: str, low: float = -math.inf, high: float =
         raise InputError(f"{where}: missing key '{key}'")
     value = d[key]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}.{key}: expected a finite number, got {value!r}")
+        raise InputError(f"{where}.{key}: expected a finite number, got {shown(value)}")
     too_low = value <= low if low_open else value < low
     too_high = value >= high if high_open else value > high
     if too_low or too_high:

@@ -40,6 +40,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ...errors import InputError
+from ..options import shown
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
 
@@ -120,12 +121,12 @@ def _check_range(stretch_min: Any, stretch_max: Any, n: Any) -> None:
     for key, value in (("stretch_min", stretch_min), ("stretch_max", stretch_max)):
         if isinstance(value, bool) or not isinstance(value, numbers.Real) \
                 or not np.isfinite(value) or value <= 0.0:
-            raise InputError(f"{key} = {value!r}: expected a finite number > 0")
+            raise InputError(f"{key} = {shown(value)}: expected a finite number > 0")
     if not stretch_max > stretch_min:
         raise InputError(f"stretch_max = {stretch_max:g}: must be greater than stretch_min = "
                          f"{stretch_min:g}")
     if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 2:
-        raise InputError(f"n = {n!r}: expected an integer >= 2")
+        raise InputError(f"n = {shown(n)}: expected an integer >= 2")
 
 
 def mooney_rivlin_drucker(c10_pa: float, c01_pa: float, stretch_min: float, stretch_max: float,
@@ -140,7 +141,7 @@ def mooney_rivlin_drucker(c10_pa: float, c01_pa: float, stretch_min: float, stre
     _check_range(stretch_min, stretch_max, n)
     for key, value in (("c10_pa", c10_pa), ("c01_pa", c01_pa)):
         if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-            raise InputError(f"{key} = {value!r}: expected a finite number")
+            raise InputError(f"{key} = {shown(value)}: expected a finite number")
     grid = np.geomspace(stretch_min, stretch_max, n)
     grid[0], grid[-1] = stretch_min, stretch_max
     out = []

@@ -1,0 +1,133 @@
+"""Cost of an explicit run before it starts, and progress lines on stderr while it runs.
+
+Both solvers (axisymmetric `fe` and 3D `oblique`) estimate a run's cost from the mesh before they
+compile it (`RunEstimate`) and warn when it is so large that the run may take very long or exhaust
+memory; `RunProgress` is a `progress(t_s)` callback that prints the time reached, steps per second
+and the time left, and stays quiet for runs that end within a few seconds.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TextIO
+
+#: memory (bytes) of the histories and kept frames above which a run is flagged
+MEMORY_WARNING_BYTES = 4 * 2 ** 30
+
+
+@dataclass(frozen=True)
+class RunEstimate:
+    """A run's cost, estimated before it starts (on the high side: the end time from a Hertz
+    contact time with the ball's softest long-term modulus, the increment from its smallest
+    element).
+
+    - `elements`, `steps`: of the mesh and of the run (the longest run of a batch).
+    - `end_time_s`: simulated time (s) at which the run is expected to end.
+    - `memory_bytes`: the histories (one row per step, every run of a batch) and any frames kept
+      for output.
+    - `element_steps_limit`: elements x steps above which `warning` flags the run (per solver;
+      per run: a batch of many runs on a sound mesh is not flagged).
+    - `seconds_per_element_step`: the solver's cost on a 2-core CPU (s), for the warning's time
+      figure.
+    - `hint`: how to make the mesh coarser (the option and the command-line flag).
+    """
+
+    elements: int
+    steps: int
+    end_time_s: float
+    memory_bytes: float
+    element_steps_limit: float
+    seconds_per_element_step: float
+    hint: str = ""
+
+    @property
+    def element_steps(self) -> float:
+        """Element updates of one run (elements x steps)."""
+        return float(self.elements) * float(self.steps)
+
+    def warning(self) -> str | None:
+        """The warning text (starting "large run:") when the run is above a guard, else None."""
+        parts = []
+        if self.element_steps > self.element_steps_limit:
+            minutes = self.element_steps * self.seconds_per_element_step / 60.0
+            parts.append(f"about {self.elements} elements x {self.steps} steps = "
+                         f"{self.element_steps:.2g} element updates, above the guard's "
+                         f"{self.element_steps_limit:.2g} (about {minutes:.0f} min on a "
+                         "2-core CPU)")
+        if self.memory_bytes > MEMORY_WARNING_BYTES:
+            parts.append(f"about {self.memory_bytes / 2 ** 30:.1f} GiB of histories and frames, "
+                         f"above the guard's {MEMORY_WARNING_BYTES / 2 ** 30:.0f} GiB")
+        if not parts:
+            return None
+        return ("large run: " + "; ".join(parts) + ": it may take very long or exhaust memory"
+                + (f" ({self.hint})" if self.hint else ""))
+
+
+def format_progress(t_s: float, end_time_s: float, steps: int, elapsed_s: float,
+                    t_first_s: float = 0.0) -> str:
+    """One progress line: simulated time `t_s` (s) of the expected `end_time_s` (s), the rate of
+    the `steps` done in `elapsed_s` (s of wall time) and the time left at the rate at which
+    simulated time advanced from `t_first_s` (s)."""
+    rate = steps / elapsed_s if elapsed_s > 0 else 0.0
+    advance = (t_s - t_first_s) / elapsed_s if elapsed_s > 0 else 0.0
+    line = f"  t = {t_s * 1e3:.3f} ms of ~{end_time_s * 1e3:.3f} ms, {rate:.0f} steps/s, "
+    if t_s >= end_time_s:
+        return line + "past the estimated end, time left unknown"
+    if advance <= 0:
+        return line + "time left unknown"
+    return line + f"~{_duration((end_time_s - t_s) / advance)} left"
+
+
+def _duration(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return "unknown"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class RunProgress:
+    """A `progress(t_s)` callback for `simulate`, `simulate_batch`, `simulate_oblique`: prints
+    `format_progress` lines on `stream` (default stderr).
+
+    The solvers call it after every chunk of `chunk_steps` steps. The first call comes after the
+    compilation and the first chunk; the rates are measured from it. Nothing is printed before
+    `quiet_s` (s) of stepping, so short runs stay quiet; then a line at most every `interval_s`
+    (s). `clock` returns seconds (tests pass a fake one).
+    """
+
+    def __init__(self, end_time_s: float, chunk_steps: int, *, stream: TextIO | None = None,
+                 quiet_s: float = 3.0, interval_s: float = 5.0,
+                 clock: Callable[[], float] = time.perf_counter) -> None:
+        self.end_time_s = float(end_time_s)
+        self.chunk_steps = int(chunk_steps)
+        self.stream = stream
+        self.quiet_s = quiet_s
+        self.interval_s = interval_s
+        self.clock = clock
+        self.calls = 0
+        self.lines = 0
+        self._first: tuple[float, float] | None = None  # (wall s, simulated s) at the first call
+        self._last_line_s = -math.inf
+
+    def __call__(self, t_s: float) -> None:
+        now = self.clock()
+        self.calls += 1
+        if self._first is None:
+            self._first = (now, float(t_s))
+            return
+        start, t_first = self._first
+        elapsed = now - start
+        if elapsed < self.quiet_s or now - self._last_line_s < self.interval_s:
+            return
+        self._last_line_s = now
+        self.lines += 1
+        line = format_progress(float(t_s), self.end_time_s, (self.calls - 1) * self.chunk_steps,
+                               elapsed, t_first)
+        print(line, file=self.stream if self.stream is not None else sys.stderr, flush=True)
