@@ -10,9 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..plausibility import (CHECKS, FE_3D_SPEED_RANGE_M_S, FE_SPEED_RANGE_M_S, check_allow,
-                            check_fe_speed)
-from .common import check_output_folder, check_plot_path, use_compilation_cache
+from ..plausibility import check_allow, check_fe_speed
+from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
 
 DEMO_PLOT = "ballimpact-demo.png"
 DEMO_IMPACTS = (("cricket-universal", 25.0), ("cricket-3layer", 20.8))
@@ -59,14 +58,7 @@ def add_parser(verbs) -> None:
                           help="Coulomb coefficient (3d solver; irrelevant at normal incidence)")
     simulate.add_argument("--solver", choices=("axisymmetric", "3d"), default="axisymmetric",
                           help="axisymmetric (normal impacts, default) or 3d (hexahedra)")
-    low, high = FE_SPEED_RANGE_M_S
-    simulate.add_argument("--allow", action="append", default=[], metavar="NAME",
-                          help="run although the plausibility check NAME fails (a warning "
-                               "instead of exit code 2); repeatable. Names: "
-                               + "; ".join(f"{name}: {what}" for name, what in CHECKS.items())
-                               + f". The FE speed range is {low:g}-{high:g} m/s, 3d "
-                                 f"{FE_3D_SPEED_RANGE_M_S[0]:g}-{FE_3D_SPEED_RANGE_M_S[1]:g} "
-                                 "m/s (docs/fe.md)")
+    add_allow(simulate)
     add_solver_options(simulate)
     three = simulate.add_argument_group("3d solver")
     three.add_argument("--spin-x-rad-s", type=float, default=0.0,
