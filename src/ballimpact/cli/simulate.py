@@ -11,7 +11,12 @@ from typing import Any
 
 from ..errors import InputError
 from ..plausibility import check_allow, check_fe_speed
-from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .common import (
+    add_allow,
+    check_output_folder,
+    check_plot_path,
+    use_compilation_cache,
+)
 
 DEMO_PLOT = "ballimpact-demo.png"
 DEMO_IMPACTS = (("cricket-universal", 25.0), ("cricket-3layer", 20.8))
@@ -281,8 +286,13 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
 
     from ..fe import RunProgress, load_ball
     from ..features import extract_features
-    from ..oblique import (ImpactCondition, Options3D, estimate_oblique, load_target,
-                           simulate_oblique)
+    from ..oblique import (
+        ImpactCondition,
+        Options3D,
+        estimate_oblique,
+        load_target,
+        simulate_oblique,
+    )
     from ..oblique.output import animate_section, write_series
     from ..oblique.plots import plot_oblique
 
