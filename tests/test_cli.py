@@ -92,7 +92,7 @@ def bad_inputs(tmp_path, test_csv):
         "wav without sensitivity": ([wav, *speeds], "sensitivity_v_per_n"),
         "missing file": ([tmp_path / "nope.csv", *speeds], "no such file"),
         "unknown filter": ([test_csv, *speeds, "--filter", "median"], "filter: unknown name"),
-        "bad number": ([test_csv, "--mass-kg", "heavy"], "invalid float value"),
+        "bad number": ([test_csv, "--mass-kg", "heavy"], "is not a number"),
         "plot not png": ([test_csv, *speeds, "--plot", tmp_path], "must be a .png file"),
         "plot folder missing": ([test_csv, *speeds, "--plot", tmp_path / "no" / "p.png"],
                                 "does not exist"),

@@ -15,3 +15,14 @@ class InputWarning(UserWarning):
 
 class SimulationError(RuntimeError):
     """A run that could not produce a result (no separation, non-finite state): exit code 1."""
+
+
+class CheckFailed(Exception):
+    """A run that finished but failed a check the user asked for (e.g. `identify --max-nrmse`):
+    exit code 3. `result` is the verb's JSON object, still printed with `--json`."""
+
+    exit_code = 3
+
+    def __init__(self, message: str, result: dict | None = None) -> None:
+        super().__init__(message)
+        self.result = result if result is not None else {}

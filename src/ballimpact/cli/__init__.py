@@ -1,6 +1,8 @@
 """The `ballimpact` command (DESIGN.md "Command line contract").
 
-Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run.
+Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run,
+3 a check the user asked for failed (`CheckFailed`: the result is still printed), 130 interrupted
+(Ctrl-C: one line; a verb that can resume puts how in `args.resume_hint`).
 With `--json` one JSON object goes to stdout; warnings and progress go to stderr. A reader that
 closes stdout early (`| head -1`) ends the command quietly with exit code 1 (Python's "Note on
 SIGPIPE").
@@ -17,7 +19,7 @@ import sys
 import warnings
 
 from .. import __version__
-from ..errors import InputError, SimulationError
+from ..errors import CheckFailed, InputError, SimulationError
 from . import calibrate, export, features, fit, identify, report, simulate, universal, video
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
@@ -60,12 +62,22 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _main(argv: list[str] | None) -> int:
+    args = None
+    failed_check = None
     try:
         args = build_parser().parse_args(argv)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            result = RUNNERS[args.verb](args)
+            try:
+                result = RUNNERS[args.verb](args)
+            except CheckFailed as error:
+                result, failed_check = error.result, error
         notes = list(dict.fromkeys(str(w.message) for w in caught))
+    except KeyboardInterrupt:
+        hint = getattr(args, "resume_hint", None)
+        print("\n" * _progress_line_open() + "error: interrupted"
+              + (f"; {hint}" if hint else ""), file=sys.stderr)
+        return 130
     except InputError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
@@ -82,4 +94,15 @@ def _main(argv: list[str] | None) -> int:
     result["warnings"] = notes
     if args.json:
         print(json.dumps(json_safe(result), indent=2))
+    if failed_check is not None:
+        print(f"error: check failed: {failed_check}", file=sys.stderr)
+        return failed_check.exit_code
     return 0
+
+
+def _progress_line_open() -> bool:
+    """Whether a progress bar has left its line unfinished on stderr (then the interrupt's
+    message starts a line of its own)."""
+    from ..progress import line_open
+
+    return line_open()

@@ -4,8 +4,10 @@ options, plot-path checks, the JSON clean-up and JAX's compilation cache."""
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -17,9 +19,78 @@ from ..pipeline import ProcessedImpact, process
 from ..plausibility import CHECKS
 
 
+#: Flags that mean the same in every verb: each is accepted wherever the other is (one name
+#: everywhere for the user; the verbs keep the name they were written with as `dest`).
+FLAG_ALIASES = (("--impact-speed-m-s", "--speed-m-s"),)
+
+
+def finite_float(text: str) -> float:
+    """argparse type of every `type=float` flag: a finite number (NaN and inf are refused)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a finite number")
+    return value
+
+
 class Parser(argparse.ArgumentParser):
+    """The command's parser (subparsers are of the same class): errors are one line and exit 2
+    (no usage dump), `type=float` flags refuse NaN and inf, an unknown flag names the nearest
+    known one, and the flags of `FLAG_ALIASES` are aliases of each other."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.register("type", float, finite_float)  # argparse looks `type=float` up here
+
     def error(self, message: str) -> None:  # one line, exit 2, no usage dump
-        raise InputError(f"{self.prog}: {message}")
+        raise InputError(f"{self.prog}: {message}{self._nearest_flag()}")
+
+    def parse_known_args(self, args=None, namespace=None):
+        if self._subparsers is not None and not getattr(self, "_aliases_added", False):
+            for parser in _parsers(self):  # once, when the whole tree has been built
+                _add_aliases(parser)
+            self._aliases_added = True
+        self._given = list(sys.argv[1:] if args is None else args)  # for `_nearest_flag`
+        parsed, extras = super().parse_known_args(args, namespace)
+        if extras:  # refused by the parser that knows the verb's flags, to name the nearest
+            self.error(f"unrecognized arguments: {' '.join(extras)}")
+        return parsed, extras
+
+    def _nearest_flag(self) -> str:
+        """' (did you mean --x?)' for the first flag given that this parser does not know (a
+        typo also shows as a missing required flag), else ''."""
+        known = [s for s in self._option_string_actions if s.startswith("--")]
+        for token in getattr(self, "_given", []):
+            name = token.split("=", 1)[0]
+            if not name.startswith("--") or any(k.startswith(name) for k in known):
+                continue
+            nearest = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+            if nearest:
+                return f" ({name}: did you mean {nearest[0]}?)"
+        return ""
+
+
+def _parsers(parser: argparse.ArgumentParser):
+    """`parser` and every parser below it."""
+    yield parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in dict.fromkeys(action.choices.values()):
+                yield from _parsers(sub)
+
+
+def _add_aliases(parser: argparse.ArgumentParser) -> None:
+    for names in FLAG_ALIASES:
+        action = next((parser._option_string_actions[n] for n in names
+                       if n in parser._option_string_actions), None)
+        if action is None:
+            continue
+        for name in names:
+            if name not in parser._option_string_actions:
+                action.option_strings.append(name)
+                parser._option_string_actions[name] = action
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
