@@ -5,6 +5,7 @@ making, the search's checkpoint and resume, stages, and the command end to end (
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -21,10 +22,15 @@ from ballimpact.calibrate import (
     smooth_misfits,
     standard_runs,
 )
-from ballimpact.calibrate.gradient import central_differences, levenberg_marquardt
+from ballimpact.calibrate.gradient import (
+    central_differences,
+    levenberg_marquardt,
+    not_identified,
+    unit_standard_errors,
+)
 from ballimpact.calibrate.problem import get_value, with_values
 from ballimpact.cli import main
-from ballimpact.errors import InputError
+from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import SolverOptions, load_ball, simulate
 from ballimpact.fe.ball import CRICKET_3LAYER_SPEC, UNIVERSAL_DENSITY_KG_M3, universal_spec
 from ballimpact.features import extract_features
@@ -207,6 +213,43 @@ def test_levenberg_marquardt_solves_a_bounded_least_squares_problem():
     assert u[0] == 1.0  # held on its bound
 
 
+# ---- standard errors ---------------------------------------------------------------------------
+def test_standard_errors_of_undetermined_parameters_are_infinite():
+    """A parameter without effect (a zero column of the Jacobian) or two that only act together
+    (proportional columns) get an infinite standard error, never the 0 of a pseudo-inverse; the
+    determined ones keep s^2 (J^T J)^-1, whatever the scale of their column."""
+    rng = np.random.default_rng(0)
+    jac = rng.normal(size=(60, 4)) * [1e6, 1.0, 1e-3, 1.0]
+    r = 0.1 * rng.normal(size=60)
+    expected = np.sqrt(np.diag(r @ r / 56 * np.linalg.inv(jac.T @ jac)))
+    np.testing.assert_allclose(unit_standard_errors(jac, r), expected, rtol=1e-9)
+
+    no_effect = jac.copy()
+    no_effect[:, 1] = 0.0
+    sigma = unit_standard_errors(no_effect, r)
+    assert np.isinf(sigma[1]) and np.all(np.isfinite(sigma[[0, 2, 3]]))
+    # the others are estimated as if the parameter were not there
+    rest = no_effect[:, [0, 2, 3]]
+    np.testing.assert_allclose(sigma[[0, 2, 3]], np.sqrt(np.diag(
+        r @ r / 56 * np.linalg.inv(rest.T @ rest))), rtol=1e-9)
+
+    together = jac.copy()
+    together[:, 3] = -2e3 * together[:, 2]
+    sigma = unit_standard_errors(together, r)
+    assert np.all(np.isinf(sigma[2:])) and np.all(np.isfinite(sigma[:2]))
+    assert np.all(np.isinf(unit_standard_errors(jac[:4], r[:4])))  # no degrees of freedom
+
+
+def test_not_identified_parameters_are_listed_with_a_note():
+    values = {"c10_pa": 4.8e6, "c01_pa": -1e5, "tau_s": 1e-4, "g": 0.5}
+    error = {"c10_pa": 2e4, "c01_pa": 3e5, "tau_s": math.inf, "g": 0.5}
+    with pytest.warns(InputWarning) as caught:
+        assert not_identified(values, error) == ["c01_pa", "tau_s"]
+    assert [str(w.message) for w in caught] == [
+        "c01_pa: not identified (standard error 3e+05 > value -1e+05)",
+        "tau_s: not identified (standard error inf: the tests do not determine it)"]
+
+
 # ---- decision making -------------------------------------------------------------------------
 def test_decisions_on_a_known_front():
     x = np.linspace(0.0, 1.0, 41)
@@ -234,11 +277,19 @@ def test_search_resumes_from_its_checkpoint(synthetic_test, tmp_path):
         search(problem, COARSE, population=6, generations=2, seed=3, out=tmp_path)
     other = homogeneous_problem(synthetic_test)
     other.free[0] = free_parameter(other.template, MAT + "c10_pa", 3e6, 6e6)
-    with pytest.raises(InputError, match="other bounds"):
+    with pytest.raises(InputError, match="bounds of " + MAT + "c10_pa"):
         search(other, COARSE, population=6, generations=3, seed=3, out=tmp_path, resume=True)
+    with pytest.raises(InputError, match="--seed 3 \\(now 4\\)"):
+        search(problem, COARSE, population=6, generations=3, seed=4, out=tmp_path, resume=True)
     more = search(problem, COARSE, population=6, generations=3, seed=3, out=tmp_path,
                   resume=True)
     assert more.fe_runs == 6  # only the new generation ran
+    fewer = search(problem, COARSE, population=6, generations=1, seed=3, out=tmp_path,
+                   resume=True)
+    assert fewer.fe_runs == 0 and len(fewer.unit) == 6
+    import pyarrow.parquet as pq  # the replay of part of the search kept the whole checkpoint
+
+    assert pq.read_table(tmp_path / "evaluations.parquet").num_rows == 18
     np.testing.assert_array_equal(more.unit[:12], first.unit)
     np.testing.assert_array_equal(more.objectives[:12], first.objectives)
     front = more.pareto()
@@ -298,6 +349,10 @@ def test_cli_calibrate_end_to_end(synthetic_test, tmp_path, capsys):
     assert result["pareto"] and result["evaluations"] > 12
     refinement = result["stages"][0]["refinement"]
     assert refinement["misfit"] < refinement["start_misfit"]  # from the chosen design
+    # both constants shape the pulse: finite standard errors, well below their values
+    assert refinement["not_identified"] == [] and result["not_identified"] == []
+    for path, se in refinement["standard_error"].items():
+        assert 0 < se < 0.1 * abs(refinement["values"][path]), path
     assert result["chosen"]["objectives"]["nrmse"] < 0.05  # c01, tau1 stay off the truth
     ball = load_ball(out / "calibrated-ball.json")
     assert ball.layers[0].material.prony[0].g == pytest.approx(

@@ -51,3 +51,48 @@ def test_gradient_reaches_nsga2_with_fewer_runs(recovery):
                      for t, fe in zip(problem.tests, refined.runs)])
     assert nrmse <= knee[problem.objectives.index("nrmse")]
     assert refined.fe_runs < found.fe_runs
+
+
+def test_a_parameter_without_effect_is_not_identified(tmp_path, capsys):
+    """A second Prony term with g = 0 leaves the ball as it is, so its tau_s has no effect on the
+    pulse: the refinement reports its standard error as infinite (JSON null), lists it as not
+    identified, says so on stderr and in the printed table; C10 beside it stays determined.
+    (A pseudo-inverse of J^T J gave it a standard error of 0.)"""
+    import json
+
+    from ballimpact.cli import main
+    from ballimpact.fe import load_ball, simulate
+    from ballimpact.fe.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
+
+    coarse = SolverOptions(element_size_m=4e-3)
+    truth = universal_spec({"c10_pa": 4.0e6, "c01_pa": -0.4e6, "g1": 0.7, "tau1_s": 8e-5},
+                           0.036, UNIVERSAL_DENSITY_KG_M3)
+    fe = simulate(load_ball(truth), 20.0, coarse)
+    record = fe.record()
+    np.savetxt(tmp_path / "ball.csv", np.column_stack([record.time_s, record.force_n]),
+               delimiter=",", header="time_s,force_n", comments="")
+    (tmp_path / "ball.json").write_text(json.dumps({
+        "impact_speed_m_s": 20.0, "rebound_speed_m_s": fe.rebound_speed_m_s,
+        "mass_kg": fe.mass_kg}))
+    template = json.loads(json.dumps(truth))
+    template["layers"][0]["material"]["c10_pa"] = 4.5e6
+    template["layers"][0]["material"]["prony"].append({"g": 0.0, "k": 0.0, "tau_s": 1e-3})
+    (tmp_path / "template.json").write_text(json.dumps(template))
+    dead = "layers.ball.material.prony.1.tau_s"
+    code = main(["calibrate", "--ball", str(tmp_path / "template.json"),
+                 "--test", str(tmp_path / "ball.csv"),
+                 "--free", "layers.ball.material.c10_pa=3e6:7e6", "--free", f"{dead}=1e-4:1e-2",
+                 "--method", "gradient", "--max-evaluations", "3", "--element-size-m", "4e-3",
+                 "--out", str(tmp_path / "out")])
+    assert code == 0
+    out, err = capsys.readouterr()
+    table = next(line for line in out.splitlines() if dead in line)
+    assert "+/- inf" in table and table.endswith("not identified")
+    assert (f"warning: {dead}: not identified (standard error inf: the tests do not determine "
+            "it)") in err.splitlines()
+    result = json.loads((tmp_path / "out" / "calibration.json").read_text())
+    refinement = result["stages"][0]["refinement"]
+    assert result["not_identified"] == refinement["not_identified"] == [dead]
+    assert refinement["standard_error"][dead] is None  # inf in JSON
+    c10 = refinement["standard_error"]["layers.ball.material.c10_pa"]
+    assert 0 < c10 < 0.05 * refinement["values"]["layers.ball.material.c10_pa"]

@@ -91,3 +91,12 @@ def test_a_failed_check_is_exit_3_with_the_result_still_printed(monkeypatch, cap
     assert json.loads(out)["nrmse"] == 0.29
     assert err.strip().splitlines()[-1] == (
         "error: check failed: FE check NRMSE 0.29 above --max-nrmse 0.05")
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["fit", "x.csv", "--model", "hertz", "--fix", "k=1e6", "--fix", "k=2e6"], "k"),
+    (["fit", "x.csv", "--model", "hertz", "--bound", "k=1:2", "--bound", "k=1:3"], "k"),
+    (["universal", "run", "study", "--range", "g1=0:0.5", "--range", "g1=0.1:0.6"], "g1"),
+])
+def test_a_name_given_twice_is_refused(bad_input, argv, name):
+    bad_input(argv, f"{name} given twice")

@@ -87,3 +87,108 @@ def test_bad_csv_files_name_the_problem(tmp_path, text, message):
     path.write_text(text)
     with pytest.raises(InputError, match=message):
         load_record(path)
+
+
+# --------------------------------------------------------------------------- other verbs' files
+
+
+def half_sine_csv(path, impulse_n_s, duration_s=1e-3, rate_hz=200e3):
+    """A half-sine force record with the given impulse (2 F0 T / pi), 1 ms of baseline each side."""
+    pulse = half_sine(np.pi * impulse_n_s / (2 * duration_s), duration_s, rate_hz)
+    path.write_text("time_s,force_n\n" + "".join(f"{t:.9e},{f:.9g}\n"
+                                                 for t, f in zip(pulse.time_s, pulse.force_n)))
+    return path
+
+
+@pytest.mark.parametrize(("side", "impact", "rebound"), [
+    # an old side file (video before the components, or by hand): taken as it is
+    ({"impact_speed_m_s": 20.0, "rebound_speed_m_s": 10.0}, 20.0, 10.0),
+    # the normal component wins over impact_speed_m_s and the totals
+    ({"impact_speed_m_s": 20.0, "impact_speed_normal_m_s": 18.0, "impact_speed_total_m_s": 20.0,
+      "rebound_speed_normal_m_s": 9.0, "rebound_speed_total_m_s": 11.0}, 18.0, 9.0),
+    # total and angle from the normal: the normal component is total x cos(angle)
+    ({"impact_speed_total_m_s": 20.0, "impact_angle_deg": 60.0,
+      "rebound_speed_total_m_s": 8.0, "rebound_angle_deg": -60.0}, 10.0, 4.0),
+    # total and tangential
+    ({"impact_speed_total_m_s": 5.0, "impact_speed_tangential_m_s": 3.0}, 4.0, None),
+])
+def test_side_file_speeds_are_the_normal_components(tmp_path, side, impact, rebound):
+    path = half_sine_csv(tmp_path / "shot.csv", 1.0)
+    path.with_suffix(".json").write_text(json.dumps(side))
+    record = load_record(path)
+    assert record.impact_speed_m_s == pytest.approx(impact)
+    assert record.rebound_speed_m_s == (None if rebound is None else pytest.approx(rebound))
+
+
+@pytest.mark.parametrize(("side", "message"), [
+    ({"impact_speed_total_m_s": 20.0}, "add impact_speed_normal_m_s"),
+    ({"impact_speed_normal_m_s": 21.0, "impact_speed_total_m_s": 20.0}, "do not add up"),
+    ({"impact_speed_normal_m_s": 10.0, "impact_speed_tangential_m_s": 10.0,
+      "impact_speed_total_m_s": 20.0}, "do not add up"),
+    ({"impact_speed_normal_m_s": 10.0, "impact_angle_deg": 20.0,
+      "impact_speed_total_m_s": 20.0}, "do not add up"),
+    ({"impact_speed_total_m_s": 20.0, "impact_angle_deg": 90.0}, "between -90 and 90"),
+    ({"rebound_speed_normal_m_s": -1.0}, "rebound_speed_normal_m_s: must be finite and >= 0"),
+])
+def test_side_file_speed_parts_that_cannot_be_one_speed(tmp_path, side, message):
+    path = half_sine_csv(tmp_path / "shot.csv", 1.0)
+    path.with_suffix(".json").write_text(json.dumps(side))
+    with pytest.raises(InputError, match=message):
+        load_record(path)
+
+
+def test_video_and_simulate_json_are_read_as_side_files(tmp_path):
+    """`video --json > x.json` (totals and angles; the normal components where given) and
+    `simulate --json > x.json` (axisymmetric; 3d: total speed at angle_deg, cor the normal COR)."""
+    path = half_sine_csv(tmp_path / "shot.csv", 1.0)
+    side = path.with_suffix(".json")
+    video = {"impact_speed_m_s": 20.0, "rebound_speed_m_s": 10.0, "impact_angle_deg": 60.0,
+             "rebound_angle_deg": 60.0, "cor": 0.5, "fps": 5000.0, "scale_m_per_px": 0.002}
+    side.write_text(json.dumps(video))
+    record = load_record(path, mass_kg=0.16)
+    assert (record.impact_speed_m_s, record.rebound_speed_m_s) == (pytest.approx(10.0),
+                                                                   pytest.approx(5.0))
+    side.write_text(json.dumps({**video, "impact_speed_normal_m_s": 9.0,
+                                "rebound_speed_normal_m_s": 4.0}))
+    assert load_record(path).impact_speed_m_s == 9.0
+    simulate = {"ball": "cricket-universal@25.0m/s", "impact_speed_m_s": 25.0, "cor": 0.4,
+                "rebound_speed_m_s": 10.0, "mass_kg": 0.16, "elements": 1482, "warnings": []}
+    side.write_text(json.dumps(simulate))
+    record = load_record(path)
+    assert (record.mass_kg, record.impact_speed_m_s, record.rebound_speed_m_s) == (
+        0.16, 25.0, pytest.approx(10.0))
+    side.write_text(json.dumps({**simulate, "solver": "3d", "angle_deg": 60.0, "cor": 0.5,
+                                "normal_cor": 0.5, "rebound_speed_m_s": 20.0}))
+    record = load_record(path)
+    assert (record.impact_speed_m_s, record.rebound_speed_m_s) == (pytest.approx(12.5),
+                                                                   pytest.approx(6.25))
+    side.write_text(json.dumps({k: v for k, v in simulate.items() if k != "mass_kg"}))
+    with pytest.raises(InputError, match='add "mass_kg"'):
+        load_record(path)
+
+
+def test_fe_history_csv_loads_with_its_contact_start(tmp_path):
+    """`simulate --csv`: force column contact_force_n (3d: normal_force_n), other columns left
+    out, and the zero-force samples before first contact put back."""
+    t = np.arange(1, 201) * 1e-6
+    force = np.clip(np.sin(np.pi * t / 150e-6), 0.0, None) * 1e3
+    for column in ("contact_force_n", "normal_force_n"):
+        path = tmp_path / f"{column}.csv"
+        rows = "".join(f"{a:.9g},{b:.9g},{b * 2:.9g},0.5\n" for a, b in zip(t, force))
+        path.write_text(f"time_s,{column},kinetic_energy_j,centre_z_m\n" + rows)
+        record = load_record(path)
+        lead = record.metadata["fe_lead_samples"]
+        assert lead == 11  # 5% of 200 samples, plus the contact instant
+        assert np.all(record.force_n[:lead] == 0) and record.time_s[lead - 1] == 0.0
+        assert np.allclose(record.force_n[lead:], force)
+        assert np.allclose(np.diff(record.time_s), 1e-6)
+
+
+def test_negative_sensitivity_reads_an_inverted_wav(tmp_path):
+    """A load cell whose output falls in compression: a negative sensitivity turns it back."""
+    pulse = half_sine(5e3, 1e-3, 48e3)
+    path = tmp_path / "inverted.wav"
+    wavfile.write(path, 48000, (-pulse.force_n * 1e-4 * 32767).astype(np.int16))
+    record = load_record(path, sensitivity_v_per_n=-1e-4)
+    assert np.max(np.abs(record.force_n - pulse.force_n)) < 1e-3 * 5e3
+    assert record.metadata["full_scale_n"][0] > record.metadata["full_scale_n"][1]  # swapped rails

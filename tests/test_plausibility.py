@@ -3,6 +3,7 @@ several pulses, multi-channel WAV, clipping, unit slips, impossible scalars, sid
 Each class is exercised through the command line (exit code and message) and its override."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -10,8 +11,10 @@ from scipy.io import wavfile
 
 from ballimpact.cli import main
 from ballimpact.errors import InputError
+from ballimpact.loaders import load_record
 from ballimpact.pipeline import process
-from ballimpact.plausibility import clipped_spans, find_pulses, likely_slips
+from ballimpact.features import extract_features
+from ballimpact.plausibility import check_polarity, clipped_spans, find_pulses, likely_slips
 from ballimpact.pulses import KelvinVoigt, half_sine
 from ballimpact.records import ImpactRecord
 
@@ -173,6 +176,39 @@ def test_quantised_rounded_peaks_are_not_clipping():
     assert clipped_spans(pulse.time_s, quantised, full_scale_n=(-1e4, 1e4)) == []
 
 
+def test_inverted_pulse_is_named_not_called_clipped(capsys, tmp_path):
+    """An inverted load cell: the flat zero baseline is the record's maximum, which the flat-top
+    test once took for clipping ("clipped at -0 N"). It is a polarity error naming the fix."""
+    record = BALL.record(200e3)
+    path = write_csv(tmp_path / "inverted.csv", record.time_s, -record.force_n)
+    code, out, err = run(capsys, "features", path, "--allow", "clipping")
+    one_error_line(code, out, err, "polarity looks inverted", "negate the force column")
+    assert "clipped" not in err
+    # the flat baseline is not clipping, whichever way the pulse points
+    assert clipped_spans(record.time_s, -record.force_n) == []
+    assert clipped_spans(record.time_s, record.force_n) == []
+    # the Python API refuses it the same way, before any other check
+    with pytest.raises(InputError, match="polarity looks inverted"):
+        process(record.replace(force_n=-record.force_n))
+    with pytest.raises(InputError, match="polarity looks inverted"):
+        extract_features(record.replace(force_n=-record.force_n))
+
+
+def test_positive_pulses_with_undershoot_or_noise_are_not_inverted():
+    """Ringing below the baseline after the pulse (30% of the peak) and noise (5% of the peak)
+    leave the positive pulse the largest excursion: no polarity error."""
+    record = BALL.record(200e3)
+    t = record.time_s
+    after = t > BALL.contact_time_s
+    ring = -0.3 * record.force_n.max() * np.sin(2e4 * (t - BALL.contact_time_s)) * after
+    rng = np.random.default_rng(4)
+    noise = 0.05 * record.force_n.max() * rng.standard_normal(t.size)
+    for force in (record.force_n + ring, record.force_n + noise):
+        check_polarity(record.replace(force_n=force))
+    with pytest.raises(InputError, match="pulse is negative"):
+        check_polarity(record.replace(force_n=-(record.force_n + noise)))
+
+
 # --------------------------------------------------------------------------- unit slips
 
 
@@ -208,13 +244,17 @@ def test_small_misses_stay_a_tolerance_warning(capsys, tmp_path):
                      side={**SCALARS, "rebound_speed_m_s": 3.0})
     code, out, err = run(capsys, "features", path, "--json")
     assert code == 0, err
-    assert err.startswith("warning: impulse check")
+    assert err.startswith(f"warning: {path}: impulse check")  # the file named: fit takes several
 
 
 def test_likely_slips_for_other_factors():
     assert "time in us under a time_s header" in likely_slips(1.1e6)
     assert "km/h" in likely_slips(1 / 3.6)
     assert "no usual unit slip" in likely_slips(50.0)
+    # a WAV has no header: its slips are in the sensor settings
+    assert "sensitivity in mV/kN given as V/N" in likely_slips(1e-6, wav=True)
+    assert "amplifier gain not given" in likely_slips(10.0, wav=True)
+    assert "header" not in likely_slips(1e-3, wav=True)
 
 
 # --------------------------------------------------------------------------- impossible scalars
@@ -276,17 +316,61 @@ def test_absurd_forces_give_the_scaling_reason(capsys, tmp_path):
     one_error_line(code, out, err, "no usual unit slip", "force scaling")
 
 
-def test_noisy_record_names_the_filter(capsys):
+def test_noisy_record_names_the_file_and_the_filter(capsys, tmp_path):
+    """The user's own noisy record: one warning naming the file and the filter; filtered, none."""
+    from importlib import resources
+
+    sample = resources.files("ballimpact") / "data"
+    path = tmp_path / "mine.csv"
+    path.write_text((sample / "sample_impact.csv").read_text())
+    path.with_suffix(".json").write_text((sample / "sample_impact.json").read_text())
+    code, out, err = run(capsys, "features", path, "--json")
+    assert code == 0, err
+    notes = [note for note in json.loads(out)["warnings"] if "noisy record" in note]
+    assert len(notes) == 1 and notes[0].startswith(f"{path}: noisy record")
+    assert "--filter loess" in notes[0]
+    code, out, err = run(capsys, "features", path, "--filter", "loess", "--json")
+    assert code == 0, err
+    assert not any("noisy record" in note for note in json.loads(out)["warnings"])
+
+
+def test_built_in_sample_is_not_called_noisy(capsys):
+    """The built-in sample is noisy on purpose (1% of the peak; docs/features.md): the demo
+    and report use it unfiltered, so no warning about it; the note stays in the features."""
     from importlib import resources
 
     with resources.as_file(resources.files("ballimpact") / "data" / "sample_impact.csv") as path:
         code, out, err = run(capsys, "features", path, "--json")
         assert code == 0, err
-        assert any("noisy record" in note and "--filter loess" in note
-                   for note in json.loads(out)["warnings"])
-        code, out, err = run(capsys, "features", path, "--filter", "loess", "--json")
-        assert code == 0, err
         assert not any("noisy record" in note for note in json.loads(out)["warnings"])
+        assert "noisy" not in err
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # any warning fails the test
+            processed = process(load_record(path))
+    assert any("noisy record" in note for note in processed.features.warnings)
+
+
+def test_noisy_warning_once_per_file_and_can_be_turned_off(tmp_path):
+    """Two noisy files processed as fit and report do: one warning each, each naming its file;
+    `warn_noisy=False` (records made noisy on purpose) warns about none."""
+    from importlib import resources
+
+    sample = resources.files("ballimpact") / "data"
+    paths = []
+    for name in ("a.csv", "b.csv"):
+        paths.append(tmp_path / name)
+        paths[-1].write_text((sample / "sample_impact.csv").read_text())
+        paths[-1].with_suffix(".json").write_text((sample / "sample_impact.json").read_text())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for path in paths:
+            process(load_record(path))
+    noisy = [str(w.message) for w in caught if "noisy record" in str(w.message)]
+    assert [note.split(": noisy record")[0] for note in noisy] == [str(p) for p in paths]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        processed = process(load_record(paths[0]), warn_noisy=False)
+    assert any("noisy record" in note for note in processed.features.warnings)
 
 
 def test_unknown_check_name(capsys, tmp_path):

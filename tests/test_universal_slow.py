@@ -24,6 +24,7 @@ def test_held_out_figures(trained):
     _, _, report = trained
     assert report["runs"] >= 90  # >= 15% of the runs
     assert report["inverse"]["mu0_pa"]["relative_error"]["median"] < 0.02
+    assert trained[1].metadata["held_out_check"]["passed"]  # written without --force
     for name, entry in report["inverse"].items():
         assert 0.8 <= entry["interval_90_coverage"] <= 0.98, name
 

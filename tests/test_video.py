@@ -9,7 +9,9 @@ import pytest
 from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.loaders import load_record
+from ballimpact.pulses import half_sine
 from ballimpact.video import SyntheticImpact, analyse, measure, render, track
+from ballimpact.video.trajectory import check_speeds
 from ballimpact.video.frames import write_frames_npz
 
 #: a smaller picture than the default (faster); the ball 32 px across
@@ -96,8 +98,9 @@ def test_cli_reads_images_and_video_files_and_writes_a_side_file(tmp_path, capsy
     record_csv = tmp_path / "record.csv"
     record_csv.write_text(files("ballimpact.data").joinpath("sample_impact.csv").read_text())
     record = load_record(record_csv)
-    assert record.impact_speed_m_s == pytest.approx(result["impact_speed_m_s"])
-    assert record.rebound_speed_m_s == pytest.approx(result["rebound_speed_m_s"])
+    assert record.impact_speed_m_s == pytest.approx(result["impact_speed_normal_m_s"])
+    assert record.rebound_speed_m_s == pytest.approx(result["rebound_speed_normal_m_s"])
+    assert record.mass_kg == 0.16
     # the .npz (frame rate inside, with a warning to give --fps) and a folder of images
     code, out, err = run(capsys, "video", npz, "--scale-m-per-px", impact.scale_m_per_px)
     assert code == 0 and "give --fps" in err and "COR 0.55" in out
@@ -146,3 +149,76 @@ def test_bad_video_input_exits_2(tmp_path, capsys):
         import matplotlib.image as mpimg
         mpimg.imsave(folder_png / "a.png", frames[0], cmap="gray")
         analyse(folder_png, None, scale_m_per_px=0.001)
+
+
+def test_oblique_shot_side_file_gives_the_normal_cor_in_features(tmp_path, capsys):
+    """A 20-degree shot, normal COR 0.5 and tangential 0.8: the total speeds' ratio is 0.544,
+    the normal components' 0.500. The side file's impact_speed_m_s and rebound_speed_m_s are
+    the normal components, so `features` gives COR 0.500 and the impulse of a force record
+    made for the normal speeds passes its check."""
+    impact = SyntheticImpact(speed_m_s=20.0, fps=2000.0, angle_deg=20.0, cor_normal=0.5,
+                             cor_tangential=0.8, **SMALL)
+    npz = tmp_path / "shot.npz"
+    write_frames_npz(npz, render(impact), impact.fps)
+    side = tmp_path / "shot.json"
+    code, out, err = run(capsys, "video", npz, "--fps", 2000, "--ball-diameter-m", 0.072,
+                         "--side-file", side, "--mass-kg", 0.16, "--json")
+    assert code == 0, err
+    written = json.loads(side.read_text())
+    v_in, v_out = impact.velocities_px_s()
+    truth = {"impact": (v_in[1], v_in[0]), "rebound": (-v_out[1], v_out[0])}
+    for phase, (normal, tangential) in truth.items():
+        scale = impact.scale_m_per_px
+        assert written[f"{phase}_speed_m_s"] == written[f"{phase}_speed_normal_m_s"]
+        assert written[f"{phase}_speed_normal_m_s"] == pytest.approx(normal * scale, rel=0.01)
+        assert written[f"{phase}_speed_tangential_m_s"] == pytest.approx(tangential * scale,
+                                                                          rel=0.01)
+        assert written[f"{phase}_speed_total_m_s"] == pytest.approx(
+            np.hypot(normal, tangential) * scale, rel=0.01)
+    assert written["impact_angle_deg"] == pytest.approx(20.0, abs=0.5)
+    assert written["mass_kg"] == 0.16
+    assert written["rebound_speed_total_m_s"] / written["impact_speed_total_m_s"] == \
+        pytest.approx(0.544, abs=0.005)  # what features read before: the totals' ratio
+    # a force record for the true normal speeds: impulse m (v_n,in + v_n,out), a 1 ms half-sine
+    impulse = 0.16 * (normal_in := v_in[1] * impact.scale_m_per_px) * 1.5
+    record = half_sine(np.pi * impulse / 2e-3, 1e-3, 200e3)
+    csv = side.with_suffix(".csv")
+    csv.write_text("time_s,force_n\n" + "".join(f"{t:.9e},{f:.9g}\n"
+                                                for t, f in zip(record.time_s, record.force_n)))
+    code, out, err = run(capsys, "features", csv, "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["cor"] == pytest.approx(0.500, abs=0.002)
+    assert result["impact_speed_m_s"] == pytest.approx(normal_in, rel=0.005)
+    assert result["impulse_check_passed"] is True
+
+
+def test_video_options_are_checked_before_any_frame_is_read(tmp_path):
+    """The Python API refuses what the command line refuses, before reading the (absent)
+    recording: the error is about the option, not the missing file."""
+    missing = tmp_path / "absent.npz"
+    cases = [({"fps": 5000, "ball_diameter_m": 72.0}, "looks like millimetres; use 0.072"),
+             ({"fps": 5000, "scale_m_per_px": 0.001, "gravity_m_s2": float("nan")},
+              "gravity_m_s2"),
+             ({"fps": 5000, "scale_m_per_px": 0.001, "gravity_m_s2": 9810.0}, "mm/s^2"),
+             ({"fps": float("inf"), "scale_m_per_px": 0.001}, "fps"),
+             ({"fps": 5000, "scale_m_per_px": float("nan")}, "scale_m_per_px"),
+             ({"fps": 5000, "scale_m_per_px": 0.001, "surface_row": float("nan")},
+              "surface_row")]
+    for options, message in cases:
+        with pytest.raises(InputError, match=message.replace("^", r"\^")):
+            analyse(missing, **options)
+
+
+def test_speeds_no_ball_reaches_are_errors_naming_the_slip():
+    """Above 100 m/s or not finite: the scale or the frame rate is wrong. A given scale that
+    makes the ball 72 m across is in mm per pixel."""
+    summary = {"impact_speed_m_s": 20.0, "rebound_speed_m_s": 10.0, "fps": 5000.0,
+               "scale_m_per_px": 0.00225, "ball_radius_px": 16.0, "scale_from": "given"}
+    check_speeds(summary)
+    with pytest.raises(InputError, match="19965 m/s is above 100 m/s.*--fps 5000"):
+        check_speeds({**summary, "impact_speed_m_s": 19965.0})
+    with pytest.raises(InputError, match="rebound speed is not finite"):
+        check_speeds({**summary, "rebound_speed_m_s": float("nan")})
+    with pytest.raises(InputError, match="72 m across.*millimetres per pixel"):
+        check_speeds({**summary, "scale_m_per_px": 2.25})

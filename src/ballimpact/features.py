@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError, InputWarning
-from .plausibility import check_allow, check_momentum, select_pulse
+from .plausibility import check_allow, check_momentum, check_polarity, select_pulse
 from .records import ContactWindow, ImpactRecord, check_positive, contact_window
 
 FEATURE_NAMES: dict[str, str] = {
@@ -280,8 +280,9 @@ def extract_features(
     - `threshold_fraction`, `noise_factor`: the contact-window threshold (see `contact_window`).
     - `allow`: plausibility checks to turn from errors into warnings (`plausibility.CHECKS`).
 
-    **Raises:** `InputError` if the mass or impact speed is missing, if there is no pulse or
-    several (`plausibility.select_pulse`), if the impulse and the speeds cannot belong together
+    **Raises:** `InputError` if the mass or impact speed is missing, if the pulse is negative
+    (`plausibility.check_polarity`: an inverted load cell), if there is no pulse or several
+    (`plausibility.select_pulse`), if the impulse and the speeds cannot belong together
     (`plausibility.check_momentum`: a unit slip, COR > 1), or if the impulse is too small for the
     ball to have stopped (J < m v_in).
     """
@@ -293,13 +294,15 @@ def extract_features(
         raise InputError("impact_speed_m_s: the impact speed is required (e.g. --impact-speed-m-s 25)")
     mass, v_in = record.mass_kg, record.impact_speed_m_s
 
+    check_polarity(record)  # an inverted pulse: an error naming the fix
     select_pulse(record)  # several pulses: an error that lists them
     window = contact_window(
         record, threshold_fraction=threshold_fraction, noise_factor=noise_factor
     )
     curve = pulse_curve(record, window)
     impulse = curve.integral(0.0, curve.duration_s)
-    check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow)
+    wav = str(record.metadata.get("file", "")).lower().endswith(".wav")
+    check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow, wav=wav)
     notes: list[str] = []
     if impulse < mass * v_in:
         raise InputError(
@@ -314,8 +317,9 @@ def extract_features(
         expected = mass * (v_in + v_out)
         relative_error = impulse / expected - 1.0
         if abs(relative_error) > impulse_tolerance:
+            where = f"{record.metadata['file']}: " if "file" in record.metadata else ""
             notes.append(
-                f"impulse check: integral of F dt = {impulse:.4g} N s differs from "
+                f"{where}impulse check: integral of F dt = {impulse:.4g} N s differs from "
                 f"m (v_in + v_out) = {expected:.4g} N s by {relative_error:+.1%} "
                 f"(tolerance {impulse_tolerance:.1%})"
             )

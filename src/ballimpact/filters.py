@@ -120,6 +120,8 @@ def _window_points(window_s: float, rate_hz: float, minimum: int, available: int
 DEFAULT_WINDOW_FRACTION = 0.1
 
 FILTER_NAMES = ("none", "cfc60", "cfc180", "cfc600", "cfc1000", "savgol", "lowess", "loess", "poly5")
+#: The filters that take a window (`window_s`).
+WINDOWED_FILTERS = ("savgol", "lowess", "loess")
 
 
 def apply_filter(
@@ -133,9 +135,17 @@ def apply_filter(
     unfiltered pulse and at least 5 samples. The filter's name and settings go into the metadata.
     """
     key = name.strip().lower()
+    cfc = re.fullmatch(r"cfc(\d+(?:\.\d+)?)", key)
+    if not cfc and key not in (*WINDOWED_FILTERS, "none", "poly5"):
+        raise InputError(
+            f"filter: unknown name {name!r}; allowed: {', '.join(FILTER_NAMES)} or cfc<N>"
+        )
+    if window_s is not None and key not in WINDOWED_FILTERS:
+        # a window the filter would ignore: say so rather than run without it
+        raise InputError(f"window_s (--filter-window-s): filter {name!r} has no window; the "
+                         f"window applies to {', '.join(WINDOWED_FILTERS)}")
     if key == "none":
         return record.with_metadata(filter="none")
-    cfc = re.fullmatch(r"cfc(\d+(?:\.\d+)?)", key)
     settings: dict[str, float | str] = {"filter": key}
     if key == "poly5":
         window = contact_window(record)
@@ -143,10 +153,6 @@ def apply_filter(
             record.time_s, f, window.first, window.last
         )
         return _smoothed(record, smooth, settings, tangential=False)
-    if not cfc and key not in ("savgol", "lowess", "loess"):
-        raise InputError(
-            f"filter: unknown name {name!r}; allowed: {', '.join(FILTER_NAMES)} or cfc<N>"
-        )
     rate = sample_rate_hz(record)
     if cfc:
         settings["cfc"] = float(cfc.group(1))

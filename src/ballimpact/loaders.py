@@ -3,6 +3,10 @@
 CSV (DESIGN.md "Files"): lines starting with `#` are comments; the first other line is a header
 naming each column with its unit: `time_s`/`time_ms`/`time_us`, `force_n`/`force_kn`, optional
 `velocity_m_s` and `tangential_force_n`/`tangential_force_kn`. Values are converted to SI.
+The histories `simulate --csv` writes load too: their force column is `contact_force_n`
+(axisymmetric) or `normal_force_n` (`--solver 3d`), their other columns are left out, and since
+they start at first contact the zero-force samples before it are put back (as
+`FEResult.record()` does).
 
 WAV: the sample rate comes from the file; samples are read as fractions of full scale (integer
 PCM divided by its full-scale code, float samples as they are) times `full_scale_v`, then turned
@@ -10,7 +14,11 @@ into newtons by dividing by the sensor sensitivity (V/N) and the amplifier gain.
 PCB 223A load cell, 94.42 mV/kN = 9.442e-5 V/N, charge amplifier gain 10.
 
 Scalars (mass, speeds, and for WAV files the sensor settings) come from a JSON side file next to
-the record (same name, `.json`) and from keyword arguments, which win.
+the record (same name, `.json`) and from keyword arguments, which win. The speeds are the
+components normal to the surface (the load cell measures the normal force): a side file may give
+them as `impact_speed_m_s`, or explicitly with their tangential and total parts (as `video
+--side-file` writes them; docs/video.md). The JSON that `simulate --json` prints, and the one
+`video --json` prints, are read as side files too.
 """
 
 from __future__ import annotations
@@ -36,7 +44,15 @@ CSV_COLUMNS: dict[str, tuple[str, float]] = {
     "velocity_m_s": ("velocity_m_s", 1.0),
     "tangential_force_n": ("tangential_force_n", 1.0),
     "tangential_force_kn": ("tangential_force_n", 1e3),
+    # the force columns of `simulate --csv`: axisymmetric, and --solver 3d
+    "contact_force_n": ("force_n", 1.0),
+    "normal_force_n": ("force_n", 1.0),
 }
+#: Force columns that mark an FE history written by `simulate --csv`.
+FE_FORCE_COLUMNS = ("contact_force_n", "normal_force_n")
+#: Zero-force samples put back before first contact in an FE history: this fraction of its
+#: samples, at least 3 (as `FEResult.record()`).
+FE_LEAD_FRACTION = 0.05
 #: Record field -> the quantity it holds, as a unit-less header would name it.
 _QUANTITY = {"time_s": "time", "force_n": "force", "velocity_m_s": "velocity",
              "tangential_force_n": "tangential_force"}
@@ -44,13 +60,32 @@ _QUANTITY = {"time_s": "time", "force_n": "force", "velocity_m_s": "velocity",
 _UNITS_OF = {quantity: ", ".join(name for name, (f, _) in CSV_COLUMNS.items() if f == field)
              for field, quantity in _QUANTITY.items()}
 
-#: Keys a JSON side file may hold, each a positive number.
+#: Columns of the tables of results other verbs write (`fit --table`, `identify --table`,
+#: `report`), which are not test records.
+RESULT_TABLE_COLUMNS = {"impact_speed_m_s", "speed_m_s", "model", "test", "parameter", "label"}
+
+#: Keys a JSON side file may hold, each a positive number (the sensitivity may be negative: an
+#: inverted load cell). The speeds are the components normal to the surface.
 SIDE_KEYS = ("mass_kg", "impact_speed_m_s", "rebound_speed_m_s", "sensitivity_v_per_n",
              "amplifier_gain", "full_scale_v")
+#: The speeds' parts a side file may also give (`video --side-file` writes them): of each phase
+#: the normal and tangential components (m/s), the total speed (m/s) and the angle from the
+#: surface normal (deg). The normal component wins over `impact_speed_m_s`; without it, the
+#: total speed and the angle (or the tangential component) give it.
+PHASES = ("impact", "rebound")
+COMPONENT_KEYS = tuple(f"{phase}_{part}" for phase in PHASES for part in (
+    "speed_normal_m_s", "speed_tangential_m_s", "speed_total_m_s", "angle_deg"))
+#: Keys that describe a side file and are not read.
+NOTE_KEYS = ("comment", "source")
+#: Two speed parts that disagree by more than this fraction of the total speed are an error.
+COMPONENT_TOLERANCE = 0.01
+#: The package's own records (the built-in sample and speed set): see `process(warn_noisy=...)`.
+BUILTIN_DATA = Path(__file__).resolve().parent / "data"
 
 
 def read_csv(path: str | Path) -> dict[str, np.ndarray]:
-    """Columns of an impact CSV as SI arrays keyed by record field."""
+    """Columns of an impact CSV as SI arrays keyed by record field (an FE history's also holds
+    `fe_lead_samples`: how many zero-force samples were put back before first contact)."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")
@@ -62,7 +97,12 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
         raise InputError(f"{path}: the file is empty (no header, no samples)")
     header_line, header = lines[0]
     names = [name.strip().lower() for name in header.split(",")]
-    columns = [_column(path, name, names) for name in names]
+    _check_header(path, header, names)
+    fe_history = any(name in FE_FORCE_COLUMNS for name in names)
+    # an FE history's other columns (energies, centre motion) are not part of a record
+    used = [(col, name) for col, name in enumerate(names)
+            if not (fe_history and name not in CSV_COLUMNS)]
+    columns = [_column(path, name, names) for _, name in used]
     fields = [field for field, _ in columns]
     for required in ("time_s", "force_n"):
         if required not in fields:
@@ -70,23 +110,55 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
             raise InputError(f"{path}: no {quantity} column; add one of {_UNITS_OF[quantity]}")
     if len(lines) < 2:
         raise InputError(f"{path}: the header has no samples below it")
-    values = np.empty((len(lines) - 1, len(names)))
+    values = np.empty((len(lines) - 1, len(used)))
     for row, (number, line) in enumerate(lines[1:]):
         cells = line.split(",")
         if len(cells) != len(names):
             raise InputError(f"{path}: line {number} has {len(cells)} values, the header "
                              f"{len(names)}")
-        for col, cell in enumerate(cells):
+        for k, (col, name) in enumerate(used):
             try:
-                value = float(cell)
+                value = float(cells[col])
             except ValueError:
-                raise InputError(f"{path}: line {number}, column {names[col]}: "
-                                 f"{cell.strip()!r} is not a number") from None
+                raise InputError(f"{path}: line {number}, column {name}: "
+                                 f"{cells[col].strip()!r} is not a number") from None
             if not math.isfinite(value):
-                raise InputError(f"{path}: line {number}, column {names[col]}: "
-                                 f"{cell.strip()!r} is not a finite number")
-            values[row, col] = value
-    return {field: values[:, col] * factor for col, (field, factor) in enumerate(columns)}
+                raise InputError(f"{path}: line {number}, column {name}: "
+                                 f"{cells[col].strip()!r} is not a finite number")
+            values[row, k] = value
+    out = {field: values[:, k] * factor for k, (field, factor) in enumerate(columns)}
+    return _with_contact_start(out) if fe_history else out
+
+
+def _check_header(path: Path, header: str, names: list[str]) -> None:
+    """Errors for a header that is not one of a test record: another separator, or a table of
+    results that another verb wrote."""
+    if len(names) == 1:
+        for separator, called in ((";", "semicolons"), ("\t", "tabs")):
+            if separator in header:
+                raise InputError(f"{path}: the columns are separated by {called}; separate them "
+                                 "with commas (e.g. time_s,force_n)")
+    has_time = any(CSV_COLUMNS.get(name, ("",))[0] == "time_s" for name in names)
+    if not has_time and (RESULT_TABLE_COLUMNS & set(names)):
+        raise InputError(f"{path}: a table of results (as fit --table, identify --table and "
+                         "report write), not a test record; give the test's force record "
+                         "(a time and a force column)")
+
+
+def _with_contact_start(columns: dict[str, np.ndarray]) -> dict[str, Any]:
+    """An FE history starts one step after first contact, in contact: put back the contact
+    instant (t = 0, zero force) and zero-force samples before it at the first step's spacing, so
+    that the record starts before the impact as a measured one does."""
+    time, force = columns["time_s"], columns["force_n"]
+    if not (time[0] > 0 and force[0] > 0):
+        return {**columns, "fe_lead_samples": 0}
+    lead = max(3, int(FE_LEAD_FRACTION * time.size))
+    before = np.arange(-lead, 1) * time[0]
+    out: dict[str, Any] = {name: np.concatenate([np.zeros(lead + 1), series])
+                           for name, series in columns.items()}
+    out["time_s"] = np.concatenate([before, time])
+    out["fe_lead_samples"] = lead + 1
+    return out
 
 
 def _column(path: Path, name: str, names: list[str]) -> tuple[str, float]:
@@ -120,15 +192,19 @@ def read_wav(
     channel: int | None = None,
 ) -> dict[str, np.ndarray]:
     """Force samples of a WAV export as {time_s, force_n}, plus `full_scale_n`: the forces of the
-    extreme codes (low, high), for the clipping check. A file with several channels needs
-    `channel` (0 = first)."""
+    extreme codes, for the clipping check. A file with several channels needs `channel`
+    (0 = first). A negative sensitivity inverts the signal (a load cell or amplifier whose
+    output falls in compression)."""
     path = Path(path)
     if sensitivity_v_per_n is None:
         raise InputError(f"{path}: sensitivity_v_per_n: a WAV file needs the load-cell "
                          "sensitivity in V/N (e.g. --sensitivity-v-per-n 9.442e-5 for a PCB 223A)")
-    sensitivity = check_positive("sensitivity_v_per_n", sensitivity_v_per_n)
-    gain = check_positive("amplifier_gain", amplifier_gain)
-    full_scale = check_positive("full_scale_v", full_scale_v)
+    try:
+        sensitivity = check_sensitivity(sensitivity_v_per_n)
+        gain = check_positive("amplifier_gain", amplifier_gain)
+        full_scale = check_positive("full_scale_v", full_scale_v)
+    except InputError as error:
+        raise InputError(f"{path}: {error}") from None
     try:
         rate, data = wavfile.read(path)
     except Exception as error:  # noqa: BLE001 - scipy raises many kinds on a malformed file
@@ -154,6 +230,18 @@ def read_wav(
             "full_scale_n": tuple(level * newtons_per_unit for level in extremes)}
 
 
+def check_sensitivity(value: Any) -> float:
+    """A load-cell sensitivity (V/N): finite and not zero; negative for an inverted output."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"sensitivity_v_per_n: expected a number, got {value!r}") from None
+    if not math.isfinite(number) or number == 0:
+        raise InputError(f"sensitivity_v_per_n: must be finite and not 0 (V/N, e.g. 9.442e-5; "
+                         f"negative for an inverted load cell), got {number:g}")
+    return number
+
+
 def _channel(path: Path, data: np.ndarray, channel: int | None) -> int:
     """The channel to read from a multi-channel WAV: given, or an error that describes them."""
     count = data.shape[1]
@@ -172,8 +260,10 @@ def _channel(path: Path, data: np.ndarray, channel: int | None) -> int:
 
 
 def read_side_file(path: str | Path) -> dict[str, float]:
-    """Scalars from a JSON side file; unknown keys and bad values are errors naming the file and
-    the key. Values must be JSON numbers (not strings or booleans)."""
+    """Scalars from a JSON side file: `SIDE_KEYS`, with the speeds as their normal components
+    (see `COMPONENT_KEYS`); or from the JSON that `simulate --json` or `video --json` printed.
+    Unknown keys and bad values are errors naming the file and the key. Values must be JSON
+    numbers (not strings or booleans)."""
     path = Path(path)
     try:
         content = json.loads(path.read_text(encoding="utf-8"))
@@ -181,19 +271,137 @@ def read_side_file(path: str | Path) -> dict[str, float]:
         raise InputError(f"{path}: not a readable JSON file ({error})") from None
     if not isinstance(content, dict):
         raise InputError(f"{path}: expected a JSON object with keys {', '.join(SIDE_KEYS)}")
-    scalars = {}
+    try:
+        if _written_by_simulate(content):
+            return _simulate_scalars(content)
+        if _written_by_video(content):
+            return _video_scalars(content)
+        return _side_scalars(content)
+    except InputError as error:
+        raise InputError(f"{path}: {error}") from None
+
+
+def _side_scalars(content: dict[str, Any]) -> dict[str, float]:
+    numbers = {}
     for key, value in content.items():
-        if key in ("comment", "source"):
+        if key in NOTE_KEYS:
             continue
-        if key not in SIDE_KEYS:
-            raise InputError(f"{path}: unknown key {key!r}; allowed: {', '.join(SIDE_KEYS)}")
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise InputError(f"{path}: {key}: expected a JSON number, got {json.dumps(value)} "
-                             f"({type(value).__name__})")
-        try:
-            scalars[key] = check_positive(key, value, allow_zero=key == "rebound_speed_m_s")
-        except InputError as error:
-            raise InputError(f"{path}: {error}") from None
+        if key not in SIDE_KEYS + COMPONENT_KEYS:
+            raise InputError(f"unknown key {key!r}; allowed: {', '.join(SIDE_KEYS)}, and the "
+                             f"speeds' parts {', '.join(COMPONENT_KEYS)}")
+        numbers[key] = _number(key, value)
+    scalars = {}
+    for key in ("mass_kg", "amplifier_gain", "full_scale_v"):
+        if key in numbers:
+            scalars[key] = check_positive(key, numbers[key])
+    if "sensitivity_v_per_n" in numbers:
+        scalars["sensitivity_v_per_n"] = check_sensitivity(numbers["sensitivity_v_per_n"])
+    for phase in PHASES:
+        speed = _normal_speed(phase, numbers)
+        if speed is not None:
+            scalars[f"{phase}_speed_m_s"] = speed
+    return scalars
+
+
+def _number(key: str, value: Any) -> float:
+    """A side-file value that must be a JSON number (a string or a boolean is a slip)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{key}: expected a JSON number, got {json.dumps(value)} "
+                         f"({type(value).__name__})")
+    return float(value)
+
+
+def _normal_speed(phase: str, numbers: dict[str, float]) -> float | None:
+    """The speed normal to the surface of `phase` ("impact" or "rebound") from a side file's
+    numbers: `{phase}_speed_normal_m_s`; else the total speed times the cosine of the angle (or
+    from the total and tangential parts); else `{phase}_speed_m_s`. Parts that disagree are an
+    error."""
+    plain, normal, tangential, total, angle = (numbers.get(f"{phase}_{part}") for part in (
+        "speed_m_s", "speed_normal_m_s", "speed_tangential_m_s", "speed_total_m_s", "angle_deg"))
+    allow_zero = phase == "rebound"
+    if angle is not None and not abs(angle) < 90:
+        raise InputError(f"{phase}_angle_deg: {angle:g} deg; the angle from the surface normal "
+                         "must lie between -90 and 90 deg")
+    if total is not None:
+        total = check_positive(f"{phase}_speed_total_m_s", total, allow_zero=allow_zero)
+        if normal is None and angle is not None:
+            normal = total * math.cos(math.radians(angle))
+        elif normal is None and tangential is not None:
+            normal = math.sqrt(max(total**2 - tangential**2, 0.0))
+        elif normal is None and plain is None:
+            raise InputError(f"{phase}_speed_total_m_s is the total speed; the force record "
+                             f"needs its component normal to the surface: add "
+                             f"{phase}_speed_normal_m_s (or {phase}_angle_deg, from the normal)")
+    if normal is None:
+        return None if plain is None else check_positive(f"{phase}_speed_m_s", plain,
+                                                         allow_zero=allow_zero)
+    if total is not None:
+        _check_parts(phase, normal, tangential, total, angle)
+    return check_positive(f"{phase}_speed_normal_m_s", normal, allow_zero=allow_zero)
+
+
+def _check_parts(phase: str, normal: float, tangential: float | None, total: float,
+                 angle: float | None) -> None:
+    """`InputError` when the parts of a speed do not make its total (within
+    `COMPONENT_TOLERANCE`): the normal component above it, or the normal and tangential
+    components, or the normal component and the angle, giving another total."""
+    totals = {"the normal component is": (normal, "at most")}
+    if tangential is not None:
+        totals["the normal and tangential components make"] = (math.hypot(normal, tangential),
+                                                                "")
+    if angle is not None:
+        totals["the normal component and the angle make"] = (
+            normal / max(math.cos(math.radians(angle)), 1e-12), "")
+    for parts, (value, bound) in totals.items():
+        above = value > total * (1 + COMPONENT_TOLERANCE)
+        below = not bound and value < total * (1 - COMPONENT_TOLERANCE)
+        if above or below:
+            raise InputError(f"{phase}: {parts} {value:g} m/s, but "
+                             f"{phase}_speed_total_m_s is {total:g} m/s: the speed's parts do "
+                             "not add up (keys swapped?)")
+
+
+def _written_by_simulate(content: dict[str, Any]) -> bool:
+    """The JSON of `simulate --json`: the ball's name, its COR and its impact speed."""
+    return isinstance(content.get("ball"), str) and {"cor", "impact_speed_m_s"} <= set(content)
+
+
+def _simulate_scalars(content: dict[str, Any]) -> dict[str, float]:
+    """Mass and normal speeds from `simulate --json`: an oblique (3d) run's impact speed is the
+    total at `angle_deg` from the normal and its `cor` the normal COR."""
+    if "mass_kg" not in content:
+        raise InputError("the output of simulate has no mass_kg; add \"mass_kg\": the ball's "
+                         "mass in kg (or give --mass-kg)")
+    speed = check_positive("impact_speed_m_s", _number("impact_speed_m_s",
+                                                        content["impact_speed_m_s"]))
+    angle = _number("angle_deg", content.get("angle_deg", 0.0))
+    cor = _number("cor", content.get("normal_cor", content["cor"]))
+    normal = speed * math.cos(math.radians(angle))
+    return {"mass_kg": check_positive("mass_kg", _number("mass_kg", content["mass_kg"])),
+            "impact_speed_m_s": check_positive("impact_speed_m_s (normal component)", normal),
+            "rebound_speed_m_s": max(cor, 0.0) * normal}
+
+
+def _written_by_video(content: dict[str, Any]) -> bool:
+    """The JSON of `video --json`: frame rate, scale and speeds."""
+    return {"fps", "scale_m_per_px", "impact_speed_m_s", "rebound_speed_m_s"} <= set(content)
+
+
+def _video_scalars(content: dict[str, Any]) -> dict[str, float]:
+    """Normal speeds from `video --json` (its `*_speed_m_s` are the totals): the explicit
+    normal components, or the totals times the cosines of the angles (older output)."""
+    scalars = {}
+    for phase in PHASES:
+        key = f"{phase}_speed_normal_m_s"
+        if key in content:
+            numbers = {key: _number(key, content[key])}
+        else:
+            numbers = {f"{phase}_{part}": _number(f"{phase}_{part}", content[f"{phase}_{part}"])
+                       for part in ("speed_m_s", "angle_deg")}
+            numbers[f"{phase}_speed_total_m_s"] = numbers.pop(f"{phase}_speed_m_s")
+        scalars[f"{phase}_speed_m_s"] = _normal_speed(phase, numbers)
+    if "mass_kg" in content:
+        scalars["mass_kg"] = check_positive("mass_kg", _number("mass_kg", content["mass_kg"]))
     return scalars
 
 
@@ -202,20 +410,28 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
 
     Scalars come from the side file `path.with_suffix('.json')` if it exists, overridden by the
     keyword arguments that are not None: `mass_kg`, `impact_speed_m_s`, `rebound_speed_m_s`, and for
-    WAV files `sensitivity_v_per_n`, `amplifier_gain`, `full_scale_v`, `channel`.
+    WAV files `sensitivity_v_per_n`, `amplifier_gain`, `full_scale_v`, `channel`. The record's
+    metadata names its `file` (errors and warnings about it start with it), and marks the
+    package's own records `builtin`.
     """
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a folder; give a test record file (.csv, .txt or .wav)")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
+    suffix = path.suffix.lower()
+    if suffix == ".json":
+        raise InputError(f"{path}: a JSON file is the side file of a record (or a verb's output), "
+                         "not a test record; give the record itself (.csv, .txt or .wav) beside "
+                         "it")
+    if suffix not in (".wav", ".csv", ".txt"):
+        raise InputError(f"{path}: unknown file type {suffix!r}; expected .csv or .wav")
     side = path.with_suffix(".json")
     scalars: dict[str, Any] = read_side_file(side) if side.is_file() else {}
     scalars.update({key: value for key, value in given.items() if value is not None})
     unknown = set(scalars) - set(SIDE_KEYS) - {"channel"}
     if unknown:
         raise TypeError(f"load_record: unexpected arguments {sorted(unknown)}")
-    suffix = path.suffix.lower()
     if suffix == ".wav":
         columns = read_wav(
             path,
@@ -224,12 +440,16 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
             full_scale_v=scalars.get("full_scale_v", 1.0),
             channel=scalars.get("channel"),
         )
-    elif suffix in (".csv", ".txt"):
-        columns = read_csv(path)
     else:
-        raise InputError(f"{path}: unknown file type {suffix!r}; expected .csv or .wav")
-    full_scale = columns.pop("full_scale_n", None)
-    metadata = {"source": str(path)} | ({} if full_scale is None else {"full_scale_n": full_scale})
+        columns = read_csv(path)
+    metadata: dict[str, Any] = {"source": str(path), "file": str(path)}
+    if side.is_file():
+        metadata["side_file"] = str(side)
+    if path.resolve().is_relative_to(BUILTIN_DATA):
+        metadata["builtin"] = True
+    for key in ("full_scale_n", "fe_lead_samples"):
+        if key in columns:
+            metadata[key] = columns.pop(key)
     try:
         return ImpactRecord(
             **columns,

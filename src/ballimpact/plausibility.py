@@ -22,15 +22,29 @@ CHECKS: dict[str, str] = {
     "clipping": "samples stuck at the recorder's full scale (a flat top at the extreme value)",
     "unit-slip": "impulse and m (v_in + v_out) differ by more than UNIT_SLIP_FACTOR",
     "cor-above-one": "rebound speed above impact speed (COR > 1 for a passive ball)",
-    "speed-range": "FE impact speed outside the range the FE solver is validated over "
+    "speed-range": "FE impact speed outside the speeds the FE solver was checked at "
                    "(FE_SPEED_RANGE_M_S, 3D: FE_3D_SPEED_RANGE_M_S)",
+    "ball-units": "ball radius, mass, density or moduli outside the ranges of solid sports balls "
+                  "(BALL_RANGES; a unit slip: mm for m, g/cm^3 for kg/m^3, MPa for Pa)",
+    "large-run": "FE run or export whose memory estimate, made before meshing, exceeds the "
+                 "memory available",
 }
 
-#: Impact speeds (m/s) over which the FE solvers are validated (docs/fe.md, docs/oblique.md):
-#: the axisymmetric presets run 1-60 m/s with energy errors below 2e-4; the 3D solver's default
-#: increment holds the three-layer ball only up to 45 m/s.
-FE_SPEED_RANGE_M_S = (1.0, 60.0)
-FE_3D_SPEED_RANGE_M_S = (1.0, 45.0)
+#: Impact speeds (m/s) at which the FE solvers were checked (docs/fe.md, docs/oblique.md): both
+#: presets run at the default options, ending at separation with an energy balance error below
+#: 3e-4. Axisymmetric: 0.001 to 80 m/s; at 100 m/s both stop unstable (energy error above 5%).
+#: 3D: 0.001 to 45 m/s; the three-layer ball stops unstable from 50 m/s. Below about 1 m/s the
+#: speed is not the limit but the mesh: a contact patch narrower than two pole elements is not
+#: resolved, and the solvers warn (`fe.solver.contact_resolution_note`).
+FE_SPEED_RANGE_M_S = (0.001, 80.0)
+FE_3D_SPEED_RANGE_M_S = (0.001, 45.0)
+#: what was checked, per solver (for the message)
+_SPEED_CHECKED = {
+    "axisymmetric": "both presets run there at the default options; at 100 m/s both stop as "
+                    "unstable; docs/fe.md",
+    "3d": "both presets run there at the default options; from 50 m/s cricket-3layer stops as "
+          "unstable; docs/oblique.md",
+}
 
 
 def check_allow(allow: Iterable[str] | None) -> frozenset[str]:
@@ -54,12 +68,13 @@ def flag(name: str, message: str, allow: Collection[str]) -> None:
 
 def check_fe_speed(speed_m_s: float, allow: Collection[str] = (), *, solver: str = "axisymmetric"
                    ) -> float:
-    """`speed_m_s` (m/s) if inside the validated range of `solver` ("axisymmetric":
+    """`speed_m_s` (m/s) if inside the speeds `solver` was checked at ("axisymmetric":
     `FE_SPEED_RANGE_M_S`, "3d": `FE_3D_SPEED_RANGE_M_S`); else the `speed-range` check fails."""
     low, high = FE_3D_SPEED_RANGE_M_S if solver == "3d" else FE_SPEED_RANGE_M_S
     if not low <= speed_m_s <= high:
         flag("speed-range", f"impact speed {float(speed_m_s):g} m/s is outside {low:g}..{high:g} "
-             f"m/s, the range over which the {solver} FE model is validated", allow)
+             f"m/s, the speeds at which the {solver} FE solver was checked "
+             f"({_SPEED_CHECKED[solver]})", allow)
     return speed_m_s
 
 
@@ -73,6 +88,42 @@ MIN_CLIPPED_SAMPLES = 2
 #: resolution flattens is entered by one step).
 MIN_FLAT_TOP_SAMPLES = 3
 FLAT_TOP_JUMP_STEPS = 4
+#: A flat top nearer the baseline than this fraction of the largest excursion is the baseline.
+FLAT_TOP_MIN_EXCURSION = 0.05
+#: Each end of the record that `baseline_level` reads, as a fraction of the samples (at least 3).
+BASELINE_END_FRACTION = 0.05
+#: A negative excursion counts as an inverted pulse when it is larger than the positive one and
+#: larger than this many times the noise (the noise alone reaches about 5 times its RMS).
+POLARITY_NOISE_FACTOR = 8.0
+
+
+def baseline_level(force_n) -> float:
+    """The force level before and after the impact: the median of the first and the last
+    `BASELINE_END_FRACTION` of the samples (a record starts and ends off contact; the median
+    ignores a few noisy or ringing samples there)."""
+    force = np.asarray(force_n, dtype=float)
+    n = max(3, int(BASELINE_END_FRACTION * force.size))
+    return float(np.median(np.concatenate([force[:n], force[-n:]])))
+
+
+def check_polarity(record) -> None:
+    """`InputError` when the pulse is negative: the largest excursion from the baseline
+    (`baseline_level`) is below it, and clearly above the noise. Checked before clipping, whose
+    flat-top test would otherwise see the baseline as the top."""
+    force = np.asarray(record.force_n, dtype=float)
+    scale = float(np.max(np.abs(force))) or 1.0
+    signal = force / scale  # scaled: no overflow for absurd forces
+    base = baseline_level(signal)
+    up, down = float(np.max(signal)) - base, base - float(np.min(signal))
+    noise = 1.4826 * float(np.median(np.abs(np.diff(signal)))) / np.sqrt(2)
+    if down > up and down > POLARITY_NOISE_FACTOR * noise:
+        at = int(np.argmin(signal))
+        raise InputError(
+            f"force_n: the pulse is negative ({-down * scale:.4g} N from the baseline at "
+            f"{record.time_s[at] * 1e3:.4g} ms; the largest positive excursion is "
+            f"{up * scale + 0.0:.4g} N): the load cell's polarity looks inverted (force must be "
+            "positive in compression); negate the force column, or for a WAV file give the "
+            "sensitivity with a minus sign (e.g. --sensitivity-v-per-n -9.442e-5)")
 
 
 def clipped_spans(time_s, force_n, full_scale_n=None) -> list[tuple[float, float, float, int]]:
@@ -83,12 +134,15 @@ def clipped_spans(time_s, force_n, full_scale_n=None) -> list[tuple[float, float
     top: `MIN_FLAT_TOP_SAMPLES` or more consecutive samples equal to the record's maximum (or to
     its minimum, if that is below -5% of the maximum) that the signal reaches by a jump of more
     than `FLAT_TOP_JUMP_STEPS` times the record's resolution (its smallest step between values).
+    A flat top must also stand off the baseline (`baseline_level`) by more than
+    `FLAT_TOP_MIN_EXCURSION` of the record's largest excursion: a flat baseline is not clipping
+    (with an inverted pulse the baseline is the record's maximum).
     """
     force = np.asarray(force_n, dtype=float)
     time = np.asarray(time_s, dtype=float)
     spans = []
     if full_scale_n is not None:
-        low, high = full_scale_n
+        low, high = sorted(full_scale_n)  # a negative sensitivity swaps the rails
         tolerance = 1e-9 * max(abs(low), abs(high))
         for at_rail in (force >= high - tolerance, force <= low + tolerance):
             spans += [(time[i], time[j], float(force[i]), j - i + 1)
@@ -98,7 +152,11 @@ def clipped_spans(time_s, force_n, full_scale_n=None) -> list[tuple[float, float
     resolution = float(np.min(np.diff(levels))) if levels.size > 1 else 0.0
     top, bottom = float(levels[-1]), float(levels[0])
     extremes = [top] + ([bottom] if bottom < -0.05 * abs(top) else [])
+    base = baseline_level(force)
+    excursion = max(top - base, base - bottom)
     for level in extremes:
+        if abs(level - base) <= FLAT_TOP_MIN_EXCURSION * excursion:
+            continue  # the baseline itself
         for i, j in _runs(force == level):
             if j - i + 1 < MIN_FLAT_TOP_SAMPLES:
                 continue
@@ -219,12 +277,23 @@ _SLIPS = {
     1e-6: ("time in s under a time_us header (name the column time_s)",),
     1 / 3.6: ("speeds in km/h given as m/s (divide by 3.6)",),
 }
+#: The same for a WAV record: no header, but the sensor settings that scale its force.
+_WAV_SLIPS = {
+    1e-3: ("sensitivity in mV/N given as V/N (9.442e-5 V/N is 0.09442 mV/N)",
+           "mass in g given as mass_kg (a cricket ball is 0.16 kg)"),
+    1e-6: ("sensitivity in mV/kN given as V/N (94.42 mV/kN is 9.442e-5 V/N)",),
+    1e3: ("sensitivity in V/kN given as V/N",),
+    10.0: ("the amplifier gain not given (--amplifier-gain)",),
+    0.1: ("the full scale not given (--full-scale-v: the volts of the largest code)",),
+    1 / 3.6: _SLIPS[1 / 3.6],
+}
 
 
-def likely_slips(ratio: float) -> str:
-    """The unit slips that would make the impulse `ratio` times m (v_in + v_out)."""
-    found = [slip for factor, slips in _SLIPS.items() if abs(np.log(ratio / factor)) < np.log(2)
-             for slip in slips]
+def likely_slips(ratio: float, wav: bool = False) -> str:
+    """The unit slips that would make the impulse `ratio` times m (v_in + v_out); `wav`: those
+    of a WAV record (its sensor settings) rather than a CSV's (its header)."""
+    found = [slip for factor, slips in (_WAV_SLIPS if wav else _SLIPS).items()
+             if abs(np.log(ratio / factor)) < np.log(2) for slip in slips]
     if found:
         return "likely " + " or ".join(found)
     return ("no usual unit slip gives this factor; check the force scaling (sensitivity, gain, "
@@ -232,8 +301,10 @@ def likely_slips(ratio: float) -> str:
 
 
 def check_momentum(impulse_n_s: float, mass_kg: float, impact_speed_m_s: float,
-                   rebound_speed_m_s: float | None, allow: Collection[str] = ()) -> None:
-    """The `unit-slip` and `cor-above-one` checks of an impact's impulse and speeds.
+                   rebound_speed_m_s: float | None, allow: Collection[str] = (),
+                   wav: bool = False) -> None:
+    """The `unit-slip` and `cor-above-one` checks of an impact's impulse and speeds (`wav`: of
+    a WAV record, whose likely slips are in its sensor settings).
 
     The impulse J must match m (v_in + v_out) within `UNIT_SLIP_FACTOR`; without a measured
     rebound speed, it must lie within that factor of m v_in..2 m v_in (COR 0..1). The rebound
@@ -251,7 +322,7 @@ def check_momentum(impulse_n_s: float, mass_kg: float, impact_speed_m_s: float,
     if not 1 / UNIT_SLIP_FACTOR <= ratio <= UNIT_SLIP_FACTOR:
         flag("unit-slip", f"impulse: the integral of F dt = {impulse_n_s:.4g} N s is {ratio:.3g} "
              f"times {expected}, beyond the factor {UNIT_SLIP_FACTOR:g} a measurement can miss "
-             f"by: {likely_slips(ratio)}", allow)
+             f"by: {likely_slips(ratio, wav)}", allow)
     cor = (impulse_n_s / (m * v_in) - 1.0) if v_out is None else v_out / v_in
     if cor > 1.0:
         source = "the impulse gives" if v_out is None else (
@@ -268,8 +339,10 @@ def check_momentum(impulse_n_s: float, mass_kg: float, impact_speed_m_s: float,
 NOISY_THRESHOLD_FRACTION = 0.02
 
 
-def noisy_window_note(window, peak_force_n: float, filter_name: str) -> str | None:
-    """Advice when the noise sets the contact-window threshold high on the pulse (None if not)."""
+def noisy_window_note(window, peak_force_n: float, filter_name: str,
+                      source: str | None = None) -> str | None:
+    """Advice when the noise sets the contact-window threshold high on the pulse (None if not);
+    `source` (the record's file) starts the note, so that several files' notes tell apart."""
     fraction = window.threshold_n / peak_force_n
     if fraction <= NOISY_THRESHOLD_FRACTION:
         return None
@@ -279,6 +352,154 @@ def noisy_window_note(window, peak_force_n: float, filter_name: str) -> str | No
         advice = "filter it harder (a lower CFC class, or --filter loess)"
     else:
         advice = "filter it harder (a longer --filter-window-s)"
-    return (f"noisy record: the noise ({window.noise_rms_n:.4g} N RMS) sets the contact threshold "
-            f"at {fraction:.1%} of the peak, above {NOISY_THRESHOLD_FRACTION:.0%}, so the slow "
-            f"ends of the pulse are cut and the contact time may read short; {advice}")
+    where = "" if source is None else f"{source}: "
+    return (f"{where}noisy record: the noise ({window.noise_rms_n:.4g} N RMS) sets the contact "
+            f"threshold at {fraction:.1%} of the peak, above {NOISY_THRESHOLD_FRACTION:.0%}, so "
+            f"the slow ends of the pulse are cut and the contact time may read short; {advice}")
+
+
+# --------------------------------------------------------------------------- ball specification
+
+
+#: Ranges (SI) of the solid sports balls the FE solvers model, generous at both ends: from a
+#: marble-sized ball (5 mm radius) past a bowling ball (0.11 m) and a shot (7.26 kg, 7800 kg/m^3),
+#: from soft foam (a foam ball: 20-30 kg/m^3, shear modulus ~1e4 Pa) to hard resin and steel.
+#: A unit slip lands far outside: a radius in mm (36.6 for 0.0366 m), a density in g/cm^3 (1.13
+#: for 1130 kg/m^3) or T/mm^3 (8.65e-10), moduli in MPa (4.72 for 4.72e6 Pa), D1 in 1/MPa.
+BALL_RANGES: dict[str, tuple[float, float, str]] = {
+    "outer radius": (0.005, 0.2, "m"),
+    "mass": (0.001, 30.0, "kg"),
+    "density": (10.0, 20000.0, "kg/m^3"),
+    "shear modulus": (1e4, 1e10, "Pa"),
+    "bulk modulus": (1e4, 1e12, "Pa"),
+}
+
+#: The slips that bring a value far outside its range: factor to SI -> how the value was given.
+#: A value is read as a slip when value x factor falls inside the range (the nearest to the
+#: range's typical value is named).
+_BALL_SLIPS: dict[str, dict[float, str]] = {
+    "outer radius": {1e-3: "millimetres", 1e-2: "centimetres", 0.0254: "inches"},
+    "mass": {},  # follows from the radii and densities, which are checked first
+    "density": {1e3: "g/cm^3", 1e12: "T/mm^3 (the mm-tonne-s unit)", 1e-3: "g/m^3"},
+    "shear modulus": {1e6: "MPa", 1e3: "kPa", 1e9: "GPa"},
+    "bulk modulus": {1e6: "MPa", 1e9: "GPa"},
+}
+#: A typical value of each (a cricket ball's), to pick the likeliest of several slips.
+_BALL_TYPICAL = {"outer radius": 0.036, "mass": 0.16, "density": 1000.0,
+                 "shear modulus": 1e7, "bulk modulus": 1e9}
+
+
+def ball_unit_slip(quantity: str, value: float) -> tuple[float, str] | None:
+    """(factor, unit) of the likeliest unit slip that brings `value` (SI) of `quantity` (a key of
+    `BALL_RANGES`) inside its range, or None."""
+    low, high, _ = BALL_RANGES[quantity]
+    fits = [(factor, unit) for factor, unit in _BALL_SLIPS[quantity].items()
+            if low <= value * factor <= high]
+    if not fits:
+        return None
+    typical = _BALL_TYPICAL[quantity]
+    return min(fits, key=lambda fit: abs(np.log(value * fit[0] / typical)))
+
+
+def _ball_range_message(what: str, quantity: str, value: float, fix: str, hint: str,
+                        diagnosis: str = "") -> str:
+    """'<what> = value unit: the <quantity> is outside low..high unit, the range of solid sports
+    balls: it looks like <unit> given as <SI unit> (<fix>: value -> corrected)' for
+    `check_ball_values`; `fix` is the remedy with '{factor}' for the slip's factor, `diagnosis`
+    (with '{unit}') replaces 'it looks like ...', `hint` is what to say when no slip fits."""
+    low, high, unit = BALL_RANGES[quantity]
+    message = (f"{what} = {value:g} {unit}: the {quantity} is outside {low:g}..{high:g} {unit}, "
+               "the range of solid sports balls")
+    slip = ball_unit_slip(quantity, value)
+    if slip is not None:
+        factor, given = slip
+        said = (diagnosis or "it looks like {unit} given as " + unit).format(unit=given)
+        message += (f": {said} ({fix.format(factor=f'{factor:g}')}: {value:g} -> "
+                    f"{value * factor:g} {unit})")
+    elif hint:
+        message += f": {hint}"
+    return message
+
+
+#: What each quantity's check says: (name of the value, remedy for a slip, hint without one)
+_BALL_FIXES = {
+    "outer radius": ("{where}.outer_radius_m", "use outer_radius_m x {factor}",
+                     "outer_radius_m is the radius (not the diameter) in metres"),
+    "mass": ("{where} mass", "", "check the radii (m) and the densities (kg/m^3)"),
+    "density": ("{where}.density_kg_m3", "use density_kg_m3 x {factor}", ""),
+    "shear modulus": ("{where}.material shear modulus", "multiply {keys} by {factor}", ""),
+    "bulk modulus": ("{where}.material bulk modulus", "multiply {keys} by {factor}", ""),
+}
+
+
+def check_ball_values(where: str, values: dict[str, float], keys: dict | None = None,
+                      allow: Collection[str] = ()) -> None:
+    """The `ball-units` check of `values` (quantity of `BALL_RANGES` -> value in SI): each value
+    outside its range fails it, with the likeliest unit slip named (`ball_unit_slip`). `where`
+    names the ball or layer ("ball.layers[0]"); `keys` (quantity -> text) names the keys a
+    modulus comes from ("c10_pa, c01_pa"), or is a (diagnosis, remedy) pair for a slip (with
+    '{unit}' and '{factor}', as for D1: `_moduli_keys`)."""
+    for quantity, value in values.items():
+        low, high, _ = BALL_RANGES[quantity]
+        if low <= value <= high:
+            continue
+        what, fix, hint = _BALL_FIXES[quantity]
+        source = (keys or {}).get(quantity, "the moduli")
+        diagnosis = ""
+        if isinstance(source, tuple):
+            diagnosis, fix = source
+        else:
+            fix = fix.replace("{keys}", source)
+        flag("ball-units", _ball_range_message(what.format(where=where), quantity, float(value),
+                                               fix, hint, diagnosis), allow)
+
+
+def _moduli_keys(material) -> dict:
+    """The keys a material's shear and bulk moduli come from, as a user wrote them."""
+    spec = material.to_dict()
+    shear = [key for key in spec if key.endswith("_pa") and not key.endswith("_per_pa")] + (
+        ["terms[].mu_pa"] if "terms" in spec else [])
+    keys = {"shear modulus": ", ".join(shear) or "the moduli",
+            "bulk modulus": ", ".join(shear) or "the moduli"}
+    if spec.get("d1_per_pa"):  # K = 2 / D1: D1 in 1/MPa reads a million times too soft
+        keys["bulk modulus"] = ("d1_per_pa looks like 1/{unit} given as 1/Pa",
+                                "divide d1_per_pa by {factor}")
+    return keys
+
+
+def check_ball(ball, allow: Collection[str] = (), where: str = "ball") -> None:
+    """The `ball-units` check of a ball (`fe.BallModel`): outer radius, each layer's density and
+    shear and bulk moduli (as given, `Material.given_moduli_pa`), and the mass inside
+    `BALL_RANGES`. Run by `fe.load_ball` on every ball it loads (preset, file, dict). Prony
+    times are not checked: series fitted to master curves span 1e-10 to 1e6 s."""
+    check_ball_values(f"{where}.layers[{len(ball.layers) - 1}]",
+                      {"outer radius": ball.outer_radius_m}, allow=allow)
+    for i, layer in enumerate(ball.layers):
+        _check_material(f"{where}.layers[{i}]", layer.density_kg_m3, layer.material, allow)
+    if _inside("outer radius", ball.outer_radius_m) and all(
+            _inside("density", layer.density_kg_m3) for layer in ball.layers):
+        # (else the mass is off because of a value already flagged: one slip, one message)
+        check_ball_values(where, {"mass": ball.mass_kg}, allow=allow)
+
+
+def _inside(quantity: str, value: float) -> bool:
+    low, high, _ = BALL_RANGES[quantity]
+    return low <= value <= high
+
+
+def check_material_values(name: str, density_kg_m3: float | None, material,
+                          allow: Collection[str] = ()) -> None:
+    """The `ball-units` check of one material (`import-material`): its density (if known) and
+    moduli inside `BALL_RANGES` (a deck read in the wrong unit system lands far outside)."""
+    _check_material(f"material {name!r}", density_kg_m3, material, allow)
+
+
+def _check_material(where: str, density_kg_m3: float | None, material, allow) -> None:
+    shear, bulk = material.given_moduli_pa()
+    values = {"shear modulus": shear}
+    if density_kg_m3 is not None:
+        values = {"density": density_kg_m3, **values}
+    low, high, _ = BALL_RANGES["shear modulus"]
+    if low <= shear <= high:  # (a bulk modulus from a mis-scaled shear modulus fails with it)
+        values["bulk modulus"] = bulk
+    check_ball_values(where, values, _moduli_keys(material), allow)

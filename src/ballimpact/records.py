@@ -38,6 +38,8 @@ class ImpactRecord:
     - `mass_kg`, `impact_speed_m_s`, `rebound_speed_m_s`: optional scalars, > 0 where given
       (a rebound speed of 0 is allowed).
     - `metadata`: free-form JSON-able information (source file, filter, offsets removed, ...).
+      A record loaded from a file has `file` (its path: errors and warnings about the record
+      start with it) and, for the package's own data, `builtin` (see `pipeline.process`).
 
     Invalid values raise `InputError` naming the field.
     """

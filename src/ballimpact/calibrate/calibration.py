@@ -164,12 +164,17 @@ def _stage_files(result: StageResult, out: Path) -> None:
 
 
 def _check(template, tests, bounds, options, objectives, method, stages, decision, weights,
-           max_evaluations) -> None:
+           max_evaluations, population, generations, allow) -> None:
     """Everything that can be checked before the first FE run (errors name the flag)."""
+    from ..plausibility import check_allow, check_fe_speed
     from .problem import sub_ball
+    from .search import check_search_options
 
     if method not in METHODS:
         raise InputError(f"--method {method!r}: allowed {', '.join(METHODS)}")
+    if "nsga2" in method:
+        check_search_options(population, generations)
+    allow = check_allow(allow)
     for flag, chosen in [("--objectives", objectives)] + [
             (f"--stage {s.name}: objectives", s.objectives) for s in stages if s.objectives]:
         if not chosen or any(o not in OBJECTIVES for o in chosen):
@@ -185,6 +190,7 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
     for test in tests:
         try:
             sub_ball(template, test.layers)
+            check_fe_speed(test.impact_speed_m_s, allow)
         except InputError as error:
             raise InputError(f"--test {test.name}: {error}") from None
     names = [s.name for s in stages]
@@ -201,6 +207,33 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
                 and len(weights) != n_objectives):
             raise InputError(f"--weights: {len(weights)} given, stage {stage.name} has "
                              f"{n_objectives} objectives")
+
+
+def stage_folder(out: Path, stage: Stage) -> Path:
+    """The folder of a stage's files in `out`."""
+    return out / stage.name.replace("/", "-").replace(" ", "-")
+
+
+def _check_resume(out: Path | None, stages: list[Stage], method: str, resume: bool) -> None:
+    """Before the first run: a resume needs a search that was started in `out`; a new
+    calibration must not write over one."""
+    from .search import MANIFEST_FILE, has_checkpoint
+
+    folders = [stage_folder(out, s) for s in stages] if out is not None else []
+    if not resume:
+        taken = next((f for f in folders if has_checkpoint(f)), None)
+        if taken is not None:
+            raise InputError(f"--out {out}: holds a search already (in {taken}); add --resume "
+                             "to continue it, or use another folder")
+        return
+    if out is None:
+        raise InputError("--resume: needs --out (the folder of the stopped search)")
+    if "nsga2" not in method:
+        raise InputError(f"--resume: --method {method} keeps no checkpoint (only a search, "
+                         "nsga2 or nsga2+gradient, can be resumed)")
+    if not any((f / MANIFEST_FILE).exists() for f in folders):
+        raise InputError(f"--resume: no search to resume in {out} (no stage folder holds "
+                         f"{MANIFEST_FILE}); run without --resume")
 
 
 def select_free(stage: Stage, bounds: dict[str, tuple[float, float]]) -> list[str]:
@@ -227,33 +260,44 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
               stages: list[Stage] | None = None, population: int = 24, generations: int = 8,
               seed: int = 0, decision: str = "knee", weights=None, out: Path | None = None,
               resume: bool = False, max_evaluations: int = 30,
-              verbose: bool = True) -> dict[str, Any]:
+              verbose: bool = True, allow=()) -> dict[str, Any]:
     """Calibrate `template` (ball specification) against `tests` (`CalibrationTest`s).
     `bounds`: path -> (low, high) (SI). Returns the result: `chosen` (parameters, objectives,
     per-test comparisons), `pareto` (the last stage's front), `evaluations` (FE runs),
-    `stages`, `wall_time_s`, `ball` (the calibrated specification) -- JSON-able -- and
-    `stage_results` (the `StageResult`s, with the FE runs of the chosen designs). Each stage's
-    evaluations and plots go to `out/<stage name>/`."""
+    `stages`, `wall_time_s`, `ball` (the calibrated specification), `not_identified` (the
+    refined parameters that the tests do not determine) -- JSON-able -- and `stage_results` (the
+    `StageResult`s, with the FE runs of the chosen designs). Each stage's evaluations and plots
+    go to `out/<stage name>/`; `resume` continues the searches stopped there. `allow`:
+    plausibility checks turned into warnings (e.g. "speed-range")."""
+    from .search import MANIFEST_FILE, open_checkpoint
+
     started = time.perf_counter()
     stages = stages or [Stage("calibration")]
     _check(template, tests, bounds, options, objectives, method, stages, decision, weights,
-           max_evaluations)
+           max_evaluations, population, generations, allow)
+    _check_resume(out, stages, method, resume)
     current = template
     results: list[StageResult] = []
     for k, stage in enumerate(stages):
-        if verbose:
-            _say(f"stage {k + 1}/{len(stages)}: {stage.name}")
         paths = select_free(stage, bounds)
         problem = CalibrationProblem(current, select_tests(stage, tests),
                                      [free_parameter(current, p, *bounds[p]) for p in paths],
-                                     tuple(stage.objectives or objectives))
+                                     tuple(stage.objectives or objectives), allow=allow)
         folder = None
+        stage_resume = False
         if out is not None:
-            folder = out / stage.name.replace("/", "-").replace(" ", "-")
+            folder = stage_folder(out, stage)
+            # a stage the stopped calibration never reached starts afresh
+            stage_resume = resume and (folder / MANIFEST_FILE).exists()
+            if "nsga2" in method:  # a damaged or foreign checkpoint fails before any run
+                open_checkpoint(problem, options, seed, population, folder, stage_resume,
+                                write=False)
             folder.mkdir(parents=True, exist_ok=True)
+        if verbose:
+            _say(f"stage {k + 1}/{len(stages)}: {stage.name}")
         result = run_stage(problem, stage, options, method=method, population=population,
                            generations=generations, seed=seed, decision=decision,
-                           weights=weights, out=folder, resume=resume,
+                           weights=weights, out=folder, resume=stage_resume,
                            max_evaluations=max_evaluations, verbose=verbose)
         results.append(result)
         current = problem.spec(result.unit, name=template.get("name", "ball") + "-calibrated")
@@ -267,4 +311,6 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
             "evaluations": sum(r.fe_runs for r in results),
             "stages": [r.to_dict() for r in results],
             "wall_time_s": time.perf_counter() - started, "ball": current,
+            "not_identified": [path for r in results if r.refinement is not None
+                               for path in r.refinement.not_identified],
             "stage_results": results}

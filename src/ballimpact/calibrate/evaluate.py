@@ -129,7 +129,8 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
         # output; the chosen design's runs warn again
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", InputWarning)
-            runs = simulate_batch(balls, test.impact_speed_m_s, options, on_failure="return")
+            runs = simulate_batch(balls, test.impact_speed_m_s, options, on_failure="return",
+                                  allow=problem.allow)
         for i, fe in zip(valid, runs):
             if failed[i] is not None:
                 continue

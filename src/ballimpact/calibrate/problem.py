@@ -15,6 +15,7 @@ decades.
 from __future__ import annotations
 
 import copy
+import difflib
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -66,12 +67,13 @@ def _resolve(spec: dict, path: str) -> tuple[Any, Any]:
                 names = [layer.get("name", str(i)) for i, layer in enumerate(node)] \
                     if where == "layers" else list(range(len(node)))
                 raise InputError(f"--free {path}: no entry {part!r} in {where} (have: "
-                                 f"{', '.join(map(str, names))})")
+                                 f"{', '.join(map(str, names))}){_nearest(spec, path)}")
             key = index
         elif isinstance(node, dict):
             if part not in node:
                 raise InputError(f"--free {path}: unknown parameter path: {where} has no key "
-                                 f"{part!r} (keys: {', '.join(sorted(map(str, node)))})")
+                                 f"{part!r} (keys: {', '.join(sorted(map(str, node)))})"
+                                 f"{_nearest(spec, path)}")
             key = part
         else:
             raise InputError(f"--free {path}: unknown parameter path: {where} is a number")
@@ -79,6 +81,25 @@ def _resolve(spec: dict, path: str) -> tuple[Any, Any]:
             break
         node = node[key]
     return node, key
+
+
+def parameter_paths(spec: Any, prefix: str = "") -> list[str]:
+    """Every path of a number in a ball specification, layers by name (for suggestions)."""
+    if isinstance(spec, dict):
+        items = spec.items()
+    elif isinstance(spec, list):
+        items = ((item.get("name", i) if isinstance(item, dict) and prefix == "layers." else i,
+                  item) for i, item in enumerate(spec))
+    else:
+        return [prefix[:-1]] if isinstance(spec, (int, float)) and not isinstance(spec, bool) \
+            else []
+    return [path for key, item in items for path in parameter_paths(item, f"{prefix}{key}.")]
+
+
+def _nearest(spec: dict, path: str) -> str:
+    """'; did you mean X?' for the parameter path nearest to `path` (difflib), else ''."""
+    nearest = difflib.get_close_matches(path, parameter_paths(spec), n=1, cutoff=0.6)
+    return f"; did you mean {nearest[0]}?" if nearest else ""
 
 
 def get_value(spec: dict, path: str) -> float:
@@ -109,12 +130,13 @@ def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParame
     if path.endswith(".k") and low <= 0.0:
         raise InputError(f"--free {path}={low:g}:{high:g}: a bulk Prony term k must stay above 0 "
                          "over the bounds (k = 0 drops its states from the compiled program)")
-    get_value(spec, path)
+    value = get_value(spec, path)
     if not (math.isfinite(low) and math.isfinite(high)):
         raise InputError(f"--free {path}={low:g}:{high:g}: bounds must be finite")
     if not low < high:
         raise InputError(f"--free {path}={low:g}:{high:g}: bounds reversed or equal "
                          "(expected LOW < HIGH)")
+    check_scale(path, low, high, value)
     for bound in (low, high):
         try:
             load_ball(with_values(spec, {path: bound}))
@@ -123,6 +145,45 @@ def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParame
                              f"the material's valid range ({error})") from None
     scale = "log" if path.endswith("tau_s") and low > 0 else "linear"
     return FreeParameter(path, float(low), float(high), scale)
+
+
+#: bounds that leave out the template's value and whose larger magnitude differs from it by
+#: more than this factor (either way) are a unit slip, not a search range
+SCALE_SLIP_FACTOR = 100.0
+#: units by the path's ending: the SI unit, and the usual slips as (factor to SI, unit typed)
+_UNITS = {"_pa": ("Pa", ((1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa"))),
+          "tau_s": ("s", ((1e-3, "ms"), (1e-6, "us"))),
+          "_kg_m3": ("kg/m3", ((1e3, "g/cm3"),)),
+          ".g": ("", ((0.01, "percent"),))}
+
+
+def check_scale(path: str, low: float, high: float, value: float) -> None:
+    """`InputError` if the bounds look like another unit than the template's value: they leave
+    the value out and their larger magnitude differs from |value| by more than
+    `SCALE_SLIP_FACTOR` either way (c10_pa=1:4, MPa typed, against 3.5e6 Pa). Bounds that merely
+    miss a value nearby are a search away from the template (the problem warns). Where a usual
+    slip of the unit, or a power of 1000, brings the bounds around the value (or within half of
+    it), the message gives them."""
+    size = max(abs(low), abs(high))
+    if low <= value <= high or value == 0.0:
+        return
+    ratio = abs(value) / size if size > 0 else math.inf
+    if 1.0 / SCALE_SLIP_FACTOR <= ratio <= SCALE_SLIP_FACTOR:
+        return
+    si, slips = next((units for end, units in _UNITS.items() if path.endswith(end)), ("", ()))
+    message = (f"--free {path}={low:g}:{high:g}: the template's value is {value:g}"
+               f"{' ' + si if si else ''}, more than {SCALE_SLIP_FACTOR:g}x from the bounds")
+    if math.isfinite(ratio):
+        candidates = list(slips) + [(1000.0 ** round(math.log10(ratio) / 3), None)]
+        for factor, unit in candidates:
+            scaled = (low * factor, high * factor)
+            if scaled[0] <= value <= scaled[1] or min(abs(value - b) for b in scaled) <= 0.5 * abs(
+                    value):
+                slip = (f"looks like {unit}" if unit else f"looks {factor:g}x too small"
+                        if factor > 1 else f"looks {1 / factor:g}x too large")
+                raise InputError(f"{message}; {low:g}:{high:g} {slip}; use {scaled[0]:g}:"
+                                 f"{scaled[1]:g}")
+    raise InputError(f"{message}: give them in {si or 'SI'} around the value")
 
 
 @dataclass(frozen=True)
@@ -170,11 +231,17 @@ class CalibrationProblem:
     free: list[FreeParameter]
     objectives: tuple[str, ...] = ("nrmse", "cor", "contact_time")
     start: dict[str, float] = field(default_factory=dict)  # path -> value; default template
+    #: plausibility checks turned into warnings (`plausibility.CHECKS`; e.g. "speed-range" for
+    #: tests outside the FE solver's validated speeds)
+    allow: frozenset = frozenset()
 
     def __post_init__(self) -> None:
         from ..fe import load_ball
 
+        from ..plausibility import check_allow, check_fe_speed
+
         self.start = dict(self.start)  # the caller's dict is left alone
+        self.allow = check_allow(self.allow)
         if not self.tests:
             raise InputError("tests: need at least one test")
         if not self.free:
@@ -187,6 +254,10 @@ class CalibrationProblem:
             raise InputError(f"--objectives {','.join(self.objectives)}: allowed any of "
                              f"{', '.join(OBJECTIVES)}")
         for test in self.tests:
+            try:
+                check_fe_speed(test.impact_speed_m_s, self.allow)
+            except InputError as error:
+                raise InputError(f"test {test.name}: {error}") from None
             ball = load_ball(sub_ball(self.template, test.layers))
             mass = test.features.mass_kg
             if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:

@@ -2,17 +2,26 @@
 NSGA-III (Das-Dennis reference directions) for four. Each generation's population is one batch
 of FE runs per test (`evaluate`, vmapped in groups).
 
-Checkpoint and resume: every evaluated design is appended to `evaluations.parquet` in the output
-folder after each generation. A resumed search replays the seeded algorithm from the start and
-takes every design already in that file from it instead of running it again (the same seed gives
-the same designs), so a stopped search loses at most the generation it was in, and nothing is
+Checkpoint and resume: before the first run the search writes `search.json` (what determines
+its designs and their objectives: free parameters and bounds, objectives, tests, template ball,
+solver options, seed, population) to the output folder, and every evaluated design is written to
+`evaluations.parquet` after each generation; each file is written to a temporary file and renamed
+over the old one, so an interrupt leaves the last complete version. A resumed search checks that
+`search.json` matches its own options, replays the seeded algorithm from the start and takes
+every design already in `evaluations.parquet` from it instead of running it again (the same seed
+gives the same designs), so a stopped search loses at most the generation it was in. Nothing is
 stored as a pickle.
+
+A search whose whole first generation fails stops at once (`InputError` with the first reason):
+that is bounds or options that give no runnable ball, not bad luck.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import json
 import os
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,6 +36,10 @@ from .problem import CalibrationProblem
 #: objectives of a failed design for the algorithm (it is also infeasible)
 FAILED_OBJECTIVE = 1e6
 EVALUATIONS_FILE = "evaluations.parquet"
+MANIFEST_FILE = "search.json"
+#: per-test comparison columns of `EVALUATIONS_FILE`
+_PER_TEST = ("force_nrmse", "cor_error", "contact_time_relative_error",
+             "peak_force_relative_error")
 
 
 @dataclass
@@ -99,22 +112,21 @@ def _count_directions(m: int, p: int) -> int:
 def search(problem: CalibrationProblem, options, *, population: int = 24, generations: int = 8,
            seed: int = 0, out: Path | None = None, resume: bool = False,
            progress=None) -> SearchResult:
-    """Multi-objective search; `out` (a folder) keeps the checkpoint (`EVALUATIONS_FILE`).
-    `progress(generation, generations, fe_runs)` after each generation."""
+    """Multi-objective search; `out` (an existing folder) keeps the checkpoint
+    (`MANIFEST_FILE`, `EVALUATIONS_FILE`) and `resume` continues the search stopped there, with
+    the same options but any number of generations (`open_checkpoint`). `progress(generation,
+    generations, fe_runs)` after each generation. `InputError` if the whole first generation
+    fails."""
     from pymoo.core.callback import Callback
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
-    if not (isinstance(population, int) and population >= 4):
-        raise InputError(f"--population {population}: must be an integer >= 4")
-    if not (isinstance(generations, int) and generations >= 1):
-        raise InputError(f"--generations {generations}: must be an integer >= 1")
+    check_search_options(population, generations)
     started = time.perf_counter()
     n_obj = len(problem.objectives)
-    cache = _load_checkpoint(problem, out) if resume else {}
-    if out is not None and not resume and (out / EVALUATIONS_FILE).exists():
-        raise InputError(f"--out {out}: holds a search already ({EVALUATIONS_FILE}); use "
-                         "--resume to continue it or another folder")
+    cache = open_checkpoint(problem, options, seed, population, out, resume)
+    # a resume with fewer generations replays part of the checkpoint: keep the whole file
+    saved_rows = _saved_rows(out) if resume else 0
     rows: dict[str, list] = {"unit": [], "objectives": [], "generation": [], "failed": [],
                              "per_test": []}
     state = {"generation": 0, "fe_runs": 0}
@@ -132,6 +144,8 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
                 state["fe_runs"] += len(missing) * len(problem.tests)
                 for j, i in enumerate(missing):
                     cache[x[i].tobytes()] = (done.objectives[j], done.failed[j], done.per_test[j])
+            if state["generation"] == 0:
+                _stop_if_all_failed(problem, x, [cache[xi.tobytes()][1] for xi in x])
             f = np.empty((len(x), n_obj))
             g = np.empty((len(x), 1))
             for i, xi in enumerate(x):
@@ -147,7 +161,7 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
 
     class Checkpoint(Callback):
         def notify(self, algorithm):
-            if out is not None:
+            if out is not None and len(rows["unit"]) > saved_rows:
                 _write_evaluations(problem, rows, out)
             state["generation"] += 1
             if progress is not None:
@@ -161,6 +175,173 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
                         state["fe_runs"], time.perf_counter() - started, name)
 
 
+def check_search_options(population, generations) -> None:
+    """`InputError` naming the flag for a population or a number of generations the search
+    cannot run."""
+    if isinstance(population, bool) or not (isinstance(population, int) and population >= 4):
+        raise InputError(f"--population {population}: must be an integer >= 4 (NSGA-II needs "
+                         "pairs of parents from a population of at least 4)")
+    if isinstance(generations, bool) or not (isinstance(generations, int) and generations >= 1):
+        raise InputError(f"--generations {generations}: must be an integer >= 1")
+
+
+def _stop_if_all_failed(problem: CalibrationProblem, unit: np.ndarray, failed: list) -> None:
+    """`InputError` when every design of the first generation failed: the bounds (or the solver
+    options) give no ball that runs, and more generations of failures would only cost time."""
+    if not failed or not all(failed):
+        return
+    values = ", ".join(f"{path}={value:g}" for path, value in problem.values(unit[0]).items())
+    raise InputError(f"every design of the search's first generation failed ({len(failed)} of "
+                     f"{len(failed)}), so the search stops; the first ({values}): {failed[0]}; "
+                     "check the --free bounds (SI units) and the solver options")
+
+
+def manifest(problem: CalibrationProblem, options, seed: int, population: int) -> dict:
+    """What determines a search's designs and their objectives (`MANIFEST_FILE`): a resumed
+    search must match it (the number of generations may grow)."""
+    solver = dataclasses.asdict(options) if dataclasses.is_dataclass(options) else dict(options)
+    return {"free": [p.to_dict() for p in problem.free],
+            "objectives": list(problem.objectives),
+            "tests": [{"name": t.name, "layers": t.layers, "data": _test_digest(t)}
+                      for t in problem.tests],
+            "template": _digest(json.dumps(problem.template, sort_keys=True).encode()),
+            "solver": json.loads(json.dumps(solver)), "seed": seed, "population": population}
+
+
+def _digest(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()[:16]
+
+
+def _test_digest(test) -> str:
+    """A digest of what the search compares against: the test's pulse and feature values."""
+    t, f = test.pulse
+    values = json.dumps(dict(test.features.values), sort_keys=True, default=repr)
+    return _digest(np.ascontiguousarray(t, np.float64).tobytes()
+                   + np.ascontiguousarray(f, np.float64).tobytes() + values.encode())
+
+
+def _differences(saved: dict, now: dict) -> list[str]:
+    """What differs between a saved manifest and the current one, for the user."""
+    out = []
+    old_free = {p["path"]: p for p in saved["free"]}
+    new_free = {p["path"]: p for p in now["free"]}
+    if list(old_free) != list(new_free):
+        out.append(f"free parameters {', '.join(old_free)} (now {', '.join(new_free)})")
+    else:
+        out += [f"bounds of {path} {p['low']:g}:{p['high']:g} (now {new_free[path]['low']:g}:"
+                f"{new_free[path]['high']:g})" for path, p in old_free.items()
+                if p != new_free[path]]
+    if saved["objectives"] != now["objectives"]:
+        out.append(f"objectives {','.join(saved['objectives'])} (now "
+                   f"{','.join(now['objectives'])})")
+    old_tests = [(t["name"], t["layers"]) for t in saved["tests"]]
+    if old_tests != [(t["name"], t["layers"]) for t in now["tests"]]:
+        out.append(f"tests {', '.join(n for n, _ in old_tests)} (now "
+                   f"{', '.join(t['name'] for t in now['tests'])})")
+    else:
+        out += [f"other data in test {a['name']} (its record or processing changed)"
+                for a, b in zip(saved["tests"], now["tests"]) if a["data"] != b["data"]]
+    if saved["template"] != now["template"]:
+        out.append("another template ball (--ball, or the results of the stages before)")
+    out += [f"solver option {key} {saved['solver'].get(key)} (now {value})"
+            for key, value in now["solver"].items() if saved["solver"].get(key) != value]
+    out += [f"--{key} {saved[key]} (now {now[key]})" for key in ("seed", "population")
+            if saved[key] != now[key]]
+    return out
+
+
+def has_checkpoint(out: Path | None) -> bool:
+    """Whether the folder holds a search (its manifest or its evaluations)."""
+    return out is not None and ((out / MANIFEST_FILE).exists()
+                                or (out / EVALUATIONS_FILE).exists())
+
+
+def open_checkpoint(problem: CalibrationProblem, options, seed: int, population: int,
+                    out: Path | None, resume: bool, *, write: bool = True) -> dict[bytes, Any]:
+    """Check the output folder and return the designs already evaluated (by the bytes of their
+    unit coordinates): none for a new search, whose manifest is written here (unless `write` is
+    False: a check only). `InputError` for a folder that holds a search without `resume`, a
+    resume without one, a manifest of other options, and a damaged or foreign checkpoint
+    file."""
+    now = manifest(problem, options, seed, population)
+    if out is None:
+        if resume:
+            raise InputError("--resume: needs --out (the folder of the stopped search)")
+        return {}
+    if not resume:
+        if has_checkpoint(out):
+            raise InputError(f"--out {out}: holds a search already ({MANIFEST_FILE}, "
+                             f"{EVALUATIONS_FILE}); add --resume to continue it, or use another "
+                             "folder")
+        if write:
+            write_atomic(out / MANIFEST_FILE, json.dumps(now, indent=2))
+        return {}
+    saved = read_manifest(out)
+    differences = _differences(saved, now)
+    if differences:
+        raise InputError(f"--resume: {out / MANIFEST_FILE} is a search with other options: "
+                         f"{'; '.join(differences)}; resume with the options it was started "
+                         "with, or use another --out")
+    if not (out / EVALUATIONS_FILE).exists():
+        return {}  # stopped in its first generation
+    return _load_checkpoint(problem, out)
+
+
+def read_manifest(out: Path) -> dict:
+    """The manifest of the search in `out`; `InputError` naming the file if it is missing or
+    not one."""
+    path = out / MANIFEST_FILE
+    if not path.exists():
+        what = (f"{EVALUATIONS_FILE} but no {MANIFEST_FILE} (not written by this version)"
+                if (out / EVALUATIONS_FILE).exists() else f"no {MANIFEST_FILE}")
+        raise InputError(f"--resume: {out} holds {what}: there is no search to resume there; "
+                         "run without --resume in a new folder")
+    try:
+        saved = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        raise InputError(f"--resume: {path} is damaged ({_first_line(error)}); delete the "
+                         "folder's search files to start afresh") from None
+    wrong = _malformed(saved)
+    if wrong:
+        raise InputError(f"--resume: {path} is not a search manifest ({wrong}); delete the "
+                         "folder's search files to start afresh")
+    return saved
+
+
+def _malformed(saved: Any) -> str | None:
+    """What keeps a loaded manifest from being compared (`_differences`), or None."""
+    if not isinstance(saved, dict):
+        return "not a JSON object"
+    missing = [key for key in ("free", "objectives", "tests", "template", "solver", "seed",
+                               "population") if key not in saved]
+    if missing:
+        return f"no {', '.join(missing)}"
+    entries = {"free": ("path", "low", "high"), "tests": ("name", "layers", "data")}
+    for key, fields in entries.items():
+        if not (isinstance(saved[key], list) and all(
+                isinstance(item, dict) and all(f in item for f in fields) for item in saved[key])):
+            return f"{key}: expected a list of entries with {', '.join(fields)}"
+        if key == "free" and not all(isinstance(item["low"], (int, float))
+                                     and isinstance(item["high"], (int, float))
+                                     for item in saved[key]):
+            return "free: bounds are not numbers"
+    if not isinstance(saved["solver"], dict) or not isinstance(saved["objectives"], list):
+        return "solver: expected an object, objectives: a list"
+    return None
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write `text` to `path` by a temporary file renamed over it: an interrupt leaves the old
+    file or the new one, never a part."""
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def _first_line(error: BaseException) -> str:
+    return (str(error).strip().splitlines() or [type(error).__name__])[0]
+
+
 def _columns(problem: CalibrationProblem, rows: dict) -> dict[str, list]:
     unit = np.array(rows["unit"])
     objectives = np.array(rows["objectives"])
@@ -171,8 +352,7 @@ def _columns(problem: CalibrationProblem, rows: dict) -> dict[str, list]:
     for j, name in enumerate(problem.objectives):
         table[name] = objectives[:, j].tolist()
     for k, test in enumerate(problem.tests):
-        for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
-                    "peak_force_relative_error"):
+        for key in _PER_TEST:
             table[f"{test.name}:{key}"] = [c[k][key] if c else float("nan")
                                            for c in rows["per_test"]]
     table["failed"] = [reason or "" for reason in rows["failed"]]
@@ -186,38 +366,60 @@ def _write_evaluations(problem: CalibrationProblem, rows: dict, out: Path) -> No
     import pyarrow.parquet as pq
 
     table = pa.table(_columns(problem, rows))
-    tmp = out / (EVALUATIONS_FILE + ".tmp")
-    pq.write_table(table, tmp)
-    os.replace(tmp, out / EVALUATIONS_FILE)
-    pacsv.write_csv(table, out / "evaluations.csv")
+    for name, write in ((EVALUATIONS_FILE, pq.write_table), ("evaluations.csv", pacsv.write_csv)):
+        tmp = out / (name + ".tmp")
+        write(table, tmp)
+        os.replace(tmp, out / name)
 
 
-def _load_checkpoint(problem: CalibrationProblem, out: Path | None) -> dict[bytes, Any]:
-    """Designs already evaluated (by their unit coordinates' bytes) from a stopped search."""
+def _saved_rows(out: Path | None) -> int:
+    """Designs in the checkpoint of `out` (0 if none)."""
     import pyarrow.parquet as pq
 
     if out is None or not (out / EVALUATIONS_FILE).exists():
-        if out is not None:
-            print(f"resume: no {EVALUATIONS_FILE} in {out}; starting afresh", file=sys.stderr)
-        return {}
-    table = pq.read_table(out / EVALUATIONS_FILE).to_pydict()
+        return 0
+    return pq.ParquetFile(out / EVALUATIONS_FILE).metadata.num_rows
+
+
+def _load_checkpoint(problem: CalibrationProblem, out: Path) -> dict[bytes, Any]:
+    """Designs already evaluated (by their unit coordinates' bytes) from a stopped search;
+    `InputError` naming the file and what is wrong with it."""
+    import pyarrow.parquet as pq
+
+    path = out / EVALUATIONS_FILE
+    try:
+        table = pq.read_table(path).to_pydict()
+    except Exception as error:  # noqa: BLE001 - pyarrow's errors for a damaged file vary
+        raise InputError(f"--resume: {path} cannot be read ({_first_line(error)}): it is "
+                         f"damaged; delete it to run this search's designs again") from None
     names = [f"u:{p.path}" for p in problem.free]
-    tests = [f"{t.name}:force_nrmse" for t in problem.tests]
-    if any(name not in table for name in names + list(problem.objectives) + tests):
-        raise InputError(f"--resume: {out / EVALUATIONS_FILE} is from a calibration with other "
-                         "free parameters, objectives or tests")
-    unit = np.column_stack([np.asarray(table[name], np.float64) for name in names])
+    needed = (["generation", "failed"] + names + [p.path for p in problem.free]
+              + list(problem.objectives)
+              + [f"{t.name}:{key}" for t in problem.tests for key in _PER_TEST])
+    missing = [name for name in needed if name not in table]
+    if missing:
+        raise InputError(f"--resume: {path} is not this search's checkpoint (no column "
+                         f"{missing[0]!r}: other free parameters, objectives or tests)")
+    try:
+        unit = np.column_stack([np.asarray(table[name], np.float64) for name in names])
+        objectives = np.column_stack([np.asarray(table[o], np.float64)
+                                      for o in problem.objectives])
+        per_test = {name: np.asarray(table[name], np.float64) for name in needed
+                    if ":" in name and not name.startswith("u:")}
+        failed = [str(reason) if reason else None for reason in table["failed"]]
+    except (TypeError, ValueError) as error:
+        raise InputError(f"--resume: {path} holds a column that is not numbers "
+                         f"({_first_line(error)}): it is damaged; delete it") from None
+    if not np.all(np.isfinite(unit) & (unit >= 0.0) & (unit <= 1.0)):
+        raise InputError(f"--resume: {path} holds unit coordinates outside [0, 1]: it is "
+                         "damaged; delete it")
     for j, p in enumerate(problem.free):  # the same unit coordinates mean the same values
         if not np.allclose(p.from_unit(unit[:, j]), table[p.path], rtol=1e-12, atol=0.0):
-            raise InputError(f"--resume: {out / EVALUATIONS_FILE} was made with other bounds "
-                             f"of {p.path}")
-    objectives = np.column_stack([np.asarray(table[o], np.float64) for o in problem.objectives])
+            raise InputError(f"--resume: {path} was made with other bounds of {p.path}")
     cache: dict[bytes, Any] = {}
     for i in range(len(unit)):
-        failed = table["failed"][i] or None
-        per_test = [] if failed else [
-            {key: table[f"{t.name}:{key}"][i] for key in
-             ("force_nrmse", "cor_error", "contact_time_relative_error",
-              "peak_force_relative_error")} for t in problem.tests]
-        cache[unit[i].tobytes()] = (objectives[i], failed, per_test)
+        tests = [] if failed[i] else [
+            {key: float(per_test[f"{t.name}:{key}"][i]) for key in _PER_TEST}
+            for t in problem.tests]
+        cache[unit[i].tobytes()] = (objectives[i], failed[i], tests)
     return cache

@@ -28,7 +28,7 @@ def synthetic_test(name: str, spec: dict, speed_m_s: float, options, noise: floa
     from ..pipeline import process
 
     record, _ = synthetic_record(spec, speed_m_s, options, noise, rng, layers)
-    return CalibrationTest(name, process(record).features, layers)
+    return CalibrationTest(name, process(record, warn_noisy=False).features, layers)
 
 
 # ---- the recovery problem (tests/test_calibrate_slow.py, benchmarks/bench_calibrate.py) ------

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shlex
 from pathlib import Path
 from typing import Any
 
@@ -22,13 +23,17 @@ from .common import (
 )
 from .simulate import add_solver_options, solver_options
 
+#: the verb's parser, as last built: the resume hint rebuilds the command line from its options
+_PARSER: argparse.ArgumentParser | None = None
+
 
 def add_parser(verbs) -> None:
     from ..calibrate.calibration import METHODS
     from ..calibrate.decision import METHODS as DECISIONS
     from ..calibrate.problem import OBJECTIVES
 
-    p = verbs.add_parser(
+    global _PARSER
+    p = _PARSER = verbs.add_parser(
         "calibrate", help="calibrate a layered FE ball's material constants against tests",
         description="Multi-objective search (pymoo NSGA-II; NSGA-III for four objectives) of "
                     "free parameters of a ball specification against impact tests, a decision "
@@ -64,7 +69,8 @@ def add_parser(verbs) -> None:
                    help="gradient refinement: misfit evaluations at most (default 30)")
     p.add_argument("--out", type=Path, help="folder for evaluations, plots and the ball file")
     p.add_argument("--resume", action="store_true",
-                   help="continue a stopped search in --out (designs already run are reused)")
+                   help="continue a stopped search in --out with the same options (designs "
+                        "already run are reused; --generations may grow)")
     add_solver_options(p)
     add_record_options(p)
     add_processing(p)
@@ -87,16 +93,21 @@ def parse_test(text: str) -> tuple[Path, float | None, str | None]:
 
 def load_tests(args: argparse.Namespace) -> list:
     from ..calibrate.problem import CalibrationTest
+    from ..plausibility import check_fe_speed
 
+    parsed = [parse_test(text) for text in args.test]  # every --test's form before any file
     tests, names = [], set()
     given_speed = args.impact_speed_m_s
-    for text in args.test:
-        path, speed, layer = parse_test(text)
+    for text, (path, speed, layer) in zip(args.test, parsed):
         args.impact_speed_m_s = speed if speed is not None else given_speed
         record = load(path, args)
         if record.impact_speed_m_s is None:
             raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
                              "or in the side file (impact_speed_m_s)")
+        try:  # the FE runs would refuse it after the search had started
+            check_fe_speed(record.impact_speed_m_s, args.allow)
+        except InputError as error:
+            raise InputError(f"--test {text}: {error}") from None
         processed = process_record(record, args)
         name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
         names.add(name)
@@ -105,19 +116,55 @@ def load_tests(args: argparse.Namespace) -> list:
     return tests
 
 
+def parse_free(items: list[str]) -> dict[str, tuple[float, float]]:
+    """--free PATH=LOW:HIGH flags as path -> (low, high); a path given twice is an error (the
+    second would silently replace the first)."""
+    seen: dict[str, str] = {}
+    for item in items:
+        path = item.partition("=")[0]
+        if path in seen:
+            raise InputError(f"--free {path}: given twice ({seen[path]} and {item}); give each "
+                             "parameter once")
+        seen[path] = item
+    return assignments(items, "--free", bounds=True)
+
+
+def command_line(args: argparse.Namespace) -> str:
+    """The command as given (options that differ from their defaults), for the resume hint:
+    `sys.argv` is not the command when the verb runs inside another program (or a test)."""
+    words = ["ballimpact", "calibrate"]
+    for action in _PARSER._actions if _PARSER is not None else []:
+        if not action.option_strings or action.dest in ("help", "resume"):
+            continue
+        value = getattr(args, action.dest, action.default)
+        if value is None or value == action.default or value == []:
+            continue
+        flag = action.option_strings[0]
+        if action.nargs == 0:  # store_true
+            words.append(flag)
+        else:
+            words += [part for item in (value if isinstance(value, list) else [value])
+                      for part in (flag, str(item))]
+    return shlex.join(words + ["--resume"])
+
+
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..calibrate.calibration import calibrate, parse_stage
+    from ..calibrate.search import check_search_options, write_atomic
     from ..fe import load_ball
 
     check_plot_path(args.plot)
     if args.out is not None:
+        if args.out.exists() and not args.out.is_dir():
+            raise InputError(f"--out {args.out}: is a file; give a folder (it holds the "
+                             "evaluations, plots and the calibrated ball)")
         check_output_folder(args.out, "--out")
-        args.out.mkdir(exist_ok=True)
     if args.resume and args.out is None:
         raise InputError("--resume: needs --out (the folder of the stopped search)")
-    tests = load_tests(args)
-    template = load_ball(args.ball, tests[0].impact_speed_m_s).to_dict()
-    bounds = assignments(args.free, "--free", bounds=True)
+    if "nsga2" in args.method:
+        check_search_options(args.population, args.generations)
+    bounds = parse_free(args.free)
+    stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
     objectives = tuple(o.strip() for o in args.objectives.split(",") if o.strip())
     weights = None
     if args.weights:
@@ -126,20 +173,26 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         except ValueError:
             raise InputError(f"--weights {args.weights!r}: expected comma-separated numbers") \
                 from None
-    stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
+        if not all(math.isfinite(w) and w >= 0 for w in weights):
+            raise InputError(f"--weights {args.weights}: expected finite numbers >= 0")
+    tests = load_tests(args)
+    template = load_ball(args.ball, tests[0].impact_speed_m_s).to_dict()
     options = solver_options(args)
     use_compilation_cache()
+    if "nsga2" in args.method:  # what Ctrl-C (cli.main) adds to its line
+        args.resume_hint = (f"resume with: {command_line(args)}" if args.out is not None else
+                            "no checkpoint was kept: give --out DIR to be able to --resume")
     result = calibrate(template, tests, bounds, options, objectives=objectives,
                        method=args.method, stages=stages, population=args.population,
                        generations=args.generations, seed=args.seed, decision=args.decision,
                        weights=weights, out=args.out, resume=args.resume,
-                       max_evaluations=args.max_evaluations)
+                       max_evaluations=args.max_evaluations, allow=args.allow)
     stage_results = result.pop("stage_results")
     if args.out is not None:
         ball_file = args.out / "calibrated-ball.json"
-        ball_file.write_text(json.dumps(result["ball"], indent=2))
+        write_atomic(ball_file, json.dumps(result["ball"], indent=2))
         result["ball_file"] = str(ball_file)
-        (args.out / "calibration.json").write_text(json.dumps(json_safe(result), indent=2))
+        write_atomic(args.out / "calibration.json", json.dumps(json_safe(result), indent=2))
     if args.plot is not None:
         from ..calibrate.plots import plot_pulses
 
@@ -167,6 +220,8 @@ def _print(result: dict, stage_results: list) -> None:
             extra = ""
             if r.refinement is not None:
                 extra = f"  +/- {r.refinement.standard_error[path]:.3g} (1 s.e.)"
+                if path in r.refinement.not_identified:
+                    extra += "  not identified"
             print(f"  {path:<40} {value:12.5g}{extra}")
         print("  objectives: " + ", ".join(f"{k} {v:.4g}" for k, v in r.objectives.items()))
     print(f"{result['evaluations']} FE runs in {result['wall_time_s']:.1f} s")

@@ -163,8 +163,12 @@ def check_output_folder(path: Path | None, flag: str) -> None:
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:
     """Parse NAME=VALUE (or NAME=LOW:HIGH) flags into a dict of floats (or float pairs)."""
     parsed: dict[str, Any] = {}
+    given: dict[str, str] = {}
     for item in items:
         name, sep, value = item.partition("=")
+        if name in given:
+            raise InputError(f"{flag}: {name} given twice ({given[name]} and {item})")
+        given[name] = item
         try:
             if not sep or not name:
                 raise ValueError

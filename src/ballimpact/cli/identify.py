@@ -5,9 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
+from ..errors import CheckFailed, InputError, InputWarning
 from .common import (
     add_processing,
     add_record_options,
@@ -22,46 +24,63 @@ from .common import (
 def add_parser(verbs) -> None:
     identify = verbs.add_parser(
         "identify", help="universal FE ball (C10, C01, g1, tau1) from measured impacts",
-        description="Features of the test -> the universal ball's parameters with 90%% "
+        description="Features of the test -> the universal ball's parameters with 90% "
                     "intervals (inverse deep ensemble), optionally refined on the forward surrogate -> one "
                     "FE run of the identified ball compared with the test. Several tests (one "
-                    "per speed) give a table of parameters against speed, like thesis table 7-3.")
+                    "per speed) give a table of parameters against speed, like thesis table 7-3. "
+                    "An impact speed outside the model's training speeds is refused (--allow "
+                    "speed-range: a warning); estimates on the edge of the model's training "
+                    "range, intervals clipped by it and an FE check above a force NRMSE of 0.1 "
+                    "(universal.identify.NRMSE_LIMIT) give warnings. Exit codes: 0 "
+                    "done, 2 bad input, 1 failed run, 3 the FE check missed --max-nrmse (the "
+                    "result is printed and its files written all the same).")
     identify.add_argument("files", type=Path, nargs="+", metavar="FILE",
                           help="test record(s): CSV with unit headers or WAV")
     identify.add_argument("--model", help="model path (MODEL.json + MODEL.npz); default: the "
                                           "built-in cricket-ball model")
     identify.add_argument("--verify", action=argparse.BooleanOptionalAction, default=True,
                           help="run the identified ball in the FE engine and compare (default)")
+    identify.add_argument("--max-nrmse", type=float, metavar="X",
+                          help="the FE check must reproduce the test's force pulse within a "
+                               "force NRMSE of X (fraction of the test's peak force, e.g. 0.05);"
+                               " a miss exits with code 3. Without it, an NRMSE above 0.1 is a "
+                               "warning")
     identify.add_argument("--refine", choices=("none", "surrogate"), default="none",
                           help="least squares on the forward surrogate after the inverse "
                                "estimate; default none: on held-out runs it made the closed loop worse, see docs/universal.md")
-    identify.add_argument("--table", type=Path, help="with several files: write the speed table")
+    identify.add_argument("--table", type=Path, metavar="FILE.csv",
+                          help="with several files (one per speed): write the speed table")
     identify.add_argument("--ball-out", type=Path, metavar="FILE.json",
                           help="write the identified ball for `simulate --ball`: with several "
-                               "files, a ball holding the speed table, interpolated at the "
-                               "impact speed as the cricket-universal preset")
+                               "files (one per speed), a ball holding the speed table, "
+                               "interpolated at the impact speed as the cricket-universal preset")
     add_record_options(identify)
     add_processing(identify)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.identify import identify
+    from ..plausibility import check_allow
+    from ..universal.identify import check_speed, identify
     from ..universal.model import load_model
 
-    check_plot_path(args.plot)
-    check_output_folder(args.table, "--table")
-    check_output_folder(args.ball_out, "--ball-out")
     started = time.perf_counter()
+    check_arguments(args)
+    allow = check_allow(args.allow)
     model = load_model(args.model)
+    records = [load(path, args) for path in args.files]
+    for path, record in zip(args.files, records):  # before any processing or FE run
+        if record.impact_speed_m_s is not None:
+            check_speed(model, record.impact_speed_m_s, allow, f"{path}: ")
+    check_speeds(args, [r.impact_speed_m_s for r in records])
+    processed = [process_record(record, args) for record in records]
     if args.verify:
         use_compilation_cache()
     options = model.solver_options()
     results = []
-    for path in args.files:
-        processed = process_record(load(path, args), args)
-        found = identify(processed, model, verify=args.verify, refine=args.refine,
-                         options=options)
-        results.append((path, processed, found))
+    for path, pr in zip(args.files, processed):
+        found = identify(pr, model, verify=args.verify, refine=args.refine, options=options,
+                         allow=allow, max_nrmse=args.max_nrmse)
+        results.append((path, pr, found))
         if not args.json:
             _print(path, found)
     out: dict[str, Any] = {**results[0][2].to_dict(), "file": str(results[0][0])} \
@@ -89,7 +108,73 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         plot_identification([(p.name, pr, f) for p, pr, f in results], args.plot)
         out["plot"] = str(args.plot)
     out["wall_time_s"] = time.perf_counter() - started
+    check_fe(args, results, out)
     return out
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """Flags and output paths, before anything is loaded or run."""
+    from ..universal.identify import check_max_nrmse
+
+    check_plot_path(args.plot)
+    if args.max_nrmse is not None:
+        check_max_nrmse(args.max_nrmse)
+        if not args.verify:
+            raise InputError("--max-nrmse: needs the FE check, which --no-verify turns off")
+    seen: dict[Path, Path] = {}
+    for path in args.files:
+        key = path.resolve()
+        if key in seen:
+            raise InputError(f"{path}: given twice (identify each test once)")
+        seen[key] = path
+    inputs = set(seen) | {p.with_suffix(".json") for p in seen}  # records and their side files
+    for path, flag, suffix in ((args.table, "--table", ".csv"),
+                               (args.ball_out, "--ball-out", ".json")):
+        if path is None:
+            continue
+        if path.suffix.lower() != suffix:
+            raise InputError(f"{flag}: {path} must be a {suffix} file")
+        check_output_folder(path, flag)
+        if path.is_dir():
+            raise InputError(f"{flag}: {path} is a folder; give a {suffix} file")
+        if path.resolve() in inputs:
+            raise InputError(f"{flag}: {path} is one of the test records or their side files; "
+                             "writing it would overwrite the test: choose another name")
+    if args.table is not None and len(args.files) < 2:
+        raise InputError("--table: needs several test files (one per speed), got one; the "
+                         "parameters of one test are in the output (--json) and its ball in "
+                         "--ball-out")
+
+
+def check_speeds(args: argparse.Namespace, speeds: list[float]) -> None:
+    """Several tests at one speed: a speed-table ball (--ball-out) cannot hold both (error); the
+    table keeps a row for each (a note)."""
+    first: dict[float, Path] = {}
+    for path, speed in zip(args.files, speeds):
+        if speed not in first:
+            first[speed] = path
+            continue
+        if args.ball_out is not None:
+            raise InputError(f"--ball-out: {first[speed]} and {path} are both at {speed:g} m/s; "
+                             "a speed-table ball needs one test per speed: identify them "
+                             "separately (one --ball-out each) or drop one")
+        warnings.warn(f"{first[speed]} and {path} are both at {speed:g} m/s: the table keeps a "
+                      "row for each", InputWarning, stacklevel=2)
+
+
+def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> None:
+    """With --max-nrmse: `CheckFailed` (exit 3) naming the tests whose FE check missed."""
+    from ..universal.identify import nrmse_words
+
+    if args.max_nrmse is None:
+        return
+    missed = [(path, found) for path, _, found in results
+              if found.verification is not None and not found.verification["passed"]]
+    if missed:
+        words = "; ".join(f"{path}: {nrmse_words(found.verification)}" for path, found in missed)
+        raise CheckFailed(f"--max-nrmse {args.max_nrmse:g}: the FE check missed for "
+                          f"{len(missed)} of {len(results)} tests: {words}; the identified ball "
+                          "does not reproduce the test (see --plot)", out)
 
 
 def speed_table_ball(found: list, model) -> dict[str, Any]:
@@ -111,10 +196,15 @@ def _print(path: Path, found) -> None:
     for name, value in found.params.items():
         low, high = found.interval_90[name]
         unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""
-        print(f"  {name:<8} {value:11.5g} {unit:<3} 90% interval {low:.4g} .. {high:.4g}")
+        note = (" ON THE TRAINING BOUND" if name in found.at_training_bound else
+                " (clipped to the training range)" if name in found.clipped_to_training_range
+                else "")
+        print(f"  {name:<8} {value:11.5g} {unit:<3} 90% interval {low:.4g} .. {high:.4g}{note}")
     v = found.verification
     if v:
-        print(f"  FE check: force NRMSE {v['force_nrmse']:.2%}; COR {v['cor_simulated']:.4f} vs "
+        verdict = "passed" if v["passed"] else "FAILED"
+        print(f"  FE check {verdict} (limit {v['force_nrmse_limit']:g}): force NRMSE "
+              f"{v['force_nrmse']:.2%}; COR {v['cor_simulated']:.4f} vs "
               f"{v['cor_measured']:.4f}; contact time {v['contact_time_simulated_s'] * 1e3:.4g} vs "
               f"{v['contact_time_measured_s'] * 1e3:.4g} ms; peak {v['peak_force_simulated_n']:.5g}"
               f" vs {v['peak_force_measured_n']:.5g} N")

@@ -4,12 +4,14 @@ universal model and its held-out figures."""
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from .common import assignments, check_output_folder, check_plot_path, use_compilation_cache
 
 
@@ -40,6 +42,9 @@ def add_parser(verbs) -> None:
     run.add_argument("--precision", choices=("float64", "float32"),
                      help="default float32: 1.33x faster than float64, features within 0.12%%")
     run.add_argument("--resume", action="store_true", help="continue the study stored in DIR")
+    run.add_argument("--extend", type=int, metavar="N",
+                     help="add N runs to the study stored in DIR (its Sobol sequence continued: "
+                          "the study then equals one run with the total)")
     run.add_argument("--workers", type=int, help="run on a local Dask cluster of N processes")
     run.add_argument("--scheduler", help="run on the Dask scheduler at ADDRESS")
     run.add_argument("--json", action="store_true", help="print one JSON object")
@@ -59,6 +64,10 @@ def add_parser(verbs) -> None:
     train.add_argument("--noise-augment", type=float, default=0.02,
                        help="the inverse also learns from a noisy copy of each run, noise up to "
                             "this fraction of the peak force (default 0.02; 0: off)")
+    train.add_argument("--force", action="store_true",
+                       help="write the model even if it fails its held-out check (R^2 of mu0, "
+                            "g1, contact time, peak force and COR >= 0.5 on the held-out runs); "
+                            "it is then marked failed in its JSON")
     train.add_argument("--json", action="store_true", help="print one JSON object")
 
     report = steps.add_parser("report", help="held-out figures of a model, with plots",
@@ -70,14 +79,14 @@ def add_parser(verbs) -> None:
     report.add_argument("--plot", type=Path, help="PNG: predicted vs true per parameter")
     report.add_argument("--closed-loop", type=Path, metavar="DIR",
                         help="the model's study folder: identify held-out runs and re-simulate")
-    report.add_argument("--runs", type=int, default=60, help="closed-loop runs (default 60)")
-    report.add_argument("--noise", type=float, default=0.0,
+    report.add_argument("--runs", type=int, help="closed-loop runs (default 60)")
+    report.add_argument("--noise", type=float,
                         help="closed loop: white noise as a fraction of the peak force, on the "
-                             "pulses sampled at 100 kHz (e.g. 0.01)")
-    report.add_argument("--filter", default="none",
+                             "pulses sampled at 100 kHz (e.g. 0.01; default 0)")
+    report.add_argument("--filter",
                         help="closed loop with --noise: filter of the noisy records (default none)")
-    report.add_argument("--refine", choices=("none", "surrogate"), default="none",
-                        help="refine on the forward surrogate, or not (default)")
+    report.add_argument("--refine", choices=("none", "surrogate"),
+                        help="closed loop: refine on the forward surrogate, or not (default)")
     report.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -85,25 +94,46 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     return {"run": _run, "train": _train, "report": _report}[args.step](args)
 
 
+def _at_least(value: int | None, flag: str, low: int, what: str) -> None:
+    if value is not None and value < low:
+        raise InputError(f"{flag} {value}: need an integer >= {low} ({what})")
+
+
 def _run(args: argparse.Namespace) -> dict[str, Any]:
     from ..progress import progress_bar
     from ..universal.study import make_config, run_study
 
+    for flag, value, low, what in (("--runs", args.runs, 1, "the number of runs"),
+                                   ("--seed", args.seed, 0, "the design's seed"),
+                                   ("--batch-size", args.batch_size, 1, "runs per batch"),
+                                   ("--extend", args.extend, 1, "the number of runs to add"),
+                                   ("--workers", args.workers, 1, "Dask processes")):
+        _at_least(value, flag, low, what)
+    if args.element_size_m is not None and not args.element_size_m > 0:
+        raise InputError(f"--element-size-m {args.element_size_m:g}: need a size in m > 0 "
+                         "(default 1.5e-3)")
+    if args.extend is not None and args.runs is not None:
+        raise InputError(f"--extend {args.extend} and --runs {args.runs}: give one (--runs sets "
+                         "a new study's size, --extend adds runs to the study in DIR)")
     use_compilation_cache()
     settings = dict(runs=args.runs, seed=args.seed, method=args.method,
                     batch_size=args.batch_size, element_size_m=args.element_size_m,
                     precision=args.precision)
     given = {k: v for k, v in settings.items() if v is not None}
     ranges = assignments(args.range, "--range", bounds=True)
+    stored = args.resume or args.extend is not None
     config = None
-    if not args.resume or given or ranges or args.template:
+    if not stored or given or ranges or args.template:
         config = make_config(template=args.template or "cricket-universal", ranges=ranges,
                              **settings)
-        if args.resume:  # compare only what was given on the command line
+        if stored:  # compare only what was given on the command line
             config = {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
                                              *(["template"] if args.template else []))}
-    summary = run_study(args.dir, config, resume=args.resume, workers=args.workers,
-                        scheduler=args.scheduler, progress=progress_bar)
+    # Ctrl-C from here on: the command line ends with exit 130 and this line (finished batches
+    # are on disk, each written atomically)
+    args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
+    summary = run_study(args.dir, config, resume=args.resume, extend=args.extend,
+                        workers=args.workers, scheduler=args.scheduler, progress=progress_bar)
     from ..universal.dataset import load_dataset
 
     columns, _ = load_dataset(args.dir)
@@ -123,17 +153,29 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _train(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.study import load_config
     from ..universal.training import train
 
     check_output_folder(args.out, "--out")
-    use_compilation_cache()
+    if args.out.is_dir():
+        raise InputError(f"--out {args.out}: a folder; give a model path (writes OUT.json and "
+                         "OUT.npz)")
     if not (0.0 <= args.noise_augment < 0.5):
-        raise InputError(f"--noise-augment = {args.noise_augment:g}: allowed range [0, 0.5)")
+        raise InputError(f"--noise-augment {args.noise_augment:g}: allowed range [0, 0.5) "
+                         "(a fraction of the peak force)")
+    for flag, value, low, what in (("--steps", args.steps, 100, "validation every 100 steps"),
+                                   ("--width", args.width, 1, "hidden units per layer"),
+                                   ("--members", args.members, 1, "ensemble members"),
+                                   ("--seed", args.seed, 0, "the split's seed")):
+        _at_least(value, flag, low, what)
+    load_config(args.dir)  # a missing or damaged study: said before JAX starts
+    use_compilation_cache()
     model, report = train(args.dir, seed=args.seed, steps=args.steps, width=args.width,
-                          members=args.members, noise_augment=args.noise_augment)
+                          members=args.members, noise_augment=args.noise_augment,
+                          force=args.force)
     npz, meta = model.save(args.out)
     out = {"model_json": str(meta), "model_npz": str(npz), "held_out": report,
-           "runs": model.metadata["runs"],
+           "held_out_check": model.metadata["held_out_check"], "runs": model.metadata["runs"],
            "wall_time_s": model.metadata["training"]["wall_time_s"]}
     if not args.json:
         print(f"model written to {meta} and {npz} "
@@ -142,24 +184,58 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def _check_filter(name: str) -> None:
+    from ..filters import FILTER_NAMES
+
+    if name.strip().lower() not in FILTER_NAMES and not re.fullmatch(r"cfc\d+(\.\d+)?",
+                                                                     name.strip().lower()):
+        raise InputError(f"--filter {name!r}: unknown; allowed: {', '.join(FILTER_NAMES)} or "
+                         "cfc<N>")
+
+
 def _report(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.model import load_model
 
     check_plot_path(args.plot)
-    if not (0.0 <= args.noise < 0.5):
-        raise InputError(f"--noise = {args.noise:g}: allowed range [0, 0.5)")
+    loop_only = [flag for flag, value in (("--runs", args.runs), ("--noise", args.noise),
+                                          ("--filter", args.filter), ("--refine", args.refine))
+                 if value is not None]
+    if args.closed_loop is None and loop_only:
+        raise InputError(f"{loop_only[0]}: applies to the closed loop only; add --closed-loop "
+                         "DIR (the model's study folder)")
+    noise = 0.0 if args.noise is None else args.noise
+    if not (0.0 <= noise < 0.5):
+        raise InputError(f"--noise {noise:g}: allowed range [0, 0.5) (white noise as a "
+                         "fraction of the peak force, e.g. 0.01)")
+    _at_least(args.runs, "--runs", 1, "closed-loop runs")
+    if args.filter is not None:
+        _check_filter(args.filter)
     started = time.perf_counter()
     model = load_model(args.model)
+    config = None
+    if args.closed_loop is not None:  # a wrong study is said before anything is printed
+        from ..universal.evaluate import check_study_matches
+        from ..universal.study import load_config
+
+        config = load_config(args.closed_loop, "--closed-loop")
+        check_study_matches(model, config, args.closed_loop)
+    check = model.metadata.get("held_out_check")
+    if check is not None and not check["passed"]:
+        warnings.warn(f"this model failed its held-out check ({check.get('worst')} R^2 "
+                      f"{check.get('r2', {}).get(check.get('worst'), float('nan')):.3g}, needs "
+                      f">= {check.get('min_r2', 0.5):g}) and was written with --force: its "
+                      "identifications are not to be trusted", InputWarning, stacklevel=2)
     out = {"model": args.model or "built-in", "held_out": model.metadata["held_out"],
-           "runs": model.metadata["runs"], "study": model.metadata["study"]}
+           "held_out_check": check, "runs": model.metadata["runs"],
+           "study": model.metadata["study"]}
     if not args.json:
         _print_report(model.metadata)
-    if args.closed_loop is not None:
+    if config is not None:
         from ..universal.evaluate import closed_loop
 
         use_compilation_cache()
-        loop = closed_loop(model, args.closed_loop, runs=args.runs, noise=args.noise,
-                           refine=args.refine, filter=args.filter)
+        loop = closed_loop(model, args.closed_loop, runs=args.runs or 60, noise=noise,
+                           refine=args.refine or "none", filter=args.filter or "none")
         out["closed_loop"] = loop
         if not args.json:
             s = loop["summary"]
@@ -191,6 +267,11 @@ def _print_report(metadata: dict) -> None:
         print(f"{name:<10}{err['median']:>12.2%}{err['p90']:>10.2%}"
               f"{entry['range_relative_error']['r2']:>8.3f}{entry['interval_90_coverage']:>11.1%}"
               f"{entry['interval_90_mean_width_of_range']:>13.2f}{kind}")
+    check = metadata.get("held_out_check")
+    if check is not None:
+        print(f"held-out check (R^2 >= {check.get('min_r2', 0.5):g} for "
+              f"{', '.join(check.get('r2', {}))}): "
+              + ("passed" if check["passed"] else "FAILED, written with --force"))
     change = report["identifiability"]["median_rms_change_standardised"]
     print("impact change for a 10% step of the range (standardised RMS): " +
           ", ".join(f"{k} {v:.3f}" for k, v in change.items()))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -33,33 +34,37 @@ def add_parser(verbs) -> None:
     video.add_argument("--gravity-m-s2", type=float, default=9.81,
                        help="gravity along the image's downward rows (default 9.81; 0: lines)")
     video.add_argument("--side-file", type=Path,
-                       help="write impact_speed_m_s and rebound_speed_m_s (and --mass-kg) as the "
-                            "JSON side file of a force record (features, fit, identify)")
+                       help="write the JSON side file of a force record (features, fit, "
+                            "identify): impact_speed_m_s and rebound_speed_m_s as the components "
+                            "normal to the surface, each phase's normal, tangential and total "
+                            "speed and angle, and --mass-kg (docs/video.md)")
     video.add_argument("--mass-kg", type=float, help="ball mass (kg), for the side file")
     video.add_argument("--plot", type=Path, help="write the tracked and fitted trajectory (PNG)")
     video.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..video import analyse
+    from ..video import analyse, side_file
 
     check_plot_path(args.plot)
-    if args.side_file is not None and not args.side_file.parent.is_dir():
-        raise InputError(f"--side-file: folder {args.side_file.parent} does not exist")
-    if args.mass_kg is not None and not args.mass_kg > 0:
-        raise InputError(f"--mass-kg = {args.mass_kg!r}: must be > 0")
+    if args.side_file is not None:
+        if not args.side_file.parent.is_dir():
+            raise InputError(f"--side-file: folder {args.side_file.parent} does not exist")
+        if args.side_file.suffix.lower() != ".json":
+            raise InputError(f"--side-file: {args.side_file} must end in .json (the force "
+                             "record's name with .json: test1.csv -> test1.json)")
+    if args.mass_kg is not None and not (math.isfinite(args.mass_kg) and args.mass_kg > 0):
+        raise InputError(f"--mass-kg = {args.mass_kg:g}: must be a finite number > 0 (kg)")
     if args.fps is not None and not args.fps > 0:
         raise InputError(f"--fps = {args.fps!r}: must be > 0")
-    print(f"tracking {args.file} ...", file=sys.stderr)
-    m, detections = analyse(args.file, args.fps, scale_m_per_px=args.scale_m_per_px,
-                            ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
-                            gravity_m_s2=args.gravity_m_s2)
+    options = dict(scale_m_per_px=args.scale_m_per_px, ball_diameter_m=args.ball_diameter_m,
+                   surface_row=args.surface_row, gravity_m_s2=args.gravity_m_s2)
+    # analyse checks the options before it reads or tracks anything
+    m, detections = analyse(args.file, args.fps, **options,
+                            log=lambda line: print(line, file=sys.stderr, flush=True))
     out = dict(m.summary)
     if args.side_file is not None:
-        side = {"impact_speed_m_s": out["impact_speed_m_s"],
-                "rebound_speed_m_s": out["rebound_speed_m_s"]}
-        if args.mass_kg is not None:
-            side["mass_kg"] = args.mass_kg
+        side = side_file(out, args.mass_kg, source=f"ballimpact video {args.file.name}")
         args.side_file.write_text(json.dumps(side, indent=2) + "\n")
         out["side_file"] = str(args.side_file)
     if args.plot is not None:
@@ -73,4 +78,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         print(f"rebound {out['rebound_speed_m_s']:.3f} +- {out['rebound_speed_se_m_s']:.3f} m/s at "
               f"{out['rebound_angle_deg']:.2f} +- {out['rebound_angle_se_deg']:.2f} deg "
               f"({out['frames_after']} frames); COR {out['cor']:.4f} +- {out['cor_se']:.4f}")
+        print(f"normal to the surface: impact {out['impact_speed_normal_m_s']:.3f} m/s, rebound "
+              f"{out['rebound_speed_normal_m_s']:.3f} m/s"
+              + (f" (the side file's speeds: {args.side_file})" if args.side_file else ""))
     return out

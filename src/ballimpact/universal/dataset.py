@@ -16,12 +16,15 @@ study resumes with no lost and no duplicated runs.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
+from ..features import FEATURE_NAMES
+from . import space
 
 #: normalised time grid of the stored force shapes (t / contact time)
 SHAPE_POINTS = 64
@@ -29,10 +32,20 @@ SHAPE_GRID = np.linspace(0.0, 1.0, SHAPE_POINTS)
 #: the stored pulses: 100 kHz from first contact, 6 ms
 PULSE_RATE_HZ = 100e3
 PULSE_SAMPLES = 600
+#: the dataset's columns, in order
+COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "warnings",
+           *FEATURE_NAMES, "cor", "peak_force_n", "contact_time_s", "energy_balance_error",
+           "steps", "wall_time_s")
+#: the columns training and the closed loop read (numeric ones must be numbers)
+NUMERIC_COLUMNS = (*space.PARAMETERS, "mu0_pa", *FEATURE_NAMES, "cor")
+#: a finished batch's files; temporary files (batch-00012.tmp.parquet) never match
+BATCH_FILE = re.compile(r"batch-(\d{5})\.parquet")
+#: each curve of a batch's NPZ: its length per run
+CURVES = {"force_shape": SHAPE_POINTS, "force_n_100khz": PULSE_SAMPLES}
 
 
 def batch_paths(folder: Path, batch: int) -> tuple[Path, Path]:
-    stem = folder / "runs" / f"batch-{batch:05d}"
+    stem = Path(folder) / "runs" / f"batch-{batch:05d}"
     return stem.with_suffix(".parquet"), stem.with_suffix(".npz")
 
 
@@ -40,7 +53,21 @@ def done_batches(folder: Path) -> set[int]:
     runs = Path(folder) / "runs"
     if not runs.is_dir():
         return set()
-    return {int(p.stem.split("-")[1]) for p in runs.glob("batch-*.parquet")}
+    return {int(m.group(1)) for p in runs.iterdir() if (m := BATCH_FILE.fullmatch(p.name))}
+
+
+def remove_temporaries(folder: Path) -> None:
+    """Delete what an interrupted write left (`*.tmp.*`): never a finished batch."""
+    runs = Path(folder) / "runs"
+    if runs.is_dir():
+        for p in runs.glob("batch-*.tmp.*"):
+            p.unlink(missing_ok=True)
+
+
+def remove_batch(folder: Path, batch: int) -> None:
+    """Undo a finished batch: its Parquet file first (it marks the batch done), then its NPZ."""
+    for p in batch_paths(Path(folder), batch):
+        p.unlink(missing_ok=True)
 
 
 def write_batch(folder: Path, batch: int, rows: list[dict[str, Any]],
@@ -59,33 +86,85 @@ def write_batch(folder: Path, batch: int, rows: list[dict[str, Any]],
     os.replace(tmp, parquet)
 
 
-def load_dataset(folder: Path) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """All finished batches of a study: (columns, curves), rows sorted by run_id.
-
-    `columns` maps each Parquet column to a NumPy array; `curves` holds `force_shape` and
-    `force_n_100khz` aligned with the rows, plus `shape_grid` and `pulse_time_s`."""
+def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, dict]:
+    """One finished batch, checked: the columns training reads, the run ids the study's
+    configuration gives this batch, and its curves (keys, shapes, no pickles)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
+    parquet, npz = batch_paths(folder, batch)
+    try:
+        table = pq.read_table(parquet)
+    except (OSError, ValueError, pa.ArrowException) as error:
+        raise InputError(f"{parquet}: not a readable Parquet file ({_first_line(error)}); "
+                         "delete it and resume the study to rerun that batch") from None
+    missing = [c for c in ("run_id", "status", *NUMERIC_COLUMNS) if c not in table.column_names]
+    if missing:
+        raise InputError(f"{parquet}: column {missing[0]} missing ({len(missing)} missing in "
+                         "all); not a batch of a universal study")
+    columns = {name: table.column(name).to_numpy(zero_copy_only=False)
+               for name in table.column_names}
+    for name in ("run_id", *NUMERIC_COLUMNS):
+        if columns[name].dtype.kind not in "iuf":
+            raise InputError(f"{parquet}: column {name} holds {columns[name].dtype} values, "
+                             "expected numbers")
+    if list(columns["run_id"]) != list(expected_ids):
+        raise InputError(f"{parquet}: run ids {_span(columns['run_id'])}, expected "
+                         f"{_span(expected_ids)} for batch {batch} of this study's design")
+    ok = columns["status"] == "ok"
+    bad = ~np.all(np.isfinite(np.column_stack([columns[c][ok].astype(float)
+                                               for c in NUMERIC_COLUMNS])), axis=1)
+    if bad.any():
+        raise InputError(f"{parquet}: run {int(columns['run_id'][ok][bad][0])} is marked ok "
+                         "but holds non-finite inputs or features")
+    try:
+        with np.load(npz, allow_pickle=False) as data:
+            curves = {key: data[key] for key in ("run_id", *CURVES)}
+    except (OSError, ValueError, EOFError, KeyError) as error:
+        raise InputError(f"{npz}: not this batch's curves ({_first_line(error)}); delete "
+                         f"{parquet.name} and resume the study to rerun that batch") from None
+    if list(curves["run_id"]) != list(expected_ids):
+        raise InputError(f"{npz}: run ids {_span(curves['run_id'])}, expected "
+                         f"{_span(expected_ids)} (as in {parquet.name})")
+    for key, points in CURVES.items():
+        if curves[key].shape != (len(expected_ids), points) or curves[key].dtype.kind != "f":
+            raise InputError(f"{npz}: {key} has shape {curves[key].shape} ({curves[key].dtype}), "
+                             f"expected ({len(expected_ids)}, {points}) floats")
+    return columns, curves
+
+
+def _span(ids) -> str:
+    ids = list(ids)
+    return f"{ids[0]}..{ids[-1]}" if ids else "none"
+
+
+def _first_line(error: Exception) -> str:
+    text = str(error).strip().splitlines()
+    return text[0] if text else type(error).__name__
+
+
+def load_dataset(folder: Path, config: dict[str, Any] | None = None
+                 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """All finished batches of a study: (columns, curves), rows sorted by run_id.
+
+    `columns` maps each Parquet column to a NumPy array; `curves` holds `force_shape` and
+    `force_n_100khz` aligned with the rows, plus `shape_grid` and `pulse_time_s`. `config`: the
+    study's configuration (read from `folder` if not given). Every batch is checked against it
+    (`InputError` naming the damaged file)."""
+    from .study import batch_ids, load_config
+
     folder = Path(folder)
+    if config is None:
+        config = load_config(folder)
     batches = sorted(done_batches(folder))
     if not batches:
         raise InputError(f"{folder}: no finished runs (expected runs/batch-*.parquet; "
                          "run `ballimpact universal run` first)")
-    tables = [pq.read_table(batch_paths(folder, b)[0]) for b in batches]
-    names = tables[0].column_names  # one column order, whatever order a batch was written in
-    table = pa.concat_tables([t.select(names) for t in tables])
-    columns = {name: table.column(name).to_numpy(zero_copy_only=False)
-               for name in table.column_names}
-    parts = [np.load(batch_paths(folder, b)[1], allow_pickle=False) for b in batches]
-    curves = {key: np.concatenate([p[key] for p in parts]) for key in
-              ("run_id", "force_shape", "force_n_100khz")}
-    order = np.argsort(columns["run_id"], kind="stable")
-    columns = {k: v[order] for k, v in columns.items()}
-    curves_order = np.argsort(curves["run_id"], kind="stable")
-    curves = {k: v[curves_order] for k, v in curves.items()}
-    if not np.array_equal(curves["run_id"], columns["run_id"]):
-        raise InputError(f"{folder}: the Parquet rows and NPZ curves disagree on run ids")
+    parts = [_read_batch(folder, b, batch_ids(config, b)) for b in batches]
+    names = [n for n in COLUMNS if all(n in p[0] for p in parts)]  # one column order
+    columns = {n: np.concatenate([p[0][n] for p in parts]) for n in names}
+    curves = {key: np.concatenate([p[1][key] for p in parts]) for key in ("run_id", *CURVES)}
+    # batches are read in order and hold consecutive run ids: rows are sorted by run id
     curves["shape_grid"] = SHAPE_GRID
     curves["pulse_time_s"] = np.arange(PULSE_SAMPLES) / PULSE_RATE_HZ
     return columns, curves

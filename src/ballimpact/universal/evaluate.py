@@ -3,15 +3,28 @@ identifiable from one impact, and the closed loop through the FE engine (clean a
 
 from __future__ import annotations
 
+import math
 import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..errors import InputError
 from . import space
 from .model import COR_COLUMN, FEATURES, TARGETS, UniversalModel, target_ranges
 
 PERCENTILE = 90
+#: the held-out check a trained model must pass to be written (`held_out_check`): R^2 on the
+#: held-out runs of what one impact determines: mu0 = 2 (C10 + C01) and g1 from the inverse,
+#: contact time (P1), peak force (P6) and COR (P17) from the forward surrogate. C10, C01 and
+#: tau1 are reported, not checked: one impact leaves them loose (docs/universal.md,
+#: "Identifiability"; the built-in model's C01 has R^2 0.47). 0.5: half the variance explained,
+#: far below any useful model (built-in: mu0 0.988, g1 0.927, forward > 0.99) and far above a
+#: model that learned nothing (R^2 <= 0: no better than the training mean).
+MIN_HELD_OUT_R2 = 0.5
+CHECKED_INVERSE = ("mu0_pa", "g1")
+CHECKED_FORWARD = ("P1", "P6", "P17")
 
 
 def _r2(true: np.ndarray, pred: np.ndarray) -> float:
@@ -57,6 +70,33 @@ def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndar
     return report, held
 
 
+def held_out_check(report: dict[str, Any]) -> dict[str, Any]:
+    """Does the model pass its own held-out check? {"passed", "min_r2", "r2": {output: R^2},
+    "worst"} from a `held_out_report` (see `MIN_HELD_OUT_R2`). NaN counts as failed."""
+    r2 = {name: report["inverse"][name]["range_relative_error"]["r2"] for name in CHECKED_INVERSE}
+    r2.update({name: report["forward"][name]["r2"] for name in CHECKED_FORWARD})
+    r2 = {k: float(v) for k, v in r2.items()}
+    worst = min(r2, key=lambda k: r2[k] if math.isfinite(r2[k]) else -math.inf)
+    passed = all(math.isfinite(v) and v >= MIN_HELD_OUT_R2 for v in r2.values())
+    return {"passed": passed, "min_r2": MIN_HELD_OUT_R2, "r2": r2, "worst": worst}
+
+
+def check_study_matches(model: UniversalModel, config: dict[str, Any], folder: Path) -> None:
+    """The study in `folder` must be the one the model was trained on (or that study extended):
+    the same ranges, template, design and mesh; `InputError` naming what differs."""
+    meta = model.metadata
+    differ = [k for k in ("ranges", "template") if config[k] != meta[k]]
+    differ += [k for k in ("seed", "method", "element_size_m", "precision", "integration")
+               if config[k] != meta["study"][k]]
+    if config["runs"] < meta["study"]["runs"] or (
+            config["method"] != "sobol" and config["runs"] != meta["study"]["runs"]):
+        differ.append("runs")
+    if differ:
+        raise InputError(f"--closed-loop: {folder} is not the study this model was trained on "
+                         f"(it differs in {', '.join(differ)}; the model's study folder was "
+                         f"{meta.get('study_folder', '?')!r}): give that study's folder")
+
+
 def identifiability(model: UniversalModel, params: np.ndarray, step: float = 0.1) -> dict:
     """How much the impact changes (forward surrogate, standardised features and shape, RMS)
     for a step of `step` of each parameter's range, and for C10 up with C01 down at constant
@@ -99,11 +139,20 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     from .compare import compare, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
-    from .measurement import noisy_features
+    from .study import load_config
+    from .training import synthetic_features
 
-    columns, curves = load_dataset(folder)
-    index = {rid: i for i, rid in enumerate(columns["run_id"])}
+    folder = Path(folder)
+    config = load_config(folder, "--closed-loop")
+    check_study_matches(model, config, folder)
+    columns, curves = load_dataset(folder, config)
+    index = {int(rid): i for i, rid in enumerate(columns["run_id"]) if columns["status"][i] == "ok"}
     ids = [int(r) for r in model.held_out["run_id"][:runs]]
+    missing = [rid for rid in ids if rid not in index]
+    if missing:
+        raise InputError(f"--closed-loop: {folder} lacks {len(missing)} of the model's held-out "
+                         f"runs (run {missing[0]} not finished or failed): resume the study, or "
+                         "give the folder the model was trained on")
     rng = np.random.default_rng(seed)
     template = model.metadata["template"]
     t = curves["pulse_time_s"]
@@ -113,7 +162,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         pulse = curves["force_n_100khz"][i]
         speed = float(columns["impact_speed_m_s"][i])
         clean = {k: float(columns[k][i]) for k in FEATURES}
-        values = clean if noise == 0 else noisy_features(
+        values = clean if noise == 0 else synthetic_features(
             pulse, speed, float(columns["cor"][i]), template["mass_kg"], noise, rng, filter)
         params, interval = estimate(model, values, refine)
         true = {k: float(columns[k][i]) for k in TARGETS}
@@ -136,6 +185,11 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         rows.append({"run_id": rid, **compare(clean, extract_features(result.record()).values,
                                               nrmse)})
     ok = [r for r in rows if "failed" not in r]
+    if not ok:
+        from ..errors import SimulationError
+
+        raise SimulationError(f"every closed-loop run failed (run {rows[0]['run_id']}: "
+                              f"{rows[0]['failed']})")
     summary = {"runs": len(rows), "failed": len(rows) - len(ok), "noise_of_peak": noise,
                "refine": refine, "filter": filter if noise > 0 else "none",
                "interval_90_coverage": dict(zip(TARGETS, np.mean(covered, axis=0).tolist()))}

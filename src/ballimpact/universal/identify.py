@@ -1,21 +1,37 @@
 """Identify a universal ball from one measured impact: features -> parameters with intervals
-(inverse ensemble) -> optional refinement on the forward surrogate -> an FE run to verify."""
+(inverse ensemble) -> optional refinement on the forward surrogate -> an FE run to verify.
+
+What is reported is what is written: `mu0_pa` is the initial shear modulus of the written ball's
+constants (2 (C10 + C01), in the template's moduli convention), and an estimate or an interval
+that the model's training range cut short says so (a warning naming the parameter, and the
+`at_training_bound` and `clipped_to_training_range` lists)."""
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from ..plausibility import check_allow, flag
 from . import space
 from .compare import compare, features_pulse, pulse_nrmse
-from .model import FEATURES, TARGETS, UniversalModel
+from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 
 REFINE = ("none", "surrogate")
+#: FE check: a force NRMSE above this (fraction of the test's peak force) is reported as a failed
+#: check (a warning) unless the caller sets its own limit. The built-in model's closed loop on
+#: held-out runs gives 2.0% (clean) and 2.6% (1% noise) at the 90th percentile
+#: (docs/universal.md), so 10% is a ball that does not reproduce the test.
+NRMSE_LIMIT = 0.10
+#: an estimate or an interval end within this fraction of the range (on the parameter's own axis,
+#: log for tau1) of a training bound sits on it (the ensemble's outputs are clipped to the range)
+ON_BOUND = 1e-6
 
 
 @dataclass
@@ -28,39 +44,79 @@ class Identification:
     verification: dict[str, Any] | None = None
     simulated: Any = field(default=None, repr=False)   # FEResult of the verification
     wall_time_s: float = 0.0
+    training_range: dict[str, list[float]] = field(default_factory=dict)
+    at_training_bound: list[str] = field(default_factory=list)          # estimates on a bound
+    clipped_to_training_range: list[str] = field(default_factory=list)  # intervals cut by one
 
     def to_dict(self) -> dict[str, Any]:
         return {"params": self.params, "params_interval_90": self.interval_90,
+                "training_range": self.training_range,
+                "at_training_bound": self.at_training_bound,
+                "clipped_to_training_range": self.clipped_to_training_range,
                 "ball": self.ball, "impact_speed_m_s": self.impact_speed_m_s,
                 "refine": self.refine, "verification": self.verification,
                 "wall_time_s": self.wall_time_s}
 
 
-def check_range(model: UniversalModel, values: dict[str, float]) -> None:
-    """Warn for each feature outside the range the model was trained on."""
+def check_speed(model: UniversalModel, speed_m_s: float, allow: Collection[str] = (),
+                where: str = "") -> None:
+    """The `speed-range` check against the model's training speeds: outside them the inverse
+    ensemble extrapolates in its most influential input, so this is an error unless allowed."""
+    low, high = model.ranges["impact_speed_m_s"]
+    if not low <= speed_m_s <= high:
+        flag("speed-range", f"{where}impact speed {speed_m_s:g} m/s is outside the universal "
+             f"model's training speeds {low:g}..{high:g} m/s: its identification would "
+             "extrapolate; use a model trained over this speed (universal run --range "
+             "impact_speed_m_s=LOW:HIGH)", check_allow(allow))
+
+
+def check_range(model: UniversalModel, values: dict[str, float], where: str = "") -> None:
+    """Warn for each feature outside the range the model was trained on (the speed, P15, has its
+    own check: `check_speed`)."""
+    from ..features import FEATURE_NAMES
+
     ranges = model.metadata["feature_range"]
     for key in FEATURES:
         low, high = ranges[key]
         v = values[key]
-        if not (low <= v <= high):
-            from ..features import FEATURE_NAMES
-
-            warnings.warn(f"{key} ({FEATURE_NAMES[key]}) = {v:.5g} is outside the model's "
+        if key != "P15" and not (low <= v <= high):
+            warnings.warn(f"{where}{key} ({FEATURE_NAMES[key]}) = {v:.5g} is outside the model's "
                           f"training range {low:.5g}..{high:.5g}: the identification "
                           "extrapolates", InputWarning, stacklevel=2)
 
 
 def estimate(model: UniversalModel, values: dict[str, float], refine: str = "none"):
-    """Parameters (SI dict incl. mu0_pa) and 90% intervals from feature values (P1..P19)."""
+    """Parameters (SI dict incl. mu0_pa) and 90% intervals from feature values (P1..P19).
+
+    `mu0_pa` is 2 (C10 + C01) of the returned C10 and C01 (the ball's own shear modulus), not
+    the ensemble's separate mu0 output; its interval is that output's calibrated interval,
+    widened where needed to hold it (`_holding`). Every interval holds its estimate."""
     if refine not in REFINE:
         raise InputError(f"refine = {refine!r}: allowed {', '.join(REFINE)}")
     x = np.array([[values[k] for k in FEATURES]])
     est = model.estimate(x)
     params = dict(zip(TARGETS, est["values"][0].tolist()))
-    interval = {k: [float(lo), float(hi)] for k, lo, hi in zip(TARGETS, est["low"][0], est["high"][0])}
+    interval = {k: [float(lo), float(hi)]
+                for k, lo, hi in zip(TARGETS, est["low"][0], est["high"][0])}
     if refine == "surrogate":
         params = refine_on_surrogate(model, values, params)
+    params["mu0_pa"] = 2.0 * (params["c10_pa"] + params["c01_pa"])
+    # the ensemble's mu0 and that of its C10 + C01 differ (held out: median 0.18%, at most 2.9%;
+    # more outside the training range): the interval covers both rather than hide the difference
+    shift = {k: 0.0 for k in TARGETS}
+    shift["mu0_pa"] = params["mu0_pa"] - float(est["values"][0][-1])
+    ranges = target_ranges(model.ranges)
+    interval = {k: _holding(interval[k], params[k], shift[k], ranges[k]) for k in TARGETS}
     return params, interval
+
+
+def _holding(interval: list[float], value: float, shift: float,
+             bounds: tuple[float, float]) -> list[float]:
+    """The smallest interval holding `interval`, that interval moved by `shift` and `value`,
+    within the training range `bounds` (as the ensemble's own intervals are)."""
+    low = min(interval[0], interval[0] + shift, value)
+    high = max(interval[1], interval[1] + shift, value)
+    return [float(max(low, bounds[0])), float(min(high, bounds[1]))]
 
 
 def refine_on_surrogate(model: UniversalModel, values: dict[str, float],
@@ -90,37 +146,147 @@ def refine_on_surrogate(model: UniversalModel, values: dict[str, float],
     return p
 
 
+def training_bounds(model: UniversalModel, params: dict[str, float],
+                    interval: dict[str, list[float]]) -> tuple[dict, list[str], list[str]]:
+    """The training range of each target, the targets whose estimate sits on a bound, and those
+    whose 90% interval reaches one (clipped: the data may allow values beyond it)."""
+    ranges = target_ranges(model.ranges)
+
+    def unit(values):  # position in the range on the parameter's own axis (tau1: log)
+        return space.to_unit(np.array([[values[k] for k in TARGETS]]), ranges, TARGETS)[0]
+
+    u = unit(params)
+    lows = unit({k: interval[k][0] for k in TARGETS})
+    highs = unit({k: interval[k][1] for k in TARGETS})
+    on = [k for k, x in zip(TARGETS, u) if x <= ON_BOUND or x >= 1 - ON_BOUND]
+    clipped = [k for k, lo, hi in zip(TARGETS, lows, highs)
+               if lo <= ON_BOUND or hi >= 1 - ON_BOUND]
+    return {k: [float(v) for v in ranges[k]] for k in TARGETS}, on, clipped
+
+
+def _bound_words(name: str, value: float, ranges: dict[str, list[float]]) -> str:
+    low, high = ranges[name]
+    side, bound = ("lower", low) if abs(value - low) <= abs(value - high) else ("upper", high)
+    unit = "" if TARGET_UNITS[name] == "1" else f" {TARGET_UNITS[name]}"
+    return f"{name} at its {side} bound {bound:g}{unit}"
+
+
+def warn_bounds(found: Identification, where: str = "") -> None:
+    """One warning for estimates on a training bound, one for intervals clipped by one."""
+    ranges = found.training_range
+    if found.at_training_bound:
+        words = ", ".join(_bound_words(k, found.params[k], ranges) for k in found.at_training_bound)
+        warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
+                      f"{words}; the test lies outside what the model was trained on, the "
+                      "identified ball is the nearest one inside the range, not an estimate of "
+                      "this ball (see the FE check)", InputWarning, stacklevel=3)
+    clipped = [k for k in found.clipped_to_training_range if k not in found.at_training_bound]
+    if clipped:
+        words = ", ".join(_bound_words(k, _clipped_end(found, k), ranges) for k in clipped)
+        warnings.warn(f"{where}90% interval clipped to the universal model's training range: "
+                      f"{words}; values beyond that bound are excluded by the model's range, "
+                      "not by the test", InputWarning, stacklevel=3)
+
+
+def _clipped_end(found: Identification, name: str) -> float:
+    """The end of `name`'s interval that sits on a bound (the lower one if both do)."""
+    low, high = found.training_range[name]
+    lo, hi = found.interval_90[name]
+    return lo if abs(lo - low) <= abs(hi - high) else hi
+
+
 def identify(processed, model: UniversalModel, *, verify: bool = True,
-             refine: str = "none", options=None) -> Identification:
-    """Identify the universal ball from a processed test (`pipeline.process`)."""
+             refine: str = "none", options=None, allow: Collection[str] = (),
+             max_nrmse: float | None = None) -> Identification:
+    """Identify the universal ball from a processed test (`pipeline.process`).
+
+    The impact speed must lie within the model's training speeds (`check_speed`; `allow`
+    holding "speed-range" makes that a warning, and lets the FE check run outside the FE range
+    too). Estimates on a training bound and intervals clipped by one give warnings. The FE check
+    (`verify`) passes when its force NRMSE is at most `max_nrmse` (fraction of the test's peak
+    force; default `NRMSE_LIMIT`); a miss is a warning, unless the caller gave `max_nrmse`,
+    which then handles it (`verification["passed"]`)."""
     from ..fe import load_ball
 
     started = time.perf_counter()
+    allow = check_allow(allow)
+    if max_nrmse is not None:
+        check_max_nrmse(max_nrmse)
     values = processed.features.values
-    check_range(model, values)
+    source = processed.raw.metadata.get("file") if hasattr(processed, "raw") else None
+    where = f"{source}: " if source else ""
+    check_speed(model, float(values["P15"]), allow, where)
+    check_range(model, values, where)
+    warn_failed_model(model)
     template = model.metadata["template"]
     mass = processed.features.mass_kg
     if mass and abs(mass / template["mass_kg"] - 1) > 0.02:
-        warnings.warn(f"mass_kg = {mass:g} differs from the model's ball ({template['mass_kg']:g} "
+        warnings.warn(f"{where}mass_kg = {mass:g} differs from the model's ball ({template['mass_kg']:g} "
                       "kg) by more than 2%: the identified ball keeps the model's mass",
                       InputWarning, stacklevel=2)
     params, interval = estimate(model, values, refine)
     spec = space.universal_ball_spec(params, template, "identified-universal")
-    load_ball(spec)  # checked as `simulate --ball` will check it
+    ball = load_ball(spec)  # checked as `simulate --ball` will check it
+    # the reported shear modulus is the written ball's (2 (C10 + C01) of its constants as given)
+    params["mu0_pa"] = float(ball.layers[0].material.given_moduli_pa()[0])
     result = Identification(params, interval, spec, float(values["P15"]), refine)
+    result.training_range, result.at_training_bound, result.clipped_to_training_range = \
+        training_bounds(model, params, interval)
+    warn_bounds(result, where)
     if verify:
-        result.simulated, result.verification = verify_run(spec, processed.features, options)
+        result.simulated, result.verification = verify_run(spec, processed.features, options,
+                                                           allow)
+        limit = NRMSE_LIMIT if max_nrmse is None else max_nrmse
+        check = result.verification
+        check["force_nrmse_limit"] = limit
+        check["passed"] = bool(check["force_nrmse"] <= limit)  # NaN fails
+        if max_nrmse is None and not check["passed"]:
+            warnings.warn(f"{where}FE check failed: {nrmse_words(check)}: the identified ball does "
+                          "not reproduce this test (see --plot; --max-nrmse sets the level and "
+                          "makes a miss exit 3)", InputWarning, stacklevel=2)
     result.wall_time_s = time.perf_counter() - started
     return result
 
 
-def verify_run(spec: dict, measured_features, options=None):
+def warn_failed_model(model: UniversalModel) -> None:
+    """A model written with `universal train --force` after failing its held-out check is used
+    only with a loud warning (models older than the check carry no record of it)."""
+    check = model.metadata.get("held_out_check")
+    if isinstance(check, dict) and check.get("passed") is False:
+        worst = check.get("worst")
+        r2 = (check.get("r2") or {}).get(worst)
+        figure = f" ({worst}: held-out R^2 {r2:.3g})" if isinstance(r2, (int, float)) else ""
+        warnings.warn(f"the universal model failed its own held-out check{figure} and was "
+                      "written with --force: its estimates are not to be trusted",
+                      InputWarning, stacklevel=3)
+
+
+def nrmse_words(check: dict[str, Any]) -> str:
+    """The miss in words: force NRMSE 0.29 (29% of the test's peak force) is above 0.1."""
+    nrmse, limit = check["force_nrmse"], check["force_nrmse_limit"]
+    if not math.isfinite(nrmse):
+        return f"force NRMSE is {nrmse:g}, not a number at most {limit:g}"
+    return f"force NRMSE {nrmse:.3g} ({nrmse:.1%} of the test's peak force) is above {limit:g}"
+
+
+def check_max_nrmse(value: float) -> float:
+    """A force NRMSE limit: a fraction in (0, 1]."""
+    value = float(value)
+    if not (math.isfinite(value) and 0 < value <= 1):
+        hint = f"; {value:g} looks like a percentage: use {value / 100:g}" \
+            if 1 < value <= 100 else ""
+        raise InputError(f"max_nrmse (--max-nrmse) = {value:g}: expected a fraction of the "
+                         f"test's peak force in (0, 1], e.g. 0.05 for 5%{hint}")
+    return value
+
+
+def verify_run(spec: dict, measured_features, options=None, allow: Collection[str] = ()):
     """One FE run of the identified ball at the test's speed, compared with the test."""
     from ..features import extract_features
     from ..fe import SolverOptions, load_ball, simulate
 
     speed = measured_features.values["P15"]
-    fe = simulate(load_ball(spec), speed, options or SolverOptions())
+    fe = simulate(load_ball(spec), speed, options or SolverOptions(), allow=allow)
     simulated = extract_features(fe.record())
     nrmse = pulse_nrmse(*features_pulse(measured_features), *features_pulse(simulated))
     return fe, compare(measured_features.values, simulated.values, nrmse)

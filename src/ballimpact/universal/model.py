@@ -9,6 +9,9 @@ feature list, architecture, versions, training and held-out figures). No pickle 
 from __future__ import annotations
 
 import json
+import os
+import zipfile
+import zlib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -19,7 +22,16 @@ import numpy as np
 from ..errors import InputError
 from ..features import FEATURE_NAMES
 from . import space
-from .networks import Architecture, from_leaves, gaussian_interval_scale, leaves, predict
+from .dataset import SHAPE_POINTS
+from .networks import (
+    Architecture,
+    from_leaves,
+    gaussian_interval_scale,
+    leaf_shapes,
+    leaves,
+    predict,
+)
+from .study import CONFIG_SCHEMA
 
 FORMAT = "ballimpact-universal-model/1"
 FEATURES = tuple(FEATURE_NAMES)  # P1..P19
@@ -122,8 +134,9 @@ class UniversalModel:
 
     # -- files -----------------------------------------------------------------------------------
     def save(self, path: Path) -> tuple[Path, Path]:
-        path = Path(path)
-        npz, meta = path.with_suffix(".npz"), path.with_suffix(".json")
+        """MODEL.npz and MODEL.json, each written under a temporary name and renamed (an
+        interrupted save leaves the previous files or none, never half a file)."""
+        npz, meta = file_pair(path)
         arrays = {**self.feature_scaler.arrays("feature"), **self.target_scaler.arrays("target"),
                   **self.shape_scaler.arrays("shape"), "interval_scale": self.interval_scale}
         for name, ensemble in (("inverse", self.inverse), ("forward", self.forward)):
@@ -131,41 +144,196 @@ class UniversalModel:
                 arrays[f"{name}_{i:03d}"] = leaf.astype(np.float32)
         for key, value in self.held_out.items():
             arrays[f"held_out_{key}"] = value
-        np.savez_compressed(npz, **arrays)
-        meta.write_text(json.dumps(self.metadata, indent=2))
+        tmp = npz.with_name(npz.stem + ".tmp.npz")
+        np.savez_compressed(tmp, **arrays)
+        os.replace(tmp, npz)
+        tmp = meta.with_name(meta.stem + ".tmp.json")
+        tmp.write_text(json.dumps(self.metadata, indent=2))
+        os.replace(tmp, meta)
         return npz, meta
 
 
-def load_model(name_or_path: str | Path | None = None) -> UniversalModel:
-    """The built-in model (None or "cricket-universal-model"), or MODEL(.json|.npz) files."""
+# -- validation of model files: everything is checked before anything is built from it ----------
+
+def _count(low: int, high: int):
+    return (lambda v: isinstance(v, int) and not isinstance(v, bool) and low <= v <= high,
+            f"an integer {low}-{high}")
+
+
+def _equal(expected):
+    return (lambda v: v == expected, json.dumps(expected) if not isinstance(expected, list)
+            else f"{expected[0]}..{expected[-1]} in order")
+
+
+_NUMBER = (lambda v: space.is_number(v, finite=False), "a number")
+_FIGURES = {"median": _NUMBER, "p90": _NUMBER, "r2": _NUMBER}
+
+
+def _architecture(n_in: int, n_out: int) -> dict[str, Any]:
+    return {"n_in": _equal(n_in), "n_out": _equal(n_out), "width": _count(1, 4096),
+            "depth": _count(1, 16), "members": _count(1, 64)}
+
+
+#: what MODEL.json must hold (keys outside it are free: versions, training figures, ...)
+METADATA_SCHEMA: dict[str, Any] = {
+    "ranges": CONFIG_SCHEMA["ranges"], "template": CONFIG_SCHEMA["template"],
+    "study": {k: CONFIG_SCHEMA[k] for k in ("runs", "seed", "method", "element_size_m",
+                                            "precision", "integration")},
+    "features": _equal(list(FEATURES)), "targets": _equal(list(TARGETS)),
+    "shape_grid_points": _equal(SHAPE_POINTS),
+    "feature_range": {k: (space.is_pair, "[low, high] with low <= high") for k in FEATURES},
+    "architecture": {"inverse": _architecture(len(FEATURES), len(TARGETS)),
+                     "forward": _architecture(len(space.PARAMETERS), len(FEATURES) + SHAPE_POINTS)},
+    "runs": (lambda v: isinstance(v, dict), "an object of run counts"),
+    "held_out": {
+        "runs": _count(1, 10**9),
+        "inverse": {t: {"range_relative_error": _FIGURES, "interval_90_coverage": _NUMBER,
+                        "interval_90_mean_width_of_range": _NUMBER,
+                        "relative_error": (lambda v: v is None or (
+                            isinstance(v, dict) and all(space.is_number(v.get(k), False)
+                                                        for k in _FIGURES)),
+                            "null or {median, p90, r2}")} for t in TARGETS},
+        "forward": {k: {"median": _NUMBER} for k in ("force_shape_rms_of_peak",
+                                                     "cor_absolute_error", "P1", "P6")},
+        "identifiability": {"median_rms_change_standardised": (
+            lambda v: isinstance(v, dict) and all(space.is_number(x, False) for x in v.values()),
+            "an object of numbers")}},
+}
+
+
+def check_metadata(metadata: Any, where: str) -> dict[str, Any]:
+    """MODEL.json's content checked against `FORMAT` and `METADATA_SCHEMA`."""
+    if not isinstance(metadata, dict):
+        raise InputError(f"{where}: not a universal model's metadata (a JSON "
+                         f"{type(metadata).__name__}, expected an object)")
+    if metadata.get("format") != FORMAT:
+        raise InputError(f"{where}: format {metadata.get('format')!r}, expected {FORMAT}")
+    space.check_fields(metadata, METADATA_SCHEMA, where)
+    check = metadata.get("held_out_check")
+    if check is not None and not (isinstance(check, dict)
+                                  and isinstance(check.get("passed"), bool)):
+        raise InputError(f"{where}: 'held_out_check' = {json.dumps(check)[:40]}: expected an "
+                         "object with passed: true or false")
+    return metadata
+
+
+def expected_arrays(metadata: dict[str, Any]) -> dict[str, tuple[tuple[int, ...], str]]:
+    """Every array of MODEL.npz: name -> (shape, dtype kinds), from the checked metadata."""
+    n_t, n_held = len(TARGETS), metadata["held_out"]["runs"]
+    out: dict[str, tuple[tuple[int, ...], str]] = {}
+    for prefix, n in (("feature", len(FEATURES)), ("target", n_t), ("shape", SHAPE_POINTS)):
+        out.update({f"{prefix}_log": ((n,), "b"), f"{prefix}_mean": ((n,), "f"),
+                    f"{prefix}_std": ((n,), "f")})
+    out["interval_scale"] = ((n_t,), "f")
+    for name in ("inverse", "forward"):
+        for i, shape in enumerate(leaf_shapes(Architecture(**metadata["architecture"][name]))):
+            out[f"{name}_{i:03d}"] = (shape, "f")
+    out["held_out_run_id"] = ((n_held,), "iu")
+    out.update({f"held_out_{k}": ((n_held, n_t), "f")
+                for k in ("truth", "estimate", "low", "high")})
+    return out
+
+
+def check_arrays(arrays: dict[str, np.ndarray], expected: dict, where: str) -> None:
+    """Keys, shapes, dtypes and finite values of MODEL.npz's arrays (`expected_arrays`)."""
+    missing = [k for k in expected if k not in arrays]
+    if missing:
+        raise InputError(f"{where}: not a universal model's weights: array {missing[0]} missing"
+                         f" ({len(missing)} missing in all)")
+    extra = sorted(set(arrays) - set(expected))
+    if extra:
+        raise InputError(f"{where}: not a universal model's weights: unexpected array {extra[0]}")
+    for key, (shape, kinds) in expected.items():
+        a = arrays[key]
+        if a.shape != shape or a.dtype.kind not in kinds:
+            kind = {"b": "booleans", "f": "floats", "iu": "integers"}[kinds]
+            raise InputError(f"{where}: array {key} is {a.dtype} {a.shape}, expected {kind} "
+                             f"{shape} (as the metadata's architecture and held-out runs give)")
+        if kinds == "f" and not np.all(np.isfinite(a)):
+            raise InputError(f"{where}: array {key} holds {int(np.sum(~np.isfinite(a)))} "
+                             "non-finite values (NaN or inf): damaged weights")
+    for key in ("feature_std", "target_std", "shape_std"):
+        if np.any(arrays[key] <= 0):
+            raise InputError(f"{where}: array {key} holds values <= 0 (a scaler divides by it)")
+    if np.any(arrays["interval_scale"] < 0):
+        raise InputError(f"{where}: array interval_scale holds negative values")
+
+
+def read_arrays(npz: Path, where: str) -> dict[str, np.ndarray]:
+    """The arrays of an NPZ file without unpickling anything (`allow_pickle=False`); damaged or
+    foreign files give `InputError` naming the file."""
+    try:
+        data = np.load(npz, allow_pickle=False)
+        if not isinstance(data, np.lib.npyio.NpzFile):
+            raise InputError(f"{where}: a single array (.npy), not a model's NPZ archive")
+        with data:
+            arrays = {}
+            for key in data.files:
+                try:
+                    arrays[key] = data[key]
+                except ValueError as error:
+                    if "allow_pickle" not in str(error):
+                        raise
+                    raise InputError(f"{where}: not a universal model's weights: array {key} "
+                                     "holds Python objects (a pickle), refused unread") from None
+    except InputError:
+        raise
+    except ValueError as error:
+        if "pickle" in str(error):  # what np.load cannot read as arrays it would unpickle
+            raise InputError(f"{where}: not an NPZ archive (reading it would mean unpickling "
+                             "it; refused unread)") from None
+        raise InputError(f"{where}: not a universal model's weights ({error})") from None
+    except (OSError, EOFError, zipfile.BadZipFile, zlib.error) as error:
+        raise InputError(f"{where}: not a readable NPZ archive (damaged or truncated: "
+                         f"{type(error).__name__}: {error})") from None
+    return arrays
+
+
+def file_pair(path: str | Path) -> tuple[Path, Path]:
+    """(MODEL.npz, MODEL.json) of a model path given with either suffix or none ("my.model"
+    names my.model.json, not my.json)."""
+    path = Path(path)
+    if path.suffix not in (".json", ".npz"):
+        path = path.with_name(path.name + ".json")
+    return path.with_suffix(".npz"), path.with_suffix(".json")
+
+
+def model_paths(name_or_path: str | Path | None) -> tuple[Path, Path]:
+    """(MODEL.npz, MODEL.json) of the built-in model (None or "cricket-universal-model") or of
+    a path (`file_pair`)."""
     if name_or_path is None or str(name_or_path) == BUILTIN:
         base = resources.files("ballimpact") / "data" / BUILTIN
-        npz, meta = Path(str(base) + ".npz"), Path(str(base) + ".json")
-    else:
-        path = Path(name_or_path)
-        npz, meta = path.with_suffix(".npz"), path.with_suffix(".json")
-    for p in (npz, meta):
+        return Path(str(base) + ".npz"), Path(str(base) + ".json")
+    return file_pair(name_or_path)
+
+
+def load_model(name_or_path: str | Path | None = None) -> UniversalModel:
+    """The built-in model (None or "cricket-universal-model"), or MODEL(.json|.npz) files.
+
+    Both files are validated before use (`check_metadata`, `read_arrays`, `check_arrays`): a
+    damaged, truncated or tampered file gives `InputError` naming the file and what is wrong.
+    Nothing is unpickled."""
+    npz, meta = model_paths(name_or_path)
+    for p in (meta, npz):
+        if p.is_dir():
+            raise InputError(f"model {p} is a folder (a model is MODEL.json and MODEL.npz)")
         if not p.is_file():
-            raise InputError(f"--model: {p} not found (a model is a .json and a .npz file)")
+            raise InputError(f"model {p} not found (a model is MODEL.json and MODEL.npz, "
+                             "written by `ballimpact universal train --out MODEL`)")
     try:
         metadata = json.loads(meta.read_text())
     except (OSError, ValueError) as error:
-        raise InputError(f"--model: {meta}: not readable JSON ({error})") from None
-    if metadata.get("format") != FORMAT:
-        raise InputError(f"--model: {meta}: format {metadata.get('format')!r}, expected {FORMAT}")
-    try:
-        with np.load(npz, allow_pickle=False) as data:
-            arrays = {k: data[k] for k in data.files}
-        ensembles = {}
-        for name in ("inverse", "forward"):
-            keys = sorted(k for k in arrays if k.startswith(f"{name}_") and k[len(name) + 1:].isdigit())
-            arch = Architecture(**metadata["architecture"][name])
-            ensembles[name] = from_leaves(arch, [arrays[k] for k in keys])
-    except (OSError, ValueError, KeyError) as error:
-        raise InputError(f"--model: {npz}: not a universal model's weights ({error})") from None
+        raise InputError(f"model file {meta}: not readable JSON ({error})") from None
+    check_metadata(metadata, f"model file {meta}")
+    arrays = read_arrays(npz, f"model file {npz}")
+    check_arrays(arrays, expected_arrays(metadata), f"model file {npz}")
+    ensembles = {}
+    for name in ("inverse", "forward"):
+        keys = sorted(k for k in arrays if k.startswith(f"{name}_"))
+        ensembles[name] = from_leaves(Architecture(**metadata["architecture"][name]),
+                                      [arrays[k].astype(np.float32) for k in keys])
     held_out = {k[len("held_out_"):]: v for k, v in arrays.items() if k.startswith("held_out_")}
     return UniversalModel(ensembles["inverse"], ensembles["forward"],
                           Scaler.from_arrays(arrays, "feature"), Scaler.from_arrays(arrays, "target"),
                           Scaler.from_arrays(arrays, "shape"), arrays["interval_scale"], metadata,
                           held_out)
-

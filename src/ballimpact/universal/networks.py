@@ -134,6 +134,18 @@ def leaves(ensemble) -> list[np.ndarray]:
     return [np.asarray(a) for a in jax.tree_util.tree_leaves(eqx.filter(ensemble, eqx.is_array))]
 
 
+def leaf_shapes(arch: Architecture) -> list[tuple[int, ...]]:
+    """The shapes `leaves` gives for an ensemble of `arch`, without building one: per layer of
+    each member's MLP (`depth` hidden layers), its weight (out, in) then its bias (out,), the
+    members stacked first. For checking a model file before anything is built from it."""
+    m, w = arch.members, arch.width
+    sizes = [arch.n_in] + [w] * arch.depth + [2 * arch.n_out]  # mean and log sigma per output
+    shapes: list[tuple[int, ...]] = []
+    for n_in, n_out in zip(sizes[:-1], sizes[1:]):
+        shapes += [(m, n_out, n_in), (m, n_out)]
+    return shapes
+
+
 def from_leaves(arch: Architecture, arrays: list[np.ndarray]):
     """Rebuild an ensemble of architecture `arch` from `leaves` (shapes checked)."""
     skeleton = make_ensemble(arch, 0)

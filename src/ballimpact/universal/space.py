@@ -10,6 +10,7 @@ and learned in log scale (a time constant: each decade counts the same), the oth
 
 from __future__ import annotations
 
+import json
 import math
 import warnings
 from typing import Any
@@ -17,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..plausibility import FE_SPEED_RANGE_M_S
 
 #: parameter -> (default low, default high, unit)
 PARAMETERS: dict[str, tuple[float, float, str]] = {
@@ -28,10 +30,11 @@ PARAMETERS: dict[str, tuple[float, float, str]] = {
 }
 MATERIAL_PARAMETERS = ("c10_pa", "c01_pa", "g1", "tau1_s")
 LOG_SCALED = ("tau1_s",)
-#: hard limits of each range (physics or the solver's validated envelope)
+#: hard limits of each range (physics, or the FE solver's validated speeds: a study must not
+#: stop at its first run outside them)
 ALLOWED: dict[str, tuple[float, float]] = {
     "c10_pa": (1e4, 1e9), "c01_pa": (-1e9, 1e9), "g1": (0.0, 0.99), "tau1_s": (1e-8, 1.0),
-    "impact_speed_m_s": (0.1, 100.0)}
+    "impact_speed_m_s": FE_SPEED_RANGE_M_S}
 METHODS = ("sobol", "lhs")
 
 
@@ -51,13 +54,55 @@ def check_ranges(ranges: dict[str, Any]) -> dict[str, tuple[float, float]]:
             raise InputError(f"range {name}: expected LOW:HIGH numbers in SI, got {value!r}") \
                 from None
         lo_allowed, hi_allowed = ALLOWED[name]
-        if not (math.isfinite(low) and math.isfinite(high) and low <= high):
-            raise InputError(f"range {name} = {low:g}:{high:g}: need finite LOW <= HIGH")
+        if not (math.isfinite(low) and math.isfinite(high) and low < high):
+            # an empty range would divide by its width in the unit scaling and the R^2
+            raise InputError(f"range {name} = {low:g}:{high:g}: need finite LOW < HIGH"
+                             + (" (swapped?)" if low > high else ""))
         if low < lo_allowed or high > hi_allowed:
             raise InputError(f"range {name} = {low:g}:{high:g}: allowed within "
                              f"{lo_allowed:g}:{hi_allowed:g} {PARAMETERS[name][2]}")
         out[name] = (low, high)
+    # every ball of the design must be loadable: Mooney-Rivlin needs C10 + C01 > 0 (its initial
+    # shear modulus is mu0 = 2 (C10 + C01)); the softest corner of the ranges decides
+    softest = out["c10_pa"][0] + out["c01_pa"][0]
+    if softest <= 0:
+        raise InputError(f"ranges c10_pa low {out['c10_pa'][0]:g} + c01_pa low "
+                         f"{out['c01_pa'][0]:g} = {softest:g} Pa: the softest balls would have "
+                         "mu0 = 2 (C10 + C01) <= 0; raise either low end")
     return out
+
+
+def is_number(value: Any, finite: bool = True) -> bool:
+    """A JSON number (not a bool), finite unless `finite` is False."""
+    return (isinstance(value, (int, float)) and not isinstance(value, bool)
+            and (not finite or math.isfinite(value)))
+
+
+def is_pair(value: Any) -> bool:
+    """[low, high]: two finite numbers, low <= high."""
+    return (isinstance(value, (list, tuple)) and len(value) == 2
+            and all(is_number(v) for v in value) and value[0] <= value[1])
+
+
+def check_fields(data: Any, schema: dict[str, Any], where: str, prefix: str = "") -> None:
+    """Check a JSON object against `schema`: key -> (test, what is expected), or a sub-schema (a
+    dict) for a nested object. Keys outside the schema are free. `InputError` naming the file
+    (`where`), the key's path and what was expected. The one check of the JSON files of studies
+    and models."""
+    if not isinstance(data, dict):
+        raise InputError(f"{where}: {prefix.rstrip('.') or 'the file'} is not a JSON object "
+                         f"(got {type(data).__name__})")
+    for key, spec in schema.items():
+        if key not in data:
+            raise InputError(f"{where}: key '{prefix}{key}' missing")
+        if isinstance(spec, dict):
+            check_fields(data[key], spec, where, f"{prefix}{key}.")
+            continue
+        test, wanted = spec
+        if not test(data[key]):
+            shown = json.dumps(data[key])
+            shown = shown if len(shown) <= 40 else shown[:37] + "..."
+            raise InputError(f"{where}: '{prefix}{key}' = {shown}: expected {wanted}")
 
 
 def _scale(name: str, value):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 import warnings
 from pathlib import Path
@@ -14,25 +15,93 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError
-from ..features import FEATURE_NAMES
 from . import space
 from .dataset import (
+    COLUMNS,
     PULSE_RATE_HZ,
     PULSE_SAMPLES,
     SHAPE_GRID,
     done_batches,
+    remove_batch,
+    remove_temporaries,
     write_batch,
 )
 
 CONFIG_FILE = "study.json"
-#: the dataset's columns, in order
-COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "warnings",
-           *FEATURE_NAMES, "cor", "peak_force_n", "contact_time_s", "energy_balance_error",
-           "steps", "wall_time_s")
 #: configuration keys and defaults (SI); `ranges` and `template` are filled in by `make_config`
 DEFAULTS: dict[str, Any] = {"runs": 600, "seed": 0, "method": "sobol", "batch_size": 32,
                             "group_size": 4, "element_size_m": 1.5e-3, "precision": "float32",
                             "integration": "reduced"}
+
+
+def _count(low: int):
+    return lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= low
+
+
+def _positive(v) -> bool:
+    return space.is_number(v) and v > 0
+
+
+def _range(v) -> bool:
+    return space.is_pair(v) and v[0] < v[1]
+
+
+#: what a study's configuration holds (`study.json`), checked by `check_config`
+CONFIG_SCHEMA: dict[str, Any] = {
+    "runs": (_count(1), "an integer >= 1"), "seed": (_count(0), "an integer >= 0"),
+    "method": (lambda v: v in space.METHODS, " or ".join(space.METHODS)),
+    "batch_size": (_count(1), "an integer >= 1"), "group_size": (_count(1), "an integer >= 1"),
+    "element_size_m": (_positive, "a size in m > 0"),
+    "precision": (lambda v: v in ("float32", "float64"), "float32 or float64"),
+    "integration": (lambda v: v in ("reduced", "full"), "reduced or full"),
+    "ranges": {name: (_range, "[low, high] in SI with low < high") for name in space.PARAMETERS},
+    "template": {"radius_m": (_positive, "a radius in m > 0"),
+                 "mass_kg": (_positive, "a mass in kg > 0"),
+                 "density_kg_m3": (_positive, "a density in kg/m^3 > 0"),
+                 "moduli": (lambda v: isinstance(v, str), "a moduli convention (text)")},
+}
+
+
+def check_config(config: Any, where: str) -> dict[str, Any]:
+    """A study configuration checked against `CONFIG_SCHEMA` and the range limits; `where`
+    names its source in the messages."""
+    space.check_fields(config, CONFIG_SCHEMA, where)
+    try:
+        space.check_ranges(config["ranges"])
+    except InputError as error:
+        raise InputError(f"{where}: {error}") from None
+    radius, size = config["template"]["radius_m"], config["element_size_m"]
+    if size >= radius / 2:  # the mesher's own limit, checked before anything runs
+        raise InputError(f"{where}: element_size_m = {size:g} m: must be below the ball's "
+                         f"radius / 2 = {radius / 2:g} m")
+    return config
+
+
+def load_config(folder: Path, flag: str = "DIR") -> dict[str, Any]:
+    """The configuration of the study in `folder`, checked; `InputError` naming `flag`, the
+    folder or `study.json` and what is wrong (not a folder, no study, damaged file)."""
+    folder = Path(folder)
+    stored = folder / CONFIG_FILE
+    if not folder.exists():
+        raise InputError(f"{flag}: {folder} does not exist (run `ballimpact universal run "
+                         f"{folder}` first)")
+    if not folder.is_dir():
+        raise InputError(f"{flag}: {folder} is a file, not a study folder")
+    if not stored.is_file():
+        raise InputError(f"{flag}: {folder} holds no study ({CONFIG_FILE} missing)")
+    try:
+        config = json.loads(stored.read_text())
+    except (OSError, ValueError) as error:
+        raise InputError(f"{flag}: {stored}: not readable JSON ({error})") from None
+    return check_config(config, f"{flag}: {stored}")
+
+
+def _write_config(folder: Path, config: dict[str, Any]) -> None:
+    """study.json under a temporary name, then renamed: never half written."""
+    stored = Path(folder) / CONFIG_FILE
+    tmp = stored.with_name(CONFIG_FILE + ".tmp")
+    tmp.write_text(json.dumps(config, indent=2))
+    os.replace(tmp, stored)
 
 
 def make_config(*, template: str | Path = "cricket-universal", ranges: dict | None = None,
@@ -46,16 +115,18 @@ def make_config(*, template: str | Path = "cricket-universal", ranges: dict | No
     if unknown:
         raise InputError(f"study settings {sorted(unknown)}: unknown; allowed {sorted(DEFAULTS)}")
     config = {**DEFAULTS, **{k: v for k, v in settings.items() if v is not None}}
-    for key in ("runs", "batch_size", "group_size"):
-        if not (isinstance(config[key], int) and config[key] >= 1):
-            raise InputError(f"{key} = {config[key]}: need an integer >= 1")
-    if config["method"] not in space.METHODS:
-        raise InputError(f"method = {config['method']!r}: allowed {', '.join(space.METHODS)}")
     ball = load_ball(str(template), impact_speed_m_s=25.0)
     config["ranges"] = space.check_ranges(ranges or {})
     config["template"] = space.template_geometry(ball)
     config["version"] = __version__
-    return json.loads(json.dumps(config))  # as stored: tuples become lists
+    config = json.loads(json.dumps(config))  # as stored: tuples become lists
+    return check_config(config, "study settings")
+
+
+def batch_ids(config: dict[str, Any], batch: int) -> range:
+    """The run ids of batch `batch` of a study."""
+    first = batch * config["batch_size"]
+    return range(first, min(first + config["batch_size"], config["runs"]))
 
 
 def samples(config: dict[str, Any]) -> np.ndarray:
@@ -73,8 +144,7 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
     from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
 
     points = samples(config)
-    first = batch * config["batch_size"]
-    ids = list(range(first, min(first + config["batch_size"], config["runs"])))
+    ids = list(batch_ids(config, batch))
     geometry = config["template"]
     names = list(space.PARAMETERS)
     balls = []
@@ -98,11 +168,17 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
         if isinstance(result, FailedRun):
             row.update(status="failed", reason=result.reason)
         else:
-            try:
-                values, shape, pulse = _outputs(result)
-                row.update(status="ok", reason="", **values)
-            except Exception as error:  # noqa: BLE001 - recorded with the run, not dropped
-                row.update(status="failed", reason=f"features: {type(error).__name__}: {error}")
+            # what feature extraction says about an FE pulse belongs to the run's row, not to
+            # the user's terminal
+            with warnings.catch_warnings(record=True) as said:
+                warnings.simplefilter("always")
+                try:
+                    values, shape, pulse = _outputs(result)
+                    row.update(status="ok", reason="", **values)
+                except Exception as error:  # noqa: BLE001 - recorded with the run, not dropped
+                    row.update(status="failed",
+                               reason=f"features: {type(error).__name__}: {error}")
+            mine += [str(w.message) for w in said]
         row["warnings"] = "; ".join(dict.fromkeys(mine))
         rows.append(row)
         shapes.append(shape)
@@ -140,44 +216,59 @@ def pulse_100khz(result) -> np.ndarray:
 
 
 def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: bool = False,
-              workers: int | None = None, scheduler: str | None = None,
+              extend: int | None = None, workers: int | None = None,
+              scheduler: str | None = None,
               progress: Callable[[int, int, float, int], None] | None = None,
               max_batches: int | None = None) -> dict[str, Any]:
-    """Run (or resume) the study in `folder`; returns a summary.
+    """Run (or resume, or extend) the study in `folder`; returns a summary.
 
     A new study needs `config` (from `make_config`) and an empty or missing `folder`; `resume`
-    continues the study stored in `folder` (a `config` given too must equal the stored one).
+    continues the study stored in `folder` (a `config` given too must equal the stored one);
+    `extend` = N adds N runs to it (Sobol designs: the same sequence continued, so the study
+    then equals one run with the total from the start; see `_extend`).
     `workers` starts a local Dask cluster of that many processes; `scheduler` connects to a
     running one; neither: runs here. `max_batches` stops after that many batches (the rest are
     left for `resume`). `progress(done_runs, total_runs, elapsed_s, new_runs)` is called after
-    each batch. On a Dask scheduler the workers need ballimpact installed.
+    each batch. On a Dask scheduler the workers need ballimpact installed. Everything is
+    checked before anything is written.
     """
     folder = Path(folder)
-    stored = folder / CONFIG_FILE
-    if resume:
-        if not stored.exists():
-            raise InputError(f"--resume: {folder} holds no study ({CONFIG_FILE} missing)")
-        saved = json.loads(stored.read_text())
-        if config is not None:
-            differ = [k for k in config if k != "version" and config[k] != saved.get(k)]
-            if differ:
-                raise InputError(f"--resume: the stored study differs in {', '.join(differ)}; "
-                                 "resume without changing them or start a new folder")
+    if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool)
+                                    and workers >= 1):
+        raise InputError(f"--workers {workers}: need an integer >= 1 (Dask processes)")
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers and --scheduler: give one (a local cluster of N processes, "
+                         "or a running scheduler's address)")
+    if workers is not None or scheduler is not None:
+        _dask()  # missing: said before the study is written
+    if extend is not None:
+        config = _extend(folder, config, extend)
+    elif resume:
+        saved = load_config(folder, "--resume")
+        _check_unchanged(config, saved, "--resume")
         config = saved
     else:
         if config is None:
             raise InputError("a new study needs its configuration")
-        if stored.exists() or done_batches(folder):
-            raise InputError(f"{folder} already holds a study: add --resume to continue it, "
-                             "or choose another folder")
+        config = check_config(config, "study settings")
+        if folder.exists() and not folder.is_dir():
+            raise InputError(f"DIR: {folder} is a file, not a study folder")
+        if (folder / CONFIG_FILE).exists() or done_batches(folder):
+            raise InputError(f"DIR: {folder} already holds a study: add --resume to continue "
+                             "it, --extend N to add N runs, or choose another folder")
+        if folder.is_dir() and any(folder.iterdir()):
+            raise InputError(f"DIR: {folder} is not empty and holds no study: choose a new or "
+                             "empty folder")
         folder.mkdir(parents=True, exist_ok=True)
-        stored.write_text(json.dumps(config, indent=2))
-    done = done_batches(folder)
-    todo = [b for b in range(batch_count(config)) if b not in done]
+        _write_config(folder, config)
+    remove_temporaries(folder)
+    total = batch_count(config)
+    done = {b for b in done_batches(folder) if b < total}
+    todo = [b for b in range(total) if b not in done]
     if max_batches is not None:
         todo = todo[:max_batches]
     started = time.perf_counter()
-    done_runs = sum(_batch_size(config, b) for b in done)
+    done_runs = sum(len(batch_ids(config, b)) for b in done)
     new_runs = 0
 
     def finished(batch: int, rows, arrays) -> None:
@@ -194,22 +285,58 @@ def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: boo
     else:
         _run_distributed(config, todo, finished, workers, scheduler)
     return {"folder": str(folder), "runs": config["runs"], "finished_runs": done_runs,
-            "new_runs": new_runs, "batches": batch_count(config),
+            "new_runs": new_runs, "batches": total,
             "wall_time_s": time.perf_counter() - started}
 
 
-def _batch_size(config: dict[str, Any], batch: int) -> int:
-    return min(config["batch_size"], config["runs"] - batch * config["batch_size"])
+def _check_unchanged(config: dict[str, Any] | None, saved: dict[str, Any], flag: str,
+                     free: tuple[str, ...] = ("version",)) -> None:
+    """A configuration given with --resume/--extend must agree with the stored one."""
+    if config is None:
+        return
+    differ = [k for k in config if k not in free and config[k] != saved.get(k)]
+    if differ:
+        more = " (to add runs: --extend N)" if "runs" in differ else ""
+        raise InputError(f"{flag}: the stored study differs in {', '.join(differ)}; "
+                         f"{flag} without changing them{more}, or start a new folder")
 
 
-def _run_distributed(config, todo, finished, workers, scheduler) -> None:
+def _extend(folder: Path, config: dict[str, Any] | None, extra: int) -> dict[str, Any]:
+    """The stored study grown by `extra` runs, written back.
+
+    A scrambled Sobol sequence is a sequence: its first n points do not depend on how many
+    follow, so the grown design holds the old runs unchanged and continues with the next points
+    (the study equals one run with the total from the start). A Latin hypercube's strata depend
+    on the number of points: it cannot grow. A partial last batch is run again whole (the same
+    runs, recomputed, plus the new ones), so the batches are those of a study of the total."""
+    if not (isinstance(extra, int) and not isinstance(extra, bool) and extra >= 1):
+        raise InputError(f"--extend {extra}: need an integer >= 1 (the number of runs to add)")
+    saved = load_config(folder, "--extend")
+    _check_unchanged(config, saved, "--extend", free=("version", "runs"))
+    if saved["method"] != "sobol":
+        raise InputError(f"--extend: the study in {folder} is an {saved['method']} design, whose "
+                         "points depend on the number of runs, so it cannot grow; start a new "
+                         "study with more --runs (a Sobol design, the default, can be extended)")
+    last = batch_count(saved) - 1
+    if len(batch_ids(saved, last)) < saved["batch_size"]:
+        remove_batch(folder, last)
+    _write_config(folder, {**saved, "runs": saved["runs"] + extra})
+    return load_config(folder, "--extend")
+
+
+def _dask():
     try:
-        from dask.distributed import Client, LocalCluster, as_completed
+        import dask.distributed
     except ImportError:
         raise InputError("--workers/--scheduler need Dask distributed: pip install "
                          "'ballimpact[distributed]'") from None
-    if workers is not None and not (isinstance(workers, int) and workers >= 1):
-        raise InputError(f"--workers = {workers}: need an integer >= 1")
+    return dask.distributed
+
+
+def _run_distributed(config, todo, finished, workers, scheduler) -> None:
+    distributed = _dask()
+    Client, LocalCluster = distributed.Client, distributed.LocalCluster
+    as_completed = distributed.as_completed
     cluster = None
     if scheduler is None:
         # one process per worker, one thread each: the engine vmaps within a batch

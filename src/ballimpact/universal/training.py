@@ -3,16 +3,16 @@ intervals, and measure everything on runs never seen in training or early stoppi
 
 from __future__ import annotations
 
-import json
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from .. import __version__
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from . import space
 from .dataset import SHAPE_GRID, load_dataset
 from .model import (
@@ -27,7 +27,7 @@ from .model import (
 )
 from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
 from .measurement import noisy_features
-from .study import CONFIG_FILE
+from .study import load_config
 
 #: shares of the finished runs: held out for the report (never seen in training or early
 #: stopping), and validation (early stopping and the interval calibration)
@@ -35,6 +35,8 @@ TEST_SHARE = 0.2
 VALIDATION_SHARE = 0.15
 #: default noise augmentation of the inverse's training (fraction of the peak force)
 NOISE_AUGMENT = 0.02
+#: fewest successful runs to train on (the split leaves 8 held out and 6 for validation)
+MIN_RUNS = 40
 #: features learned in log scale when positive in every run (times, forces, rates, speeds)
 LOG_FEATURES = np.array([key not in ("P11", "P12", "P13", "P14", "P17") for key in FEATURES])
 
@@ -48,21 +50,46 @@ def split(run_ids: np.ndarray, seed: int) -> dict[str, np.ndarray]:
             "train": np.sort(order[n_test + n_val:])}
 
 
+def synthetic_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="none"):
+    """`noisy_features` of a pulse this package generated (a study's FE run): what the
+    measured-test checks say about it (e.g. "noisy record: filter it") is not about the user's
+    data and cannot be acted on, so it is not passed on as a warning."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        return noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter)
+
+
+def more_runs(folder: Path, finished: int, config: dict[str, Any]) -> str:
+    """How to get more runs: finish the study, or grow it (to the default 600, else double)."""
+    if finished < config["runs"]:
+        return (f"finish the study ({finished} of {config['runs']} runs done) with "
+                f"`ballimpact universal run {folder} --resume`")
+    extra = 600 - finished if finished < 600 else finished
+    return f"add runs with `ballimpact universal run {folder} --extend {extra}`"
+
+
 def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, depth: int = 3,
-          members: int = 5, noise_augment: float = NOISE_AUGMENT) -> tuple[UniversalModel, dict[str, Any]]:
+          members: int = 5, noise_augment: float = NOISE_AUGMENT,
+          force: bool = False) -> tuple[UniversalModel, dict[str, Any]]:
     """Train on the finished, successful runs of the study in `folder`.
 
     With `noise_augment` > 0 the inverse also learns from one noisy copy of each training and
     validation run: its pulse at 100 kHz with white noise of a level drawn uniformly up to
     `noise_augment` times the peak force, processed as a measured test (so that measured,
-    noisy features do not fall outside what the network has seen). Held-out runs stay clean."""
+    noisy features do not fall outside what the network has seen). Held-out runs stay clean.
+
+    A model that fails its held-out check (`evaluate.held_out_check`) is refused with
+    `InputError`; with `force` it is returned with an `InputWarning`, the failed check recorded
+    in its metadata (`held_out_check`)."""
     folder = Path(folder)
     started = time.perf_counter()
-    config = json.loads((folder / CONFIG_FILE).read_text())
-    columns, curves = load_dataset(folder)
+    config = load_config(folder)
+    columns, curves = load_dataset(folder, config)
     ok = columns["status"] == "ok"
-    if ok.sum() < 40:
-        raise InputError(f"{folder}: {int(ok.sum())} successful runs; training needs at least 40")
+    if ok.sum() < MIN_RUNS:
+        raise InputError(f"DIR: {folder}: {int(ok.sum())} successful runs of {len(ok)} finished;"
+                         f" training needs at least {MIN_RUNS} (a useful model several hundred):"
+                         f" {more_runs(folder, len(ok), config)}")
     ranges = {k: tuple(v) for k, v in config["ranges"].items()}
     params = np.column_stack([columns[k][ok] for k in space.PARAMETERS])
     features = np.column_stack([columns[k][ok] for k in FEATURES])
@@ -87,8 +114,8 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
             noisy, kept = [], []
             for i in rows:
                 try:
-                    values = noisy_features(pulses[i], params[i, 4], features[i, COR_COLUMN], mass,
-                                            rng.uniform(0.0, noise_augment), rng)
+                    values = synthetic_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
+                                                mass, rng.uniform(0.0, noise_augment), rng)
                 except InputError:  # a pulse the processing refuses: no noisy copy
                     continue
                 noisy.append([values[k] for k in FEATURES])
@@ -141,7 +168,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
         "split_seed": seed, "noise_augment_of_peak": noise_augment,
         "training": {"inverse": inv_fig, "forward": fwd_fig, "steps": steps},
     }
-    from .evaluate import held_out_report
+    from .evaluate import held_out_check, held_out_report
 
     report, held = held_out_report(model, params[te], features[te], shapes[te],
                                    columns["run_id"][ok][te])
@@ -149,4 +176,18 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
     model.metadata["held_out"] = report
     model.metadata["training"]["wall_time_s"] = time.perf_counter() - started
     print(f"trained in {model.metadata['training']['wall_time_s']:.1f} s", file=sys.stderr)
+    check = held_out_check(report)
+    model.metadata["held_out_check"] = {**check, "forced": bool(force and not check["passed"])}
+    if not check["passed"]:
+        worst = check["worst"]
+        problem = (f"the model fails its held-out check: {worst} has held-out R^2 "
+                   f"{check['r2'][worst]:.3g} on {report['runs']} runs it never saw (needs >= "
+                   f"{check['min_r2']:g} for {', '.join(check['r2'])}), trained on "
+                   f"{len(tr)} of {len(ok)} runs")
+        fix = f"{more_runs(folder, len(ok), config)} and train again"
+        if not force:
+            raise InputError(f"{problem}; {fix} (or --force to write it anyway, marked failed)")
+        warnings.warn(f"{problem}: written because of --force and marked failed "
+                      f"(held_out_check in its JSON); its identifications are not to be "
+                      f"trusted; {fix}", InputWarning, stacklevel=2)
     return model, report

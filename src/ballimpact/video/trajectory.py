@@ -25,6 +25,13 @@ MIN_FLIGHT_FRAMES = 5
 CONTACT_MARGIN_PX = 1.5
 #: a circle fit worse than this multiple of the median rms residual is left out
 RESIDUAL_FACTOR = 3.0
+#: fastest ball speed (m/s) a measurement may report: the fastest ball sports (golf drives,
+#: jai alai) reach about 90 m/s; faster means a wrong scale or frame rate
+MAX_BALL_SPEED_M_S = 100.0
+#: ball diameters (m) a scale may give or imply: a marble-sized ball to a large exercise ball
+BALL_DIAMETER_RANGE_M = (0.005, 1.0)
+#: largest gravity (m/s^2) along the image rows: 9.81 on Earth, tilted cameras less
+MAX_GRAVITY_M_S2 = 20.0
 
 
 @dataclass(frozen=True)
@@ -91,19 +98,78 @@ def _speed_and_errors(v: np.ndarray, var: np.ndarray, scale: float, scale_rel_se
     return speed * scale, se
 
 
+def check_options(fps: float | None, *, scale_m_per_px: float | None = None,
+                  ball_diameter_m: float | None = None, surface_row: float | None = None,
+                  gravity_m_s2: float = 9.81) -> None:
+    """`InputError` for settings no recording can have (before any frame is read): a frame
+    rate that is not a positive number (None: from the file), not exactly one scale, a
+    non-finite value, a diameter outside `BALL_DIAMETER_RANGE_M` (in mm, most likely), or a
+    gravity above `MAX_GRAVITY_M_S2`."""
+    if fps is not None and not (_is_number(fps) and math.isfinite(fps) and fps > 0):
+        raise InputError(f"fps (--fps) = {fps}: must be a positive number of frames per second")
+    if (scale_m_per_px is None) == (ball_diameter_m is None):
+        raise InputError("give exactly one of scale_m_per_px (--scale-m-per-px) or "
+                         "ball_diameter_m (--ball-diameter-m)")
+    for name, value in (("scale_m_per_px (--scale-m-per-px)", scale_m_per_px),
+                        ("ball_diameter_m (--ball-diameter-m)", ball_diameter_m)):
+        if value is not None and not (_is_number(value) and math.isfinite(value) and value > 0):
+            raise InputError(f"{name} = {value}: must be a finite number > 0")
+    low, high = BALL_DIAMETER_RANGE_M
+    if ball_diameter_m is not None and not low <= ball_diameter_m <= high:
+        slip = (f"looks like millimetres; use {ball_diameter_m / 1e3:g}"
+                if ball_diameter_m > high else "check the unit (metres)")
+        raise InputError(f"ball_diameter_m (--ball-diameter-m) {ball_diameter_m:g} m is outside "
+                         f"{low:g}..{high:g} m, the sizes of balls: {slip}")
+    if surface_row is not None and not (_is_number(surface_row) and math.isfinite(surface_row)):
+        raise InputError(f"surface_row (--surface-row) = {surface_row}: must be a finite image "
+                         "row (px)")
+    if not (_is_number(gravity_m_s2) and math.isfinite(gravity_m_s2)):
+        raise InputError(f"gravity_m_s2 (--gravity-m-s2) = {gravity_m_s2}: must be a finite "
+                         "number (9.81, or 0 for straight lines)")
+    if abs(gravity_m_s2) > MAX_GRAVITY_M_S2:
+        raise InputError(f"gravity_m_s2 (--gravity-m-s2) {gravity_m_s2:g} m/s^2 is above "
+                         f"{MAX_GRAVITY_M_S2:g}: give it in m/s^2 (9.81), not mm/s^2 or "
+                         "pixels")
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def check_speeds(summary: dict) -> None:
+    """`InputError` when a measured speed is not finite or above `MAX_BALL_SPEED_M_S` (no ball
+    is that fast): the error names the likely slip."""
+    low, high = BALL_DIAMETER_RANGE_M
+    diameter = 2.0 * summary["ball_radius_px"] * summary["scale_m_per_px"]
+    if summary["scale_from"] == "given" and not low <= diameter <= high:
+        slip = ("looks like millimetres per pixel; divide by 1000" if diameter > high
+                else "check its unit (metres per pixel)")
+        raise InputError(f"scale_m_per_px (--scale-m-per-px) {summary['scale_m_per_px']:g} "
+                         f"m/px makes the ball {diameter:.3g} m across, outside {low:g}..{high:g} "
+                         f"m: {slip}")
+    for phase in ("impact", "rebound"):
+        speed = summary[f"{phase}_speed_m_s"]
+        if not math.isfinite(speed):
+            raise InputError(f"video: the {phase} speed is not finite ({speed}); check --fps, "
+                             "the scale and --gravity-m-s2")
+        if speed > MAX_BALL_SPEED_M_S:
+            raise InputError(
+                f"video: {phase} speed {speed:g} m/s is above {MAX_BALL_SPEED_M_S:g} m/s, faster "
+                f"than any ball sport: likely a wrong frame rate (--fps {summary['fps']:g}: the "
+                "recording rate, in frames per second) or a wrong scale (--ball-diameter-m in m, "
+                "e.g. 0.072; --scale-m-per-px in m per pixel)")
+
+
 def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | None = None,
             ball_diameter_m: float | None = None, surface_row: float | None = None,
             gravity_m_s2: float = 9.81) -> Measurement:
     """Speeds (m/s), angles from the surface normal (deg), normal COR, with standard errors
-    (`Measurement.summary`)."""
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise InputError(f"fps = {fps}: must be a positive number of frames per second")
-    if (scale_m_per_px is None) == (ball_diameter_m is None):
-        raise InputError("give exactly one of scale_m_per_px (--scale-m-per-px) or "
-                         "ball_diameter_m (--ball-diameter-m)")
-    for name, value in (("scale_m_per_px", scale_m_per_px), ("ball_diameter_m", ball_diameter_m)):
-        if value is not None and not (math.isfinite(value) and value > 0):
-            raise InputError(f"{name} = {value}: must be > 0")
+    (`Measurement.summary`). The settings are checked first (`check_options`), the speeds last
+    (`check_speeds`)."""
+    if fps is None:
+        raise InputError("fps (--fps): the frame rate is needed")
+    check_options(fps, scale_m_per_px=scale_m_per_px, ball_diameter_m=ball_diameter_m,
+                  surface_row=surface_row, gravity_m_s2=gravity_m_s2)
     found = np.array([d.found and not d.touches_border for d in detections])
     if found.sum() < 2 * MIN_FLIGHT_FRAMES:
         raise InputError(f"video: the ball was found whole in {int(found.sum())} of "
@@ -150,6 +216,18 @@ def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | 
     var_out = np.array([phases[1].covariance[1, 1], phases[1].covariance[3, 3]])
     s_in, se_in = _speed_and_errors(v_in, var_in, scale, scale_rel_se)
     s_out, se_out = _speed_and_errors(v_out, var_out, scale, scale_rel_se)
+    # components normal and tangential to the surface (what a load cell's impulse balances is
+    # the normal one); tangential positive along the incoming motion across the image
+    across = 1.0 if v_in[0] >= 0 else -1.0
+    components = {}
+    for phase, v, var, normal in (("impact", v_in, var_in, v_in[1]),
+                                  ("rebound", v_out, var_out, -v_out[1])):
+        components[f"{phase}_speed_normal_m_s"] = float(normal * scale)
+        components[f"{phase}_speed_normal_se_m_s"] = scale * math.hypot(
+            math.sqrt(var[1]), normal * scale_rel_se)
+        components[f"{phase}_speed_tangential_m_s"] = float(across * v[0] * scale)
+        components[f"{phase}_speed_tangential_se_m_s"] = scale * math.hypot(
+            math.sqrt(var[0]), v[0] * scale_rel_se)
     cor = float(-v_out[1] / v_in[1])
     cor_se = abs(cor) * math.hypot(math.sqrt(var_out[1]) / v_out[1], math.sqrt(var_in[1]) / v_in[1])
     out = {
@@ -159,6 +237,7 @@ def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | 
         "impact_angle_se_deg": _angle_se(v_in, var_in),
         "rebound_angle_deg": math.degrees(math.atan2(v_out[0], -v_out[1])),
         "rebound_angle_se_deg": _angle_se(v_out, var_out),
+        **components,
         "cor": cor, "cor_se": cor_se, "speed_ratio": s_out / s_in,
         "impact_time_s": t_in, "rebound_time_s": t_out,
         "scale_m_per_px": scale, "scale_from": "ball_diameter" if scale_m_per_px is None
@@ -168,7 +247,28 @@ def measure(detections: list[Detection], fps: float, *, scale_m_per_px: float | 
         "frames_contact": int(last - first + 1), "centre_residual_px":
         [phases[0].residual_px, phases[1].residual_px],
         "gravity_m_s2": gravity_m_s2, "fps": fps}
+    check_speeds(out)
     return Measurement(out, tuple(phases), (int(first), int(last)), g)
+
+
+def side_file(summary: dict, mass_kg: float | None = None, source: str | None = None) -> dict:
+    """The JSON side file of the force record taken with this video (docs/video.md): the
+    impact and rebound speeds as their components normal to the surface (`impact_speed_m_s`,
+    `rebound_speed_m_s`: what features, fit and identify balance the load cell's impulse
+    against), and each phase's normal, tangential and total speed and angle from the normal
+    (tangential positive along the incoming motion)."""
+    out: dict = {"source": source} if source else {}
+    for phase in ("impact", "rebound"):
+        normal = summary[f"{phase}_speed_normal_m_s"]
+        tangential = summary[f"{phase}_speed_tangential_m_s"]
+        out[f"{phase}_speed_m_s"] = normal
+        out[f"{phase}_speed_normal_m_s"] = normal
+        out[f"{phase}_speed_tangential_m_s"] = tangential
+        out[f"{phase}_speed_total_m_s"] = summary[f"{phase}_speed_m_s"]
+        out[f"{phase}_angle_deg"] = math.degrees(math.atan2(tangential, normal))
+    if mass_kg is not None:
+        out["mass_kg"] = mass_kg
+    return out
 
 
 def _angle_se(v: np.ndarray, var: np.ndarray) -> float:
