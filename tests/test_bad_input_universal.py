@@ -429,3 +429,9 @@ def test_resume_with_another_run_count_points_to_extend(tmp_path, bad_input):
     fake_study(tmp_path / "s")
     bad_input(run(tmp_path / "s", "--resume", "--runs", "12"), "--resume", "differs in runs",
               "--extend N")
+
+
+def test_ranges_whose_balls_are_no_sports_balls_are_refused_before_any_run(bad_input, tmp_path):
+    # each range allowed alone, but the softest corner has mu0 = 2 (C10 + C01) = 2 kPa
+    bad_input(["universal", "run", tmp_path / "s", "--runs", "40", "--range", "c10_pa=1e4:2e4",
+               "--range=c01_pa=-9e3:0"], "c10_pa", "outside the shear moduli of sports balls")

@@ -107,6 +107,10 @@ def test_demo_json_and_plot(capsys, tmp_path):
         assert 0.0 < impact["cor"] < 1.0
         assert 5e3 < impact["peak_force_n"] < 3e4 and 5e-4 < impact["contact_time_s"] < 2e-3
     assert plot.stat().st_size > 10_000
+    # the package's own sample and model: no warning cries wolf (issue 24); what identify would
+    # warn about is the demo's note
+    assert "warning:" not in err and json.loads(out)["warnings"] == []
+    assert any("training range" in note for note in json.loads(out)["identify"]["notes"])
 
 
 def test_demo_json_flags_the_three_layer_constants(capsys, tmp_path):

@@ -272,3 +272,45 @@ def test_bad_inputs_raise_input_error_naming_the_argument(kwargs, name):
 def test_refinement_too_strong_for_the_o_grid_is_refused():
     with pytest.raises(InputError, match="pole_element_size_m.*pole_zone_deg"):
         layered_sphere_mesh(SINGLE, 1e-3, 0.01e-3, 90.0)
+
+
+@pytest.mark.parametrize("radii, size, pole", [
+    ((0.036,), 1.5e-3, None),
+    ((0.02, 0.031, 0.036), 1.5e-3, None),
+    ((0.002, 0.036), 1.5e-3, None),          # a small core: a tiny block
+    ((0.0355, 0.036), 1.5e-3, None),         # a thin cover
+    ((0.11,), 1.5e-3, None),
+    ((0.036,), 4e-3, None),
+    ((0.036,), 1.5e-3, 5e-4),
+    ((0.02, 0.031, 0.036), 1e-3, 2e-4),
+    ((0.01, 0.02, 0.03, 0.036), 2e-3, 1e-3),
+])
+def test_estimate_mesh_counts_without_meshing(radii, size, pole):
+    """The memory guard's element count (`estimate_mesh`, no node built) against the mesh:
+    exact without pole refinement, within 2% with it; the smallest element's length within a
+    factor 2.5 on the small side (the steps estimate stays on the high side)."""
+    from ballimpact.fe.axisymmetric import geometry
+    from ballimpact.fe.mesh import estimate_mesh
+
+    mesh = layered_sphere_mesh(radii, size, pole)
+    estimate = estimate_mesh(radii, size, pole)
+    if pole is None:
+        assert estimate.elements == mesh.n_elements
+    else:
+        assert estimate.elements == pytest.approx(mesh.n_elements, rel=0.02)
+    smallest = float(np.min(geometry(mesh).characteristic_length_m))
+    assert 0.4 * smallest <= estimate.smallest_length_m <= 1.1 * smallest
+
+
+def test_estimate_mesh_of_a_millimetre_ball_is_instant():
+    """36.6 m (a radius in mm as m) at 1.5 mm: 1.5e9 elements counted, nothing built."""
+    import time
+
+    from ballimpact.fe.mesh import estimate_mesh
+
+    start = time.perf_counter()
+    estimate = estimate_mesh((36.6,), 1.5e-3)
+    assert time.perf_counter() - start < 1.0
+    assert 1e9 < estimate.elements < 2e9
+    with pytest.raises(InputError, match="element_size_m must be in"):
+        estimate_mesh((0.036,), 0.1)

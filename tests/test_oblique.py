@@ -385,3 +385,29 @@ def test_xdmf_series(tmp_path):
     assert point_data["displacement_m"].shape == (len(points), 3)
     with pytest.raises(InputError, match="gif or .mp4"):
         animate_section(r, tmp_path / "run.avi")
+
+
+@pytest.mark.parametrize("radii", [(0.036,), (0.02, 0.031, 0.036), (0.002, 0.036)])
+@pytest.mark.parametrize("divisions, half", [(8, True), (8, False), (16, True)])
+def test_estimate_ball_mesh_counts_without_meshing(radii, divisions, half):
+    """The memory guard's hexahedron count (no node built) is the mesh's; the smallest
+    element's length on the small side, within a factor 2."""
+    from ballimpact.oblique.hexa import geometry
+    from ballimpact.oblique.mesh import ball_mesh, estimate_ball_mesh
+
+    mesh = ball_mesh(radii, divisions, 2.0, half=half)
+    elements, smallest = estimate_ball_mesh(radii, divisions, 2.0, half)
+    assert elements == mesh.n_elements
+    real = float(np.min(np.asarray(geometry(mesh, len(radii))[0].characteristic_length_m)))
+    assert 0.5 * real <= smallest <= 1.05 * real
+
+
+def test_slab_cells_are_counted_before_meshing():
+    from ballimpact.oblique.solver import _mesh_size, mesh_for
+
+    target = Target.from_dict({"name": "pad", "half_width_m": 0.1, "layers": [
+        {"thickness_m": 0.02, "density_kg_m3": 100.0, "material": ELASTIC}]})
+    options = Options3D(divisions=8)
+    for half in (True, False):
+        mesh = mesh_for(_ball(), target, options, half)
+        assert _mesh_size(_ball(), target, options, half)[0] == mesh.n_elements

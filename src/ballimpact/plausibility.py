@@ -23,7 +23,8 @@ CHECKS: dict[str, str] = {
     "unit-slip": "impulse and m (v_in + v_out) differ by more than UNIT_SLIP_FACTOR",
     "cor-above-one": "rebound speed above impact speed (COR > 1 for a passive ball)",
     "speed-range": "FE impact speed outside the speeds the FE solver was checked at "
-                   "(FE_SPEED_RANGE_M_S, 3D: FE_3D_SPEED_RANGE_M_S)",
+                   "(FE_SPEED_RANGE_M_S, 3D: FE_3D_SPEED_RANGE_M_S), or, for identify, outside "
+                   "the universal model's training speeds",
     "ball-units": "ball radius, mass, density or moduli outside the ranges of solid sports balls "
                   "(BALL_RANGES; a unit slip: mm for m, g/cm^3 for kg/m^3, MPa for Pa)",
     "large-run": "FE run or export whose memory estimate, made before meshing, exceeds the "

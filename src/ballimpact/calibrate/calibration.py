@@ -186,7 +186,7 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
     if "gradient" in method and not (isinstance(max_evaluations, int) and max_evaluations >= 1):
         raise InputError(f"--max-evaluations {max_evaluations}: must be an integer >= 1")
     for path, (low, high) in bounds.items():
-        free_parameter(template, path, low, high)
+        free_parameter(template, path, low, high, allow)
     for test in tests:
         try:
             sub_ball(template, test.layers)
@@ -281,7 +281,8 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
     for k, stage in enumerate(stages):
         paths = select_free(stage, bounds)
         problem = CalibrationProblem(current, select_tests(stage, tests),
-                                     [free_parameter(current, p, *bounds[p]) for p in paths],
+                                     [free_parameter(current, p, *bounds[p], allow)
+                                      for p in paths],
                                      tuple(stage.objectives or objectives), allow=allow)
         folder = None
         stage_resume = False

@@ -115,16 +115,19 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
     failed: list[str | None] = [None] * n
     specs = [problem.spec(u) for u in unit]
     valid = []
-    for i, spec in enumerate(specs):
-        try:
-            load_ball(spec)
-            valid.append(i)
-        except InputError as error:
-            failed[i] = f"not a valid ball: {error}"
-    for test in problem.tests:
+    with warnings.catch_warnings():  # an allowed check warned once, for the template
+        warnings.simplefilter("ignore", InputWarning)
+        for i, spec in enumerate(specs):
+            try:
+                load_ball(spec, allow=problem.allow)
+                valid.append(i)
+            except InputError as error:
+                failed[i] = f"not a valid ball: {error}"
+        tested = [[load_ball(sub_ball(specs[i], test.layers), allow=problem.allow)
+                   for i in valid] for test in problem.tests]
+    for test, balls in zip(problem.tests, tested):
         if not valid:
             break
-        balls = [load_ball(sub_ball(specs[i], test.layers)) for i in valid]
         # a search visits many designs: their material-stability warnings would bury the
         # output; the chosen design's runs warn again
         with warnings.catch_warnings():

@@ -86,7 +86,8 @@ class SmoothMisfit:
     def _ball(self, u):
         from ..fe import load_ball
 
-        return load_ball(sub_ball(self.problem.spec(u), self.test.layers))
+        return load_ball(sub_ball(self.problem.spec(u), self.test.layers),
+                         allow=self.problem.allow)
 
     def _flat_params(self, u) -> np.ndarray:
         from ..fe.kernel import ball_arrays
@@ -214,8 +215,9 @@ def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:
     """The FE runs (standard solver) of the design at unit coordinates u, one per test."""
     from ..fe import load_ball, simulate
 
-    return [simulate(load_ball(sub_ball(problem.spec(u), test.layers)), test.impact_speed_m_s,
-                     options, allow=problem.allow) for test in problem.tests]
+    return [simulate(load_ball(sub_ball(problem.spec(u), test.layers), allow=problem.allow),
+                     test.impact_speed_m_s, options, allow=problem.allow)
+            for test in problem.tests]
 
 
 def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[SmoothMisfit]:

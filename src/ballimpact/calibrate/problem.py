@@ -120,9 +120,10 @@ def with_values(spec: dict, values: dict[str, float]) -> dict:
     return out
 
 
-def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParameter:
+def free_parameter(spec: dict, path: str, low: float, high: float, allow=()) -> FreeParameter:
     """A checked free parameter: the path exists and holds a number, not a radius; the bounds are
-    finite, ordered, and give a valid ball at both ends."""
+    finite, ordered, and give a valid ball at both ends (`allow`: plausibility checks, such as
+    "ball-units", that only warn)."""
     from ..fe import load_ball
 
     if path.endswith("outer_radius_m"):
@@ -139,7 +140,7 @@ def free_parameter(spec: dict, path: str, low: float, high: float) -> FreeParame
     check_scale(path, low, high, value)
     for bound in (low, high):
         try:
-            load_ball(with_values(spec, {path: bound}))
+            load_ball(with_values(spec, {path: bound}), allow=allow)
         except InputError as error:
             raise InputError(f"--free {path}={low:g}:{high:g}: the bound {bound:g} is outside "
                              f"the material's valid range ({error})") from None
@@ -232,7 +233,7 @@ class CalibrationProblem:
     objectives: tuple[str, ...] = ("nrmse", "cor", "contact_time")
     start: dict[str, float] = field(default_factory=dict)  # path -> value; default template
     #: plausibility checks turned into warnings (`plausibility.CHECKS`; e.g. "speed-range" for
-    #: tests outside the FE solver's validated speeds)
+    #: tests outside the FE solver's checked speeds)
     allow: frozenset = frozenset()
 
     def __post_init__(self) -> None:
@@ -258,7 +259,7 @@ class CalibrationProblem:
                 check_fe_speed(test.impact_speed_m_s, self.allow)
             except InputError as error:
                 raise InputError(f"test {test.name}: {error}") from None
-            ball = load_ball(sub_ball(self.template, test.layers))
+            ball = load_ball(sub_ball(self.template, test.layers), allow=self.allow)
             mass = test.features.mass_kg
             if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:
                 warnings.warn(f"test {test.name}: mass_kg = {mass:g} differs from the ball's "

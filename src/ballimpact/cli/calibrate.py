@@ -176,7 +176,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if not all(math.isfinite(w) and w >= 0 for w in weights):
             raise InputError(f"--weights {args.weights}: expected finite numbers >= 0")
     tests = load_tests(args)
-    template = load_ball(args.ball, tests[0].impact_speed_m_s).to_dict()
+    template = load_ball(args.ball, tests[0].impact_speed_m_s, allow=args.allow).to_dict()
     options = solver_options(args)
     use_compilation_cache()
     if "nsga2" in args.method:  # what Ctrl-C (cli.main) adds to its line

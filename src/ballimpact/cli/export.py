@@ -10,6 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..plausibility import check_allow
+from .common import add_allow
 
 
 def add_parser(verbs) -> None:
@@ -56,6 +58,7 @@ def add_parser(verbs) -> None:
     export.add_argument("--half-model", action="store_true",
                         help="3d impact deck: the half y >= 0 with a symmetry plane")
     export.add_argument("--json", action="store_true", help="print one JSON object")
+    add_allow(export)
 
     imp = verbs.add_parser(
         "import-material", help="read ABAQUS material blocks into the ball specification",
@@ -70,6 +73,20 @@ def add_parser(verbs) -> None:
                      help="the whole ball (radii from the mesh) of a deck written by export")
     imp.add_argument("--out", type=Path, help="write the result as JSON to this file")
     imp.add_argument("--json", action="store_true", help="print one JSON object")
+    add_allow(imp)
+
+
+def _refuse_other_solver_mesh(args: argparse.Namespace) -> None:
+    """A mesh flag of the other solver would be ignored silently: refuse it."""
+    if args.solver == "3d" and args.element_size_m is not None:
+        raise InputError("--element-size-m: sets the axisymmetric mesh; with --solver 3d the "
+                         "mesh is set by --divisions and --pole-grading")
+    if args.solver == "axisymmetric":
+        for flag, value in (("--divisions", args.divisions),
+                            ("--pole-grading", args.pole_grading)):
+            if value is not None:
+                raise InputError(f"{flag}: sets the 3D mesh; the axisymmetric mesh is set by "
+                                 "--element-size-m (or give --solver 3d)")
 
 
 def run_export(args: argparse.Namespace) -> dict[str, Any]:
@@ -77,7 +94,9 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import load_ball
 
     check_output(args.out, args.format)
-    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    _refuse_other_solver_mesh(args)
+    allow = check_allow(args.allow)
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s, allow=allow)
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
     setup = None
@@ -89,7 +108,7 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
                           ball_only=args.ball_only, units=args.units, moduli=args.moduli,
                           approximate=args.approximate, element_size_m=args.element_size_m,
                           divisions=args.divisions, pole_grading=args.pole_grading,
-                          half=args.half_model)
+                          half=args.half_model, allow=allow)
     for note in written.notes:
         print(f"note: {note}", file=sys.stderr)
     out = {"ball": ball.name, "mass_kg": ball.mass_kg, **written.summary()}
@@ -107,7 +126,13 @@ def run_import(args: argparse.Namespace) -> dict[str, Any]:
     from ..export import read_ball, read_materials
     from ..fe import load_ball
     from ..fe.materials import material_from_dict
+    from ..plausibility import check_material_values
 
+    allow = check_allow(args.allow)
+    if args.out is not None and not args.out.parent.is_dir():  # before reading anything
+        raise InputError(f"--out: folder {args.out.parent} does not exist")
+    if args.file.is_dir():
+        raise InputError(f"{args.file}: a folder, not an ABAQUS input file (.inp)")
     try:
         text = args.file.read_text(encoding="utf-8", errors="replace")
     except OSError as error:
@@ -115,18 +140,17 @@ def run_import(args: argparse.Namespace) -> dict[str, Any]:
     try:
         if args.ball:
             spec = read_ball(text, args.units, name=args.file.stem)
-            load_ball(spec)  # the same checks as any ball file
+            load_ball(spec, allow=allow)  # the same checks as any ball file
             out: dict[str, Any] = {"ball": spec}
         else:
             materials = read_materials(text, args.units)
             for m in materials:
-                material_from_dict(m["material"], where=m["name"])
+                material = material_from_dict(m["material"], where=f"material {m['name']!r}")
+                check_material_values(m["name"], m["density_kg_m3"], material, allow)
             out = {"materials": materials}
     except InputError as error:
         raise InputError(f"{args.file}: {error}") from None
     if args.out is not None:
-        if not args.out.parent.is_dir():
-            raise InputError(f"--out: folder {args.out.parent} does not exist")
         try:
             args.out.write_text(json.dumps(out.get("ball", out), indent=2) + "\n")
         except OSError as error:

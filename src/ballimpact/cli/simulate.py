@@ -6,10 +6,11 @@ import argparse
 import math
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..plausibility import check_allow, check_fe_speed
 from .common import (
     add_allow,
@@ -48,8 +49,9 @@ def add_parser(verbs) -> None:
                     "tangential_cor, rebound_angle_deg and rebound_spin_rad_s. Runs longer than "
                     "a few seconds print their progress on stderr; a mesh estimated above "
                     "2e9 element updates (elements x steps; 3d: 3e8), about 5 min on a 2-core "
-                    "CPU, or 4 GiB of histories and frames gets a warning before the run starts "
-                    "(docs/fe.md).")
+                    "CPU, or 4 GiB of histories and frames gets a warning before the run starts, "
+                    "and a run whose memory estimate (made before meshing) exceeds the memory "
+                    "available is refused unless --allow large-run (docs/fe.md).")
     simulate.add_argument("--ball", required=True,
                           help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
     simulate.add_argument("--speed-m-s", type=float, required=True, help="impact speed (m/s)")
@@ -65,6 +67,8 @@ def add_parser(verbs) -> None:
                           help="axisymmetric (normal impacts, default) or 3d (hexahedra)")
     add_allow(simulate)
     add_solver_options(simulate)
+    # given or not: the 3d solver refuses an axisymmetric mesh size (None: the default)
+    simulate.set_defaults(element_size_m=None)
     three = simulate.add_argument_group("3d solver")
     three.add_argument("--spin-x-rad-s", type=float, default=0.0,
                        help="out-of-plane spin about the incoming tangential velocity (rad/s, "
@@ -73,15 +77,15 @@ def add_parser(verbs) -> None:
                        help="out-of-plane spin about the surface normal (rad/s, right-handed)")
     three.add_argument("--target", type=Path,
                        help="deformable slab specification (JSON; default: a rigid plane)")
-    three.add_argument("--divisions", type=int, default=16,
-                       help="hexahedra along each 90 degrees of arc (even; default 16)")
-    three.add_argument("--pole-grading", type=float, default=2.0,
+    three.add_argument("--divisions", type=int,
+                       help="hexahedra along each 90 degrees of arc (even, 4 to 64; default 16)")
+    three.add_argument("--pole-grading", type=float,
                        help="arc spacing at the equator over that at the contact pole "
-                            "(default 2)")
+                            "(1 to 10; default 2)")
     three.add_argument("--full-model", action="store_true",
                        help="mesh the whole ball (default: the half on the plane of incidence "
                             "unless there is out-of-plane spin)")
-    three.add_argument("--stick-scale", type=float, default=8.0,
+    three.add_argument("--stick-scale", type=float,
                        help="friction stick-spring stiffness over the normal penalty (default 8)")
     three.add_argument("--vtk", type=Path,
                        help="write a time series for ParaView: FILE.pvd (binary .vtu files "
@@ -90,8 +94,9 @@ def add_parser(verbs) -> None:
     three.add_argument("--animate", type=Path,
                        help="write an animation (.gif, or .mp4 with ffmpeg) of the mid-plane "
                             "section")
-    simulate.add_argument("--moduli", help="override the balls' moduli convention: long_term or "
-                                           "instantaneous")
+    simulate.add_argument("--moduli", choices=("long_term", "instantaneous"),
+                          help="override the balls' moduli convention: long_term or "
+                               "instantaneous")
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.add_argument("--csv", type=Path, help="write the histories (one row per step)")
     simulate.add_argument("--plot", type=Path,
@@ -132,7 +137,8 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
 def solver_options(args: argparse.Namespace):
     from ..fe import SolverOptions
 
-    return SolverOptions(element_size_m=args.element_size_m,
+    size = SolverDefaults.element_size_m if args.element_size_m is None else args.element_size_m
+    return SolverOptions(element_size_m=size,
                          pole_element_size_m=args.pole_element_size_m,
                          penalty_scale=args.penalty_scale, integration=args.integration,
                          precision=args.precision)
@@ -184,7 +190,16 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
           file=sys.stderr, flush=True)
     sample = Path(str(resources.files("ballimpact") / "data" / "sample_impact.csv"))
     model = load_model()
-    found = identify(process(load_record(sample)), model, options=model.solver_options())
+    # warnings are about a user's own data (issue 24): the package's sample and model are ours,
+    # so what identify would warn about (a C01 interval on its training bound) is a printed note
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InputWarning)
+        found = identify(process(load_record(sample)), model, options=model.solver_options())
+    notes = [str(w.message).removeprefix(f"{sample}: ") for w in caught
+             if issubclass(w.category, InputWarning)]
+    for w in caught:  # anything else goes on as a warning
+        if not issubclass(w.category, InputWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if not quiet:
         p, v = found.params, found.verification
         print(f"identify (built-in sample test at {found.impact_speed_m_s:g} m/s, built-in "
@@ -194,7 +209,9 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
               f"(test {v['cor_measured']:.3f}), contact time "
               f"{v['contact_time_simulated_s'] * 1e3:.3f} ms (test "
               f"{v['contact_time_measured_s'] * 1e3:.3f} ms), {found.wall_time_s:.1f} s")
-    return {"file": "sample_impact.csv (built-in, synthetic)", **found.to_dict()}
+        for note in notes:
+            print(f"  note: {note}")
+    return {"file": "sample_impact.csv (built-in, synthetic)", **found.to_dict(), "notes": notes}
 
 
 def _checked_allow(args: argparse.Namespace) -> frozenset[str]:
@@ -212,31 +229,49 @@ def _warn_now(message: str | None) -> None:
         print(f"warning: {message}", file=sys.stderr, flush=True)
 
 
+#: flags of one solver only: flag -> attribute
+_FLAGS_3D = {"--angle-deg": "angle_deg", "--spin-rad-s": "spin_rad_s",
+             "--spin-x-rad-s": "spin_x_rad_s", "--spin-z-rad-s": "spin_z_rad_s",
+             "--target": "target", "--vtk": "vtk", "--animate": "animate",
+             "--divisions": "divisions", "--pole-grading": "pole_grading",
+             "--full-model": "full_model", "--stick-scale": "stick_scale"}
+_FLAGS_AXISYMMETRIC = {"--element-size-m": "element_size_m",
+                       "--pole-element-size-m": "pole_element_size_m"}
+
+
+def _refuse_other_solver_flags(args: argparse.Namespace) -> None:
+    """A flag of the other solver would be ignored silently: refuse it, naming the solver."""
+    if args.solver == "3d":
+        for flag, name in _FLAGS_AXISYMMETRIC.items():
+            if getattr(args, name) is not None:
+                raise InputError(f"{flag}: sets the axisymmetric mesh; the 3d solver's mesh is "
+                                 "set by --divisions and --pole-grading")
+        return
+    for flag, name in _FLAGS_3D.items():
+        if getattr(args, name) not in (None, 0.0, False):
+            raise InputError(f"{flag}: oblique and spinning impacts, targets, 3D output and the "
+                             "3D mesh need --solver 3d")
+
+
 def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import RunProgress, estimate_run, load_ball, simulate
     from ..features import extract_features
 
+    # every check on the input before anything is printed (progress, warnings) or meshed
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
     if not (math.isfinite(args.friction) and args.friction >= 0):
         raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    _refuse_other_solver_flags(args)
     allow = _checked_allow(args)
     if args.solver == "3d":
         return _run_simulate_3d(args, allow)
-    for flag, value in (("--angle-deg", args.angle_deg), ("--spin-rad-s", args.spin_rad_s),
-                        ("--spin-x-rad-s", args.spin_x_rad_s),
-                        ("--spin-z-rad-s", args.spin_z_rad_s),
-                        ("--target", args.target), ("--vtk", args.vtk),
-                        ("--animate", args.animate)):
-        if value:
-            raise InputError(f"{flag}: oblique and spinning impacts, targets and 3D output need "
-                             "--solver 3d")
-    use_compilation_cache()
-    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s, allow=allow)
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
     options = solver_options(args)
-    estimate = estimate_run(ball, args.speed_m_s, options)
+    estimate = estimate_run(ball, args.speed_m_s, options, allow=allow)  # refused before meshing
+    use_compilation_cache()
     _warn_now(estimate.warning())
     result = simulate(ball, args.speed_m_s, options, allow=allow,
                       progress=RunProgress(estimate.end_time_s, options.chunk_steps))
@@ -293,7 +328,8 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
         load_target,
         simulate_oblique,
     )
-    from ..oblique.output import animate_section, write_series
+    from ..oblique.target import check_target_width
+    from ..oblique.output import animate_section, check_animation_path, write_series
     from ..oblique.plots import plot_oblique
 
     check_plot_path(args.plot)
@@ -302,23 +338,33 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
     if args.vtk is not None and args.vtk.suffix.lower() not in (".pvd", ".xdmf"):
         raise InputError(f"--vtk {args.vtk}: the file must end in .pvd or .xdmf")
     check_output_folder(args.animate, "--animate")
-    if args.animate is not None and args.animate.suffix.lower() not in (".gif", ".mp4"):
-        raise InputError(f"--animate {args.animate}: the file must end in .gif or .mp4")
+    if args.animate is not None:
+        check_animation_path(args.animate)
     condition = ImpactCondition(speed_m_s=args.speed_m_s, angle_deg=args.angle_deg,
                                 spin_rad_s=args.spin_rad_s, friction=args.friction,
                                 spin_x_rad_s=args.spin_x_rad_s, spin_z_rad_s=args.spin_z_rad_s)
     target = load_target(args.target) if args.target is not None else None
-    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
+    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s, allow=allow)
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
+    if target is not None:
+        try:
+            check_target_width(target, ball)
+        except InputError as error:
+            raise InputError(f"--target {args.target}: {error}") from None
     want_frames = args.vtk is not None or args.animate is not None
-    options = Options3D(divisions=args.divisions, pole_grading=args.pole_grading,
-                        half=False if args.full_model else None, integration=args.integration,
-                        penalty_scale=args.penalty_scale,
-                        stick_scale=args.stick_scale, precision=args.precision,
-                        chunk_steps=50 if want_frames else 200, frames=1 if want_frames else 0)
+    defaults = Options3D()
+    options = Options3D(
+        divisions=defaults.divisions if args.divisions is None else args.divisions,
+        pole_grading=defaults.pole_grading if args.pole_grading is None else args.pole_grading,
+        half=False if args.full_model else None, integration=args.integration,
+        penalty_scale=args.penalty_scale,
+        stick_scale=defaults.stick_scale if args.stick_scale is None else args.stick_scale,
+        precision=args.precision, chunk_steps=50 if want_frames else 200,
+        frames=1 if want_frames else 0)
+    # refused before meshing; the mesh is then built and cached for the run
+    estimate = estimate_oblique(ball, [condition], options, target, allow=allow)
     use_compilation_cache()
-    estimate = estimate_oblique(ball, [condition], options, target)
     print(f"simulating {ball.name} in 3D at {condition.speed_m_s:g} m/s, "
           f"{condition.angle_deg:g} deg ...", file=sys.stderr, flush=True)
     _warn_now(estimate.warning())

@@ -15,8 +15,10 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..fe.ball import BallModel
+from ..fe.progress import RunEstimate
+from ..plausibility import check_allow
 from . import abaqus, lsdyna, vtk
-from .geometry import SOLVERS, BallGeometry, ball_geometry
+from .geometry import SOLVERS, BallGeometry, ball_geometry, estimate_elements
 from .importer import read_ball, read_materials
 from .materials import ExportError
 from .setup import ImpactSetup
@@ -29,6 +31,31 @@ SUFFIXES = {"abaqus": (".inp",), "calculix": (".inp",), "lsdyna": (".k", ".key",
 MESH_MASS_TOLERANCE = 0.02
 DEFAULT_UNITS = {"abaqus": "mm-tonne-s", "calculix": "mm-tonne-s", "lsdyna": "mm-tonne-s",
                  "vtk": "si"}
+#: memory of an export (bytes): the process, and per element the mesh, its geometry and the deck's
+#: text (peaks measured writing ABAQUS decks of cricket-3layer: 0.29 GB with 2242 quadrilaterals,
+#: 0.39 GB with 223,344, i.e. 0.5 kB each; 0.35 GB with 19,456 hexahedra, 1.0 GB with 131,072,
+#: i.e. 5.8 kB each). On the high side.
+EXPORT_BASE_BYTES = 0.4 * 2 ** 30
+EXPORT_BYTES_PER_ELEMENT = {"axisymmetric": 1e3, "3d": 8e3}
+
+
+def check_export_memory(ball: BallModel, solver: str = "axisymmetric", *,
+                        element_size_m: float | None = None, divisions: int | None = None,
+                        pole_grading: float | None = None, half: bool = False,
+                        allow=()) -> RunEstimate:
+    """The `large-run` check of an export before the ball is meshed: its memory, estimated from
+    the mesh's counting rules (`geometry.estimate_elements`), against the available memory.
+    Returns the estimate (steps 0: nothing is run)."""
+    elements = estimate_elements(ball, solver, element_size_m=element_size_m,
+                                 divisions=divisions, pole_grading=pole_grading, half=half)
+    hint = ("a coarser mesh: --element-size-m, element_size_m" if solver == "axisymmetric"
+            else "a coarser mesh: fewer --divisions")
+    estimate = RunEstimate(elements=elements, steps=0, end_time_s=0.0, memory_bytes=0.0,
+                           element_steps_limit=float("inf"), seconds_per_element_step=0.0,
+                           hint=hint, model_bytes=EXPORT_BASE_BYTES
+                           + EXPORT_BYTES_PER_ELEMENT[solver] * elements)
+    estimate.check_memory(check_allow(allow), what="the export")
+    return estimate
 
 
 @dataclass(frozen=True)
@@ -72,12 +99,14 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
                 setup: ImpactSetup | None = None, ball_only: bool = False,
                 units: str | None = None, moduli: str | None = None, approximate: bool = False,
                 element_size_m: float | None = None, divisions: int | None = None,
-                pole_grading: float | None = None, half: bool = False) -> Export:
+                pole_grading: float | None = None, half: bool = False, allow=()) -> Export:
     """Write `ball` in `fmt` to `path`. A complete deck needs `setup` (the impact); `ball_only`
     writes the ball alone (VTK is always the ball alone). `units`: si or mm-tonne-s (default
     mm-tonne-s for the decks, si for VTK). `moduli` picks CalculiX's elastic ball of a
     viscoelastic one; `approximate` lets LS-DYNA take the nearest card where a material has no
-    exact one. Raises `InputError` (`ExportError`) naming what a format cannot express."""
+    exact one. Raises `InputError` (`ExportError`) naming what a format cannot express, and
+    before meshing, one that would not fit in memory (`check_export_memory`: the `large-run`
+    check, overridden by `allow`)."""
     path = Path(path)
     check_output(path, fmt)
     system = unit_system(units or DEFAULT_UNITS[fmt])
@@ -90,6 +119,8 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
     if half and (ball_only or solver != "3d"):
         raise InputError("half: only a 3D impact deck can be a half model (a ball for "
                          "inclusion is whole)")
+    check_export_memory(ball, solver, element_size_m=element_size_m, divisions=divisions,
+                        pole_grading=pole_grading, half=half, allow=allow)
     geom = ball_geometry(ball, solver, element_size_m=element_size_m, divisions=divisions,
                          pole_grading=pole_grading, half=half)
     notes: list[str] = []
@@ -122,4 +153,4 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
 
 __all__ = ["DEFAULT_UNITS", "FORMATS", "MM_TONNE_S", "SI", "SOLVERS", "UNIT_SYSTEMS",
            "BallGeometry", "Export", "ExportError", "ImpactSetup", "UnitSystem", "ball_geometry",
-           "check_output", "export_ball", "read_ball", "read_materials"]
+           "check_export_memory", "check_output", "export_ball", "read_ball", "read_materials"]

@@ -18,10 +18,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..fe.ball import BallModel
-from ..fe.mesh import layered_sphere_mesh
+from ..fe.mesh import estimate_mesh, layered_sphere_mesh
 from ..fe.options import SolverOptions
 from ..oblique.hexa import geometry
-from ..oblique.mesh import ball_mesh
+from ..oblique.mesh import ball_mesh, estimate_ball_mesh
 from ..oblique.options import Options3D
 
 SOLVERS = ("axisymmetric", "3d")
@@ -67,16 +67,44 @@ def _surface_faces(elements: np.ndarray, on_surface: np.ndarray, faces) -> np.nd
     return np.array(sorted(out), dtype=np.int64).reshape(-1, 2)
 
 
+def _mesh_options(solver: str, element_size_m: float | None, divisions: int | None,
+                  pole_grading: float | None):
+    """The checked mesh options of `solver`: the element size (axisymmetric) or
+    `Options3D` (3d); the other solver's options are ignored (`export --solver` refuses them)."""
+    if solver == "axisymmetric":
+        size = SolverOptions().element_size_m if element_size_m is None else element_size_m
+        SolverOptions(element_size_m=size)  # validates
+        return size
+    if solver == "3d":
+        defaults = Options3D()
+        return Options3D(divisions=defaults.divisions if divisions is None else divisions,
+                         pole_grading=(defaults.pole_grading if pole_grading is None
+                                       else pole_grading))
+    raise InputError(f"solver = {solver!r}: allowed {', '.join(SOLVERS)}")
+
+
+def estimate_elements(ball: BallModel, solver: str = "axisymmetric", *,
+                      element_size_m: float | None = None, divisions: int | None = None,
+                      pole_grading: float | None = None, half: bool = False) -> int:
+    """The element count of `ball_geometry` with these arguments, without meshing (the mesh's
+    counting rules: `fe.mesh.estimate_mesh`, `oblique.mesh.estimate_ball_mesh`); arguments are
+    checked as there."""
+    options = _mesh_options(solver, element_size_m, divisions, pole_grading)
+    if solver == "axisymmetric":
+        return estimate_mesh(ball.layer_radii_m, options).elements
+    return estimate_ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading,
+                              half)[0]
+
+
 def ball_geometry(ball: BallModel, solver: str = "axisymmetric", *,
                   element_size_m: float | None = None, divisions: int | None = None,
                   pole_grading: float | None = None, half: bool = False) -> BallGeometry:
     """Mesh `ball` for a deck: axisymmetric quadrilaterals of `element_size_m` (default the
     solver's, `fe.SolverOptions`), or 3D hexahedra with `divisions` and `pole_grading`
     (defaults `oblique.Options3D`), the whole ball or, with `half`, the half y >= 0."""
+    options = _mesh_options(solver, element_size_m, divisions, pole_grading)
     if solver == "axisymmetric":
-        size = SolverOptions().element_size_m if element_size_m is None else element_size_m
-        SolverOptions(element_size_m=size)  # validates
-        mesh = layered_sphere_mesh(ball.layer_radii_m, size)
+        mesh = layered_sphere_mesh(ball.layer_radii_m, options)
         nodes = np.array(mesh.nodes_m, dtype=float)
         nodes[:, 1] += ball.outer_radius_m
         nodes[np.abs(nodes[:, 0]) < 1e-12 * ball.outer_radius_m, 0] = 0.0
@@ -89,10 +117,6 @@ def ball_geometry(ball: BallModel, solver: str = "axisymmetric", *,
                             np.flatnonzero(nodes[:, 0] == 0.0), np.zeros(0, np.int64), False,
                             volume)
     if solver == "3d":
-        defaults = Options3D()
-        options = Options3D(divisions=defaults.divisions if divisions is None else divisions,
-                            pole_grading=(defaults.pole_grading if pole_grading is None
-                                          else pole_grading))
         mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
         on_surface = np.zeros(len(mesh.nodes_m), bool)
         on_surface[mesh.contact_nodes] = True

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from ..fe.materials import material_from_dict
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
 _UNITS_LINE = re.compile(r"^\*\*\s*units\s+(\S+):", re.IGNORECASE | re.MULTILINE)
@@ -55,6 +56,17 @@ def blocks(text: str) -> list[tuple[str, dict[str, str], list[list[str]], int]]:
 def _si(x: float) -> float:
     """A converted value rounded to 12 digits: 4.02 MPa reads as 4.02e6 Pa, not 4019999.9999."""
     return float(f"{x:.12g}")
+
+
+def _order(params: dict[str, str], where: str) -> int:
+    """The N= parameter of a card (default 1), a positive integer."""
+    try:
+        n = int(params.get("N", "1"))
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise InputError(f"{where}: N={params.get('N')}: expected a positive integer")
+    return n
 
 
 def _floats(rows: list[list[str]], where: str) -> list[float]:
@@ -106,7 +118,13 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
             continue
         values = _floats(rows, where)
         if keyword == "DENSITY":
-            current["density_kg_m3"] = _si(values[0] / rho_unit)
+            if not values:
+                raise InputError(f"{where} in material {current['name']!r}: no value")
+            density = _si(values[0] / rho_unit)
+            if not (np.isfinite(density) and density > 0):
+                raise InputError(f"{where} in material {current['name']!r}: density_kg_m3 = "
+                                 f"{density:g}: must be a finite number > 0 (kg/m^3)")
+            current["density_kg_m3"] = density
         elif keyword == "HYPERELASTIC":
             kind = next((k for k in params if k in ("MOONEY-RIVLIN", "NEO HOOKE", "POLYNOMIAL",
                                                      "OGDEN", "ARRUDA-BOYCE", "VAN DER WAALS",
@@ -130,7 +148,7 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
                                        "c01_pa": _si(values[1] / s), "d1_per_pa": _si(values[2] * s)}
             current["material"]["moduli"] = _moduli(params)
         elif keyword == "HYPERFOAM":
-            n = int(params.get("N", "1"))
+            n = _order(params, where)
             if len(values) < 3 * n:
                 raise InputError(f"{where}, N={n}: expected {3 * n} values (mu_i, alpha_i, then "
                                  f"nu_i), got {len(values)}")
@@ -139,7 +157,8 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
             current["material"] = {"model": "ogden_hyperfoam", "terms": terms,
                                    "moduli": _moduli(params)}
         elif keyword == "ELASTIC":
-            if params.get("TYPE", "ISOTROPIC").upper() != "ISOTROPIC" or len(rows) > 1:
+            if params.get("TYPE", "ISOTROPIC").upper() != "ISOTROPIC" or len(rows) > 1 \
+                    or len(values) < 2:
                 raise InputError(f"{where}: only TYPE=ISOTROPIC with one row E, nu is supported")
             current["material"] = {"model": "linear_elastic", "youngs_modulus_pa": _si(values[0] / s),
                                    "poissons_ratio": values[1], "moduli": _moduli(params)}
@@ -163,6 +182,8 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
             if material["model"] == "ogden_hyperfoam":  # relaxes as a whole with g
                 prony = [{**t, "k": 0.0} for t in prony]
             material["prony"] = prony
+        # every constant checked as in a ball file: finite, moduli > 0, 0 <= g < 1, tau > 0, ...
+        material_from_dict(material, where=f"line {item['line']}: material {item['name']!r}")
         out.append({"name": item["name"], "density_kg_m3": item["density_kg_m3"],
                     "material": material})
     if not out:
@@ -180,14 +201,19 @@ def read_ball(text: str, units: str | None = None, name: str = "imported") -> di
     sets: dict[str, list[list[int]]] = {}
     sections: list[tuple[str, str]] = []
     for keyword, params, rows, line in blocks(text):
-        if keyword == "NODE":
-            for row in rows:
-                nodes[int(row[0])] = [float(v) for v in row[1:] if v != ""]
-        elif keyword == "ELEMENT" and "ELSET" in params:
-            sets.setdefault(params["ELSET"].lower(), []).extend(
-                [int(v) for v in row[1:] if v != ""] for row in rows)
-        elif keyword == "SOLID SECTION" and params.get("ELSET", "").upper() != "PLANE":
-            sections.append((params.get("ELSET", "").lower(), params.get("MATERIAL", "").lower()))
+        try:
+            if keyword == "NODE":
+                for row in rows:
+                    nodes[int(row[0])] = [float(v) for v in row[1:] if v != ""]
+            elif keyword == "ELEMENT" and "ELSET" in params:
+                sets.setdefault(params["ELSET"].lower(), []).extend(
+                    [int(v) for v in row[1:] if v != ""] for row in rows)
+            elif keyword == "SOLID SECTION" and params.get("ELSET", "").upper() != "PLANE":
+                sections.append((params.get("ELSET", "").lower(),
+                                 params.get("MATERIAL", "").lower()))
+        except (ValueError, IndexError):
+            raise InputError(f"line {line}: *{keyword}: expected rows of a label and numbers"
+                             ) from None
     sections = [(elset, material) for elset, material in sections if elset in sets]
     if not nodes or not sections:
         raise InputError("no meshed solid sections: --ball reads decks written by ballimpact "

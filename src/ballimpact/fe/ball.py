@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from ..plausibility import check_allow, check_ball
 from .materials import MODULI, Material, material_from_dict
 from .materials.base import _check_keys, _number
 from .options import shown
@@ -68,10 +69,13 @@ def _check_derived(d: dict, where: str, actual: dict[str, Any]) -> None:
 
     for key, value in actual.items():
         if key in d and not agrees(d[key], value):
+            grams = (key == "mass_kg" and isinstance(d[key], (int, float)) and value > 0
+                     and math.isclose(d[key] / value, 1e3, rel_tol=0.01))
             raise InputError(
                 f"{where}.{key} = {shown(d[key])}: disagrees with {shown(value)}, which follows "
-                "from the other keys; it is only checked (as `ballimpact balls --json` writes "
-                "it), never used: remove it or correct it")
+                "from the other keys" + (" (it looks like grams given as kg)" if grams else "")
+                + "; it is only checked (as `ballimpact balls --json` writes it), never used: "
+                "remove it or correct it")
 
 
 def _shell_volume_m3(inner_m: float, outer_m: float) -> float:
@@ -411,35 +415,62 @@ def _read_file(path: Path) -> dict:
         raise InputError(f"{path}: not valid {kind} ({exc})") from None
 
 
-def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None) -> BallModel:
+def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None, *,
+              allow=()) -> BallModel:
     """A ball from a preset name, a JSON or TOML file (by suffix; JSON otherwise), or a dict.
 
     `impact_speed_m_s` is needed by speed-dependent presets (`cricket-universal`) and ignored by
     the others. A universal model's recorded name ("cricket-universal@25.0m/s") loads again.
     Errors are `InputError`s naming the key's path ("ball.layers[1].outer_radius_m ...").
+
+    Every ball loaded passes the `ball-units` plausibility check (`plausibility.check_ball`:
+    radius, mass, densities and moduli inside the ranges of solid sports balls, so that a ball
+    written in millimetres or MPa is caught before it is meshed); with "ball-units" in `allow`
+    a failure is an `InputWarning` instead.
     """
+    allow = check_allow(allow)
     if impact_speed_m_s is not None:
         impact_speed_m_s = _speed(impact_speed_m_s)
     if isinstance(spec, dict):
         if "speed_table" in spec:
-            return _speed_table_ball(spec, str(spec.get("name", "ball")), impact_speed_m_s)
-        return BallModel.from_dict(spec)
+            ball = _speed_table_ball(spec, str(spec.get("name", "ball")), impact_speed_m_s)
+        else:
+            ball = BallModel.from_dict(spec)
+        check_ball(ball, allow, where="ball")
+        return ball
     if isinstance(spec, str) and (spec in PRESETS or spec.startswith("cricket-universal@")):
-        return _preset(spec, impact_speed_m_s)
+        ball = _preset(spec, impact_speed_m_s)
+        check_ball(ball, allow, where=spec)
+        return ball
     if not isinstance(spec, (str, Path)):
         raise InputError(f"ball: expected a preset name, a file or a dict, got "
                          f"{type(spec).__name__}")
     path = Path(spec)
+    if path.is_dir():
+        raise InputError(f"ball = {str(spec)!r}: a folder, not a ball file (JSON or TOML)")
     if not path.is_file():
         raise InputError(f"ball = {str(spec)!r}: neither a preset ({', '.join(PRESETS)}) nor an "
                          f"existing file")
     data = _read_file(path)
     try:
         if isinstance(data, dict) and "speed_table" in data:
-            return _speed_table_ball(data, str(data.get("name", path.stem)), impact_speed_m_s)
-        return BallModel.from_dict(data, default_name=path.stem)
+            ball = _speed_table_ball(data, str(data.get("name", path.stem)), impact_speed_m_s)
+        elif not isinstance(data, dict):
+            raise InputError(f"expected a ball specification (an object with 'layers', or "
+                             f"'speed_table'; docs/balls.md), got a {_json_type(data)}")
+        else:
+            ball = BallModel.from_dict(data, default_name=path.stem)
+        check_ball(ball, allow, where="ball")
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+    return ball
+
+
+def _json_type(value: Any) -> str:
+    """The JSON name of a parsed value's type (a list is an 'array', a dict an 'object')."""
+    names = {list: "JSON array", str: "string", bool: "boolean", type(None): "null",
+             int: "number", float: "number"}
+    return names.get(type(value), type(value).__name__)
 
 
 def describe_presets() -> list[dict[str, Any]]:

@@ -166,14 +166,9 @@ def layered_sphere_mesh(
         surface segments would crowd within `MIN_TOP_CORNER_RAD` of the pole, where the O-grid
         cannot stay well shaped.
     """
-    radii = _validated_radii(layer_radii_m)
+    radii, h, h_pole, zone_deg = _validated_sizes(layer_radii_m, element_size_m,
+                                                  pole_element_size_m, pole_zone_deg)
     outer = float(radii[-1])
-    h = _validated_in_range(element_size_m, "element_size_m", 0.0, outer / 2.0, False,
-                            f"(0, outer radius/2 = {outer / 2.0:g}) m")
-    h_pole = h if pole_element_size_m is None else _validated_in_range(
-        pole_element_size_m, "pole_element_size_m", 0.0, h, True,
-        f"(0, element_size_m = {h:g}] m")
-    zone_deg = _validated_in_range(pole_zone_deg, "pole_zone_deg", 0.0, 90.0, True, "(0, 90] deg")
     refine = h_pole < h
     zone_rad = math.radians(zone_deg)
 
@@ -304,16 +299,68 @@ def _arc_angles(outer: float, h: float, h_pole: float, zone_rad: float, refine: 
     surface segment at angle theta is about the target size there.
     """
     if not refine:
-        n = max(1, math.floor(math.pi * outer / h / 4.0 + 0.5))
-        return np.linspace(0.0, math.pi, 4 * n + 1)
+        return np.linspace(0.0, math.pi, 4 * _quarter_count(outer, h, h_pole, zone_rad) + 1)
+    grid, count = _arc_integral(outer, h, h_pole, zone_rad)
+    theta = np.interp(np.linspace(0.0, count[-1], 4 * _quarter_count(outer, h, h_pole, zone_rad)
+                                  + 1), count, grid)
+    theta[0], theta[-1] = 0.0, math.pi
+    return theta
+
+
+def _arc_integral(outer: float, h: float, h_pole: float, zone_rad: float):
+    """(polar angles, surface segments from the pole to each) of a refined surface."""
     # samples crowd quadratically toward the pole, where the segments can be very short
     grid = math.pi * np.linspace(0.0, 1.0, _ARC_SAMPLES) ** 2
     density = outer / _surface_size_m(grid, outer, h, h_pole, zone_rad)  # segments per radian
-    count = np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1]) * np.diff(grid))])
-    n = max(1, math.floor(count[-1] / 4.0 + 0.5))
-    theta = np.interp(np.linspace(0.0, count[-1], 4 * n + 1), count, grid)
-    theta[0], theta[-1] = 0.0, math.pi
-    return theta
+    return grid, np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1])
+                                                  * np.diff(grid))])
+
+
+def _quarter_count(outer: float, h: float, h_pole: float, zone_rad: float) -> int:
+    """n: the surface has 4n segments (without building them: a mis-scaled ball can ask for
+    billions)."""
+    count = (math.pi * outer / h if h_pole >= h
+             else float(_arc_integral(outer, h, h_pole, zone_rad)[1][-1]))
+    return max(1, math.floor(count / 4.0 + 0.5))
+
+
+@dataclass(frozen=True)
+class MeshEstimate:
+    """The size of a mesh, estimated without building it (`estimate_mesh`)."""
+
+    elements: int
+    smallest_length_m: float   # about the smallest element's characteristic length
+
+
+def estimate_mesh(layer_radii_m, element_size_m: float, pole_element_size_m: float | None = None,
+                  pole_zone_deg: float = 30.0) -> MeshEstimate:
+    """The element count and smallest element length of `layered_sphere_mesh` with these
+    arguments, from its counting rules alone (no node is built, so a ball given in millimetres
+    as metres costs nothing here): within 10% of the count on the presets, the refined meshes
+    and thin or small cores (tests/test_fe_mesh.py). Arguments are checked as there."""
+    radii, h, h_pole, zone_deg = _validated_sizes(layer_radii_m, element_size_m,
+                                                  pole_element_size_m, pole_zone_deg)
+    outer, inner = float(radii[-1]), float(radii[0])
+    n = _quarter_count(outer, h, h_pole, math.radians(zone_deg))
+    n_arc = 4 * n
+    # block n x 2n; the transition ring spans ~0.35 r0 (block boundary at 1.15 half-sides on
+    # average) in segments sized on its two curves' mean spacing, as `layered_sphere_mesh`
+    half_side = BLOCK_HALF_SIDE_FRACTION * inner
+    spacing = 0.5 * (half_side / n + math.pi * inner / n_arc)
+    radial = [max(1, round((inner - 1.148 * half_side) / min(h, spacing)))]
+    radial += [max(1, round((r - r0) / h)) for r0, r in zip(radii[:-1], radii[1:])]
+    if h_pole < h:  # the outer ring grows geometrically from h_pole to its uniform spacing
+        length = outer - (float(radii[-2]) if len(radii) > 1 else 1.148 * half_side)
+        cap = length / radial[-1]
+        if h_pole < cap:
+            steps = math.ceil(math.log(cap / h_pole) / math.log(GROWTH_RATIO))
+            graded = h_pole * (GROWTH_RATIO ** steps - 1.0) / (GROWTH_RATIO - 1.0)
+            radial[-1] = steps + max(0, math.ceil((length - graded) / cap))
+    elements = 2 * n * n + n_arc * sum(radial)
+    # the smallest elements: the block's corners (a quarter of the arc spacing at the innermost
+    # radius) or the surface element at the pole
+    smallest = 0.25 * min(h_pole, math.pi * inner / n_arc)
+    return MeshEstimate(elements=int(elements), smallest_length_m=smallest)
 
 
 def _block_nodes(theta: np.ndarray, corner_radius: float) -> np.ndarray:
@@ -475,6 +522,20 @@ def _validated_in_range(value, name: str, low: float, high: float, high_allowed:
     if not (low < number and (number <= high if high_allowed else number < high)):  # NaN fails
         raise InputError(f"{name} must be in {allowed}, got {shown(value)}")
     return number
+
+
+def _validated_sizes(layer_radii_m, element_size_m, pole_element_size_m, pole_zone_deg):
+    """(radii, element size, pole element size, pole zone in degrees), checked; InputError
+    naming the argument and its allowed range."""
+    radii = _validated_radii(layer_radii_m)
+    outer = float(radii[-1])
+    h = _validated_in_range(element_size_m, "element_size_m", 0.0, outer / 2.0, False,
+                            f"(0, outer radius/2 = {outer / 2.0:g}) m")
+    h_pole = h if pole_element_size_m is None else _validated_in_range(
+        pole_element_size_m, "pole_element_size_m", 0.0, h, True,
+        f"(0, element_size_m = {h:g}] m")
+    zone_deg = _validated_in_range(pole_zone_deg, "pole_zone_deg", 0.0, 90.0, True, "(0, 90] deg")
+    return radii, h, h_pole, zone_deg
 
 
 def _validated_radii(layer_radii_m) -> np.ndarray:

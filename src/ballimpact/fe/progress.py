@@ -9,14 +9,33 @@ and the time left, and stays quiet for runs that end within a few seconds.
 from __future__ import annotations
 
 import math
+import os
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import TextIO
 
+from ..plausibility import flag
+
 #: memory (bytes) of the histories and kept frames above which a run is flagged
 MEMORY_WARNING_BYTES = 4 * 2 ** 30
+
+
+def available_memory_bytes() -> float | None:
+    """Memory (bytes) a new allocation can get without swapping: MemAvailable of /proc/meminfo
+    (Linux), else the free physical pages (`os.sysconf`), else None (unknown: not checked)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES")) * float(os.sysconf("SC_PAGE_SIZE"))
+    except (AttributeError, ValueError, OSError):
+        return None
 
 
 @dataclass(frozen=True)
@@ -34,6 +53,10 @@ class RunEstimate:
     - `seconds_per_element_step`: the solver's cost on a 2-core CPU (s), for the warning's time
       figure.
     - `hint`: how to make the mesh coarser (the option and the command-line flag).
+    - `model_bytes`: the rest of the run's memory: the process with JAX and the compiled
+      program, the mesh, its geometry and the state of every run held at once (an estimate from
+      measured peaks, docs/fe.md "Progress and very large runs").
+    - `runs`: runs of the batch.
     """
 
     elements: int
@@ -43,11 +66,42 @@ class RunEstimate:
     element_steps_limit: float
     seconds_per_element_step: float
     hint: str = ""
+    model_bytes: float = 0.0
+    runs: int = 1
 
     @property
     def element_steps(self) -> float:
         """Element updates of one run (elements x steps)."""
         return float(self.elements) * float(self.steps)
+
+    @property
+    def total_bytes(self) -> float:
+        """The whole run's memory (bytes): histories, frames and `model_bytes`."""
+        return float(self.memory_bytes) + float(self.model_bytes)
+
+    @property
+    def wall_time_s(self) -> float:
+        """Wall time of every run on a 2-core CPU (s), at `seconds_per_element_step`."""
+        return self.element_steps * self.runs * self.seconds_per_element_step
+
+    def check_memory(self, allow: Collection[str] = (), available_bytes: float | None = None,
+                     what: str = "the run") -> None:
+        """The `large-run` check: `InputError` (an `InputWarning` if allowed) when
+        `total_bytes` exceeds `available_bytes` (default `available_memory_bytes()`; unknown:
+        nothing is checked). The message states the estimate (GiB, elements, steps, time) and
+        `hint`."""
+        available = available_memory_bytes() if available_bytes is None else available_bytes
+        if available is None or self.total_bytes <= available:
+            return
+        size = f"{_count(self.elements)} elements"
+        if self.steps:  # a run (an export runs nothing)
+            size += f" x {_count(self.steps)} steps" + (f" x {self.runs} runs" if self.runs > 1
+                                                        else "")
+        took = (f", and take about {_duration(self.wall_time_s)} on a 2-core CPU"
+                if self.steps else "")
+        flag("large-run", f"{what} would need about {self.total_bytes / 2 ** 30:.3g} GiB of "
+             f"memory ({size}), more than the {available / 2 ** 30:.3g} GiB available{took}: "
+             f"{self.hint or 'a coarser mesh'}", allow)
 
     def warning(self) -> str | None:
         """The warning text (starting "large run:") when the run is above a guard, else None."""
@@ -89,7 +143,14 @@ def _duration(seconds: float) -> str:
         return f"{seconds:.0f} s"
     if seconds < 5400:
         return f"{seconds / 60:.1f} min"
-    return f"{seconds / 3600:.1f} h"
+    if seconds < 3.6e7:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 3600:.2g} h"
+
+
+def _count(n: float) -> str:
+    """A count for a message: plain below a million, else 1.5e+09."""
+    return f"{int(n)}" if n < 1e6 else f"{n:.2g}"
 
 
 class RunProgress:

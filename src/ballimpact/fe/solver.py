@@ -29,8 +29,16 @@ from ..errors import InputError, InputWarning, SimulationError
 from ..plausibility import FE_SPEED_RANGE_M_S, check_allow, check_fe_speed
 from ..records import ImpactRecord
 from .axisymmetric import geometry
-from .kernel import HISTORY, Kernel, ball_arrays, cast, hertz_contact_time_s, time_limit_default
-from .mesh import layered_sphere_mesh
+from .kernel import (
+    HISTORY,
+    Kernel,
+    ball_arrays,
+    cast,
+    hertz_contact_radius_m,
+    hertz_contact_time_s,
+    time_limit_default,
+)
+from .mesh import estimate_mesh, layered_sphere_mesh
 from .materials.stability import drucker_warnings
 from .options import SolverOptions, shown
 from .progress import RunEstimate
@@ -135,8 +143,7 @@ def kernel_for(ball, options: SolverOptions) -> Kernel:
            options.precision)
     if key not in _KERNELS:
         radii = np.asarray(ball.layer_radii_m)
-        extra = [r for r in options.mesh_radii_m if 0 < r < radii[-1]]
-        mesh_radii = np.unique(np.concatenate([radii, extra]))
+        mesh_radii = _mesh_radii(ball, options)
         mesh = layered_sphere_mesh(tuple(mesh_radii), options.element_size_m,
                                    options.pole_element_size_m, options.pole_zone_deg)
         # mesh rings -> ball layers: a ring belongs to the first layer that reaches its radius
@@ -148,6 +155,13 @@ def kernel_for(ball, options: SolverOptions) -> Kernel:
             [layer.material.sum_k > 0 for layer in ball.layers],
             reduced=options.integration == "reduced", dtype=np.dtype(options.precision))
     return _KERNELS[key]
+
+
+def _mesh_radii(ball, options: SolverOptions) -> np.ndarray:
+    """The node circles of a ball's mesh: its layer radii and `options.mesh_radii_m` inside."""
+    radii = np.asarray(ball.layer_radii_m)
+    extra = [r for r in options.mesh_radii_m if 0 < r < radii[-1]]
+    return np.unique(np.concatenate([radii, extra]))
 
 
 _COMPILED: dict[Any, Any] = {}
@@ -193,8 +207,9 @@ def default_group_size(n_balls: int) -> int:
 
 
 def _speeds(impact_speeds_m_s, n: int, allow=(), solver: str = "axisymmetric") -> np.ndarray:
-    """The impact speeds (m/s) of `n` balls, checked: finite, > 0, and inside the validated range
-    of `solver` (`plausibility.check_fe_speed`) unless "speed-range" is in `allow` (a warning)."""
+    """The impact speeds (m/s) of `n` balls, checked: finite, > 0, and inside the speeds `solver`
+    was checked at (`plausibility.check_fe_speed`) unless "speed-range" is in `allow` (a
+    warning)."""
     allow = check_allow(allow)
     try:
         speeds = np.asarray(impact_speeds_m_s, dtype=np.float64)
@@ -227,18 +242,61 @@ SECONDS_PER_ELEMENT_STEP = 1.5e-7
 INCREMENT_OVER_SMALLEST_ELEMENT = 1.5
 
 
-def estimate_run(ball, impact_speed_m_s, options: SolverOptions = SolverOptions()) -> RunEstimate:
+#: memory of a run (bytes): the process with JAX and the compiled program (peak 0.55-0.6 GB with
+#: 210 to 13,110 elements), and per element and ball run at once (mesh, geometry, state,
+#: Lanczos vectors: 4-6 kB measured with 13,110 to 80,370 elements, reduced integration; full
+#: integration's four points are assumed to double it, not measured). On the high side.
+BASE_MEMORY_BYTES = 0.6 * 2 ** 30
+MEMORY_PER_ELEMENT_BYTES = 8e3
+#: the contact patch must span this many elements at the contact pole (Hertz contact radius over
+#: the pole's element size) for the pulse to be resolved: on a homogeneous elastic ball the
+#: contact time is then within 5% and the peak force within 1% of Hertz; at 1.2 elements the
+#: contact time reads 7% long, at 0.8 elements 18% (docs/fe.md, tests/test_fe_low_speed.py)
+CONTACT_RESOLUTION_ELEMENTS = 2.0
+#: how to make an axisymmetric run smaller (for the warnings and the large-run check)
+_HINT = ("a coarser mesh: element_size_m, --element-size-m (or a coarser pole refinement: "
+         "pole_element_size_m, --pole-element-size-m)")
+
+
+def estimate_run(ball, impact_speed_m_s, options: SolverOptions = SolverOptions(), *,
+                 allow=()) -> RunEstimate:
     """The cost of a run of `ball` at `impact_speed_m_s` (m/s; one speed or one per run of a
     batch of this ball's structure), estimated from the mesh before anything is compiled: steps
     to a Hertz contact time (the ball's softest long-term modulus: longer than the ball's) plus
     the end margin, at an increment from the smallest element. `RunEstimate.warning` flags runs
-    above `ELEMENT_STEPS_WARNING` element updates or `progress.MEMORY_WARNING_BYTES`."""
+    above `ELEMENT_STEPS_WARNING` element updates or `progress.MEMORY_WARNING_BYTES`.
+
+    The mesh is built only after the same estimate made from the mesh's counting rules
+    (`mesh.estimate_mesh`) fits in the available memory: else the `large-run` check fails
+    (`InputError`, or with "large-run" in `allow` an `InputWarning` and the mesh is built)."""
     speeds = np.atleast_1d(np.asarray(impact_speed_m_s, dtype=np.float64))
-    return _estimate(kernel_for(ball, options), [ball] * len(speeds), speeds, options)
+    balls = [ball] * len(speeds)
+    check_run_memory(balls, speeds, options, allow)
+    return _estimate(kernel_for(ball, options), balls, speeds, options)
+
+
+def check_run_memory(balls: list, speeds, options: SolverOptions, allow=(),
+                     group_size: int | None = None) -> RunEstimate:
+    """The `large-run` check before anything is meshed: the run's memory estimated from the
+    ball's radii and the mesh options alone (`mesh.estimate_mesh`) against the available memory
+    (`progress.RunEstimate.check_memory`). Returns that estimate."""
+    mesh = estimate_mesh(_mesh_radii(balls[0], options), options.element_size_m,
+                         options.pole_element_size_m, options.pole_zone_deg)
+    held = len(balls) if group_size is None else min(len(balls), group_size)
+    estimate = _run_estimate(mesh.elements, mesh.smallest_length_m, balls, speeds, options, held)
+    estimate.check_memory(check_allow(allow))
+    return estimate
 
 
 def _estimate(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> RunEstimate:
     smallest = float(np.min(kernel.geom.characteristic_length_m))
+    return _run_estimate(kernel.geom.n_elements, smallest, balls, speeds, options, len(balls))
+
+
+def _run_estimate(elements: int, smallest_m: float, balls: list, speeds, options: SolverOptions,
+                  held: int) -> RunEstimate:
+    """The cost of runs of `balls` at `speeds` on a mesh of `elements` whose smallest element is
+    `smallest_m` long; `held` runs are in memory at once (a vmapped group)."""
     steps, end = 0, 0.0
     for ball, speed in zip(balls, speeds):
         end_s = hertz_contact_time_s(ball, float(speed)) * (1.0 + options.end_margin)
@@ -246,19 +304,47 @@ def _estimate(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> Ru
             end_s = min(end_s, options.time_limit_s)
         c_d = max(math.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
                   for layer in ball.layers)
-        dt = (INCREMENT_OVER_SMALLEST_ELEMENT * options.time_step_scale / 0.8) * smallest / c_d
+        dt = (INCREMENT_OVER_SMALLEST_ELEMENT * options.time_step_scale / 0.8) * smallest_m / c_d
         steps, end = max(steps, math.ceil(end_s / dt)), max(end, end_s)
-    return RunEstimate(elements=kernel.geom.n_elements, steps=steps, end_time_s=end,
+    per_element = MEMORY_PER_ELEMENT_BYTES * (2.0 if options.integration == "full" else 1.0)
+    return RunEstimate(elements=int(elements), steps=steps, end_time_s=end,
                        memory_bytes=8.0 * steps * len(HISTORY) * len(balls),
                        element_steps_limit=ELEMENT_STEPS_WARNING,
-                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP,
-                       hint="a coarser mesh: element_size_m, --element-size-m")
+                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP, hint=_HINT,
+                       model_bytes=BASE_MEMORY_BYTES + per_element * float(elements) * held,
+                       runs=len(balls))
 
 
 def _warn_if_large(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> None:
     message = _estimate(kernel, balls, speeds, options).warning()
     if message is not None:
         warnings.warn(message, InputWarning, stacklevel=3)
+
+
+def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float) -> str | None:
+    """A note when the contact patch at `speed_m_s` (m/s) spans fewer than
+    `CONTACT_RESOLUTION_ELEMENTS` elements of `pole_element_m` (m) at the contact pole (a Hertz
+    estimate with the ball's softest long-term plane-strain modulus,
+    `kernel.hertz_contact_radius_m`); None when it spans enough. A slow impact on a coarse mesh:
+    the contact time reads long."""
+    radius = hertz_contact_radius_m(ball, speed_m_s)
+    if radius >= CONTACT_RESOLUTION_ELEMENTS * pole_element_m:
+        return None
+    finer = radius / CONTACT_RESOLUTION_ELEMENTS
+    return (f"contact not resolved: at {speed_m_s:g} m/s the contact patch of {ball.name} "
+            f"(Hertz radius about {radius * 1e3:.3g} mm) spans {radius / pole_element_m:.2g} "
+            f"elements of {pole_element_m * 1e3:.3g} mm at the contact pole, fewer than "
+            f"{CONTACT_RESOLUTION_ELEMENTS:g}: the contact time reads long (on an elastic ball "
+            "by 7% at 1.2 elements, 18% at 0.8, docs/fe.md); refine the pole to about "
+            f"{finer:.2g} m (pole_element_size_m, --pole-element-size-m; 3d: more --divisions)")
+
+
+def _warn_unresolved(balls: list, speeds, pole_element_m: float) -> None:
+    """One `contact_resolution_note` warning, for the slowest run of a batch."""
+    i = int(np.argmin(speeds))
+    note = contact_resolution_note(balls[i], float(speeds[i]), pole_element_m)
+    if note is not None:
+        warnings.warn(note, InputWarning, stacklevel=3)
 
 
 def _expected_steps(ball, speed: float, kernel: Kernel) -> float:
@@ -285,11 +371,13 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     ball gets a `FailedRun` with the reason in its place, and the others run on: a design of
     experiments keeps the runs that did not fail and records the reason of those that did).
 
-    Speeds outside `FE_SPEED_RANGE_M_S` (the validated range, docs/fe.md) raise `InputError`
+    Speeds outside `FE_SPEED_RANGE_M_S` (the speeds checked, docs/fe.md) raise `InputError`
     before anything is meshed or compiled, unless `allow` holds "speed-range" (then an
-    `InputWarning` starting "speed-range:"). A batch whose runs are estimated above
-    `ELEMENT_STEPS_WARNING` element updates each gets an `InputWarning` before it runs
-    (`estimate_run`).
+    `InputWarning` starting "speed-range:"). So does a batch whose memory estimate, made before
+    meshing, exceeds the memory available (`check_run_memory`; "large-run" in `allow`: a
+    warning). A batch whose runs are estimated above `ELEMENT_STEPS_WARNING` element updates
+    each gets an `InputWarning` before it runs (`estimate_run`), and one whose slowest contact
+    patch spans fewer than `CONTACT_RESOLUTION_ELEMENTS` pole elements another.
     """
     if on_failure not in ("raise", "return"):
         raise InputError(f"on_failure = {on_failure!r}: allowed 'raise' or 'return'")
@@ -303,6 +391,8 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
         raise InputError(f"group_size = {group_size!r}: must be an integer >= 1")
     if any(_structure(b) != _structure(balls[0]) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
+    check_run_memory(balls, speeds, options, allow, group_size)  # before anything is meshed
+    _warn_unresolved(balls, speeds, options.pole_element_size_m or options.element_size_m)
     kernel = kernel_for(balls[0], options)
     _warn_if_large(kernel, balls, speeds, options)
     if len(balls) <= group_size:
@@ -324,14 +414,18 @@ def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptio
              progress=None, *, allow=()) -> FEResult:
     """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s).
 
-    A speed outside `FE_SPEED_RANGE_M_S` (m/s; the range the FE model is validated over,
+    A speed outside `FE_SPEED_RANGE_M_S` (m/s; the speeds the solver was checked at,
     docs/fe.md) raises `InputError` before anything is meshed or compiled; with
-    `allow={"speed-range"}` it runs, with an `InputWarning` starting "speed-range:". A run
-    estimated above `ELEMENT_STEPS_WARNING` element updates (a very fine mesh) gets an
-    `InputWarning` before it starts. `progress(t_s)` is called after every chunk of steps
+    `allow={"speed-range"}` it runs, with an `InputWarning` starting "speed-range:". So does a
+    run whose memory estimate exceeds the memory available (`check_run_memory`, "large-run").
+    A run estimated above `ELEMENT_STEPS_WARNING` element updates (a very fine mesh) gets an
+    `InputWarning` before it starts, and so does a contact patch narrower than
+    `CONTACT_RESOLUTION_ELEMENTS` pole elements (`contact_resolution_note`). `progress(t_s)` is called after every chunk of steps
     (`progress.RunProgress` prints the time reached and the time left).
     """
     speeds = _speeds(impact_speed_m_s, 1, allow)
+    check_run_memory([ball], speeds, options, allow)  # before anything is meshed
+    _warn_unresolved([ball], speeds, options.pole_element_size_m or options.element_size_m)
     _warn_if_large(kernel_for(ball, options), [ball], speeds, options)
     return _simulate_group([ball], speeds, options, progress)[0]
 

@@ -60,6 +60,22 @@ class HexMesh:
         return len(self.elements)
 
 
+def estimate_ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
+                       half: bool = True) -> tuple[int, float]:
+    """(elements, about the smallest element's length in m) of `ball_mesh` with these arguments,
+    from its counting rules alone (no node is built): the count is exact (the cube's d^3 and six
+    blocks of d^2 per level, halved for a half model); the length is on the small side (0.55 of
+    the smaller of the surface shell and the cube's cell: 0.6-1.0 of the real one)."""
+    radii = np.asarray(layer_radii_m, dtype=float)
+    g = _graded_angles(divisions, pole_grading)
+    surface = radii[-1] * (g[divisions // 2 + 1] - g[divisions // 2])
+    r_blend = min(BLEND_OF_INNERMOST * radii[0], BLEND_OF_OUTER * radii[-1])
+    levels = BLEND_LEVELS + len(_radial_levels(radii, r_blend, surface, np.max(np.diff(g))))
+    elements = divisions ** 3 + 6 * divisions ** 2 * (levels - 1)
+    cube_cell = 2.0 * CUBE_FRACTION * r_blend / divisions
+    return (elements // 2 if half else elements), 0.55 * min(surface, cube_cell)
+
+
 def _graded_angles(n: int, grading: float) -> np.ndarray:
     """n + 1 angles over [-pi/4, pi/4], symmetric, spacing growing geometrically from 0 outward
     with largest / smallest = `grading` (n even)."""

@@ -160,6 +160,22 @@ def _frame_axes(ax, result, t):
                  f"mu {c.friction:g}; t = {t * 1e3:.3f} ms", fontsize=9)
 
 
+def check_animation_path(path) -> None:
+    """Refuse, before a run, an animation file that `animate_section` could not write: a suffix
+    other than .gif or .mp4, or .mp4 without ffmpeg."""
+    path = Path(path)
+    if path.suffix.lower() not in (".gif", ".mp4"):
+        raise InputError(f"--animate {path}: the file must end in .gif or .mp4")
+    if path.suffix.lower() == ".mp4":
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from matplotlib import animation
+
+        if not animation.FFMpegWriter.isAvailable():
+            raise InputError(f"--animate {path}: MP4 needs ffmpeg; write a .gif instead")
+
+
 def animate_section(result, path, fps: int = 12) -> Path:
     """An animation of the mid-plane section over the kept frames: GIF, or MP4 (ffmpeg)."""
     import matplotlib

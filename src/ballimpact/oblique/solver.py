@@ -26,14 +26,16 @@ import numpy as np
 from ..errors import InputError, InputWarning, SimulationError
 from ..fe.kernel import cast, hertz_contact_time_s, time_limit_default
 from ..fe.progress import RunEstimate
-from ..fe.solver import _speeds, contact_end_time
+from ..fe.solver import _speeds, _warn_unresolved, contact_end_time
+from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
 from . import kernel as kernel_module
 from .hexa import geometry
 from .kernel import HISTORY, Kernel
-from .mesh import HexMesh, ball_mesh, combine, slab_mesh
+from .mesh import HexMesh, ball_mesh, combine, estimate_ball_mesh, slab_mesh
 from .options import ImpactCondition, Options3D
+from .target import check_target_width
 
 __all__ = ["ObliqueResult", "estimate_oblique", "simulate_oblique", "simulate_oblique_batch"]
 
@@ -131,18 +133,42 @@ def _structure(ball, target) -> tuple:
 _KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
 
 
+def pole_spacing_m(ball, options: Options3D) -> float:
+    """About the ball mesh's arc spacing at the contact pole (m)."""
+    return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
+            / options.pole_grading ** 0.5)
+
+
+def _slab_layout(ball, target, options: Options3D) -> tuple[int, list[int]]:
+    """(cells across half the slab, cells through each layer): the slab's spacing near the
+    centre matches the ball's pole spacing, growing by 1.15 a cell outward."""
+    pole = pole_spacing_m(ball, options)
+    cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
+    per_layer = [max(2, int(math.ceil(layer.thickness_m / (4 * pole)))) for layer in target.layers]
+    return cells, per_layer
+
+
 def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
     """The mesh of a ball (and target), ball layers then target layers as groups."""
     mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
     if target is None:
         return mesh
-    # the slab's spacing near the centre matches the ball's pole spacing
-    pole = mesh.outer_radius_m * math.radians(90.0 / options.divisions) / options.pole_grading ** 0.5
-    cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
-    per_layer = [max(2, int(math.ceil(layer.thickness_m / (4 * pole)))) for layer in target.layers]
+    cells, per_layer = _slab_layout(ball, target, options)
     slab = slab_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,
                      cells, per_layer, grading=min(20.0, 1.15 ** (cells - 1)), half=half)
     return combine(mesh, slab, len(ball.layers))
+
+
+def _mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float]:
+    """(elements, about the smallest element's length m) of `mesh_for`, without building it."""
+    elements, smallest = estimate_ball_mesh(ball.layer_radii_m, options.divisions,
+                                            options.pole_grading, half)
+    if target is not None:
+        cells, per_layer = _slab_layout(ball, target, options)
+        elements += (2 * cells) * (cells if half else 2 * cells) * sum(per_layer)
+        smallest = min([smallest, pole_spacing_m(ball, options)]
+                       + [layer.thickness_m / n for layer, n in zip(target.layers, per_layer)])
+    return elements, smallest
 
 
 def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, HexMesh]:
@@ -216,9 +242,11 @@ def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Opti
                      target=None, progress=None, *, allow=()) -> ObliqueResult:
     """An oblique impact of `ball` on a rigid plane (or a `target.Target` slab).
 
-    An impact speed (`condition.speed_m_s`, m/s) outside `plausibility.FE_SPEED_RANGE_M_S`
-    raises `InputError` before anything is meshed or compiled; with `allow={"speed-range"}` it
-    runs, with an `InputWarning` starting "speed-range:". `progress(t_s)` is called after every
+    An impact speed (`condition.speed_m_s`, m/s) outside `plausibility.FE_3D_SPEED_RANGE_M_S`
+    (the speeds checked) raises `InputError` before anything is meshed or compiled; with
+    `allow={"speed-range"}` it runs, with an `InputWarning` starting "speed-range:". So does a run
+    whose memory estimate exceeds the memory available (`check_oblique_memory`, "large-run"),
+    and a target narrower than the ball. `progress(t_s)` is called after every
     chunk of steps (`fe.progress.RunProgress` prints the time reached and the time left)."""
     return simulate_oblique_batch(ball, [condition], options, target, progress, allow=allow)[0]
 
@@ -252,21 +280,53 @@ def _checked(conditions, options: Options3D) -> tuple[list, bool]:
 
 
 def estimate_oblique(ball, conditions, options: Options3D = Options3D(),
-                     target=None) -> RunEstimate:
+                     target=None, *, allow=()) -> RunEstimate:
     """The cost of a run (`fe.progress.RunEstimate`), estimated from the mesh (built and cached
     as the run would) before anything is compiled: steps to a Hertz contact time at the normal
     speed (the ball's softest long-term modulus) plus the end margin, at an increment from the
     smallest element; memory of the histories and of the frames kept for output (`frames`).
     `RunEstimate.warning` flags runs above `ELEMENT_STEPS_WARNING` element updates or
-    `fe.progress.MEMORY_WARNING_BYTES`. Speeds are not range-checked here."""
+    `fe.progress.MEMORY_WARNING_BYTES`. Speeds are not range-checked here.
+
+    The mesh is built only after the same estimate from the mesh's counting rules fits in the
+    available memory (`check_oblique_memory`: the `large-run` check, overridden by `allow`)."""
     conditions, half = _checked(conditions, options)
+    check_oblique_memory(ball, conditions, options, target, half, allow)
     kernel, _ = kernel_for(ball, target, options, half)
     return _estimate(ball, target, conditions, options, kernel)
 
 
+#: memory of a run (bytes): the process with JAX and the compiled program, and per hexahedron and
+#: run held at once (measured on the universal ball, reduced integration, half models of 8 to
+#: 32 divisions: docs/oblique.md; full integration's eight points assumed to double it)
+BASE_MEMORY_BYTES = 0.8 * 2 ** 30
+MEMORY_PER_ELEMENT_BYTES = 16e3
+_HINT = ("a coarser mesh: fewer divisions, --divisions (a slab: a thinner or narrower --target, "
+         "whose cells follow the ball's pole spacing)")
+
+
+def check_oblique_memory(ball, conditions, options: Options3D, target, half: bool,
+                         allow=()) -> RunEstimate:
+    """The `large-run` check before anything is meshed: the run's memory estimated from the
+    mesh's counting rules (`_mesh_size`) against the available memory."""
+    elements, smallest = _mesh_size(ball, target, options, half)
+    estimate = _run_estimate(ball, target, conditions, options, elements, smallest)
+    estimate.check_memory(check_allow(allow))
+    return estimate
+
+
 def _estimate(ball, target, conditions, options: Options3D, kernel: Kernel) -> RunEstimate:
     geom = kernel.geom
-    smallest = float(np.min(np.asarray(geom.characteristic_length_m)))
+    return _run_estimate(ball, target, conditions, options, int(geom.n_elements),
+                         float(np.min(np.asarray(geom.characteristic_length_m))),
+                         int(kernel.n_nodes))
+
+
+def _run_estimate(ball, target, conditions, options: Options3D, elements: int, smallest: float,
+                  nodes: int | None = None) -> RunEstimate:
+    """The cost of runs of `conditions` on a mesh of `elements` hexahedra (and `nodes`, default
+    about as many) whose smallest is `smallest` m long."""
+    nodes = elements if nodes is None else nodes
     layers = list(ball.layers) + (list(target.layers) if target is not None else [])
     c_d = max(math.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
               for layer in layers)
@@ -279,11 +339,13 @@ def _estimate(ball, target, conditions, options: Options3D, kernel: Kernel) -> R
     memory = 8.0 * steps * len(HISTORY) * len(conditions)
     if options.frames and len(conditions) == 1:  # displacement, velocity, contact force, stress
         frames = steps / (options.chunk_steps * options.frames)
-        memory += 8.0 * frames * (9 * kernel.n_nodes + 6 * geom.n_elements)
-    return RunEstimate(elements=int(geom.n_elements), steps=steps, end_time_s=end,
+        memory += 8.0 * frames * (9 * nodes + 6 * elements)
+    per_element = MEMORY_PER_ELEMENT_BYTES * (2.0 if options.integration == "full" else 1.0)
+    return RunEstimate(elements=int(elements), steps=steps, end_time_s=end,
                        memory_bytes=memory, element_steps_limit=ELEMENT_STEPS_WARNING,
-                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP,
-                       hint="a coarser mesh: fewer divisions, --divisions")
+                       seconds_per_element_step=SECONDS_PER_ELEMENT_STEP, hint=_HINT,
+                       model_bytes=BASE_MEMORY_BYTES + per_element * elements * len(conditions),
+                       runs=len(conditions))
 
 
 def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), target=None,
@@ -292,7 +354,12 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     checked as in `simulate_oblique`; a run estimated above `ELEMENT_STEPS_WARNING` element
     updates or `fe.progress.MEMORY_WARNING_BYTES` gets an `InputWarning` before it starts."""
     conditions, half = _checked(conditions, options)
-    _speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")  # before meshing
+    _speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
+    if target is not None:
+        check_target_width(target, ball)
+    check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
+    normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
+    _warn_unresolved([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options))
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
     message = _estimate(ball, target, conditions, options, kernel).warning()

@@ -70,10 +70,23 @@ class Target:
 def load_target(path) -> Target:
     """A target from a JSON file (errors name the file and the key)."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"--target {path}: a folder, not a target file (JSON)")
     try:
-        data = json.loads(path.read_text())
+        data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise InputError(f"--target {path}: no such file") from None
-    except json.JSONDecodeError as error:
+    except OSError as error:
+        raise InputError(f"--target {path}: cannot read ({error.strerror or error})") from None
+    except (ValueError, UnicodeDecodeError) as error:  # JSONDecodeError is a ValueError
         raise InputError(f"--target {path}: not valid JSON ({error})") from None
     return Target.from_dict(data, where=str(path))
+
+
+def check_target_width(target: Target, ball) -> None:
+    """A slab narrower than the ball: its contact nodes would lie beyond the slab's edge, where
+    the contact has no surface to find (`InputError`)."""
+    if target.half_width_m < ball.outer_radius_m:
+        raise InputError(f"target {target.name!r}: half_width_m = {target.half_width_m:g} m is "
+                         f"less than the ball's radius {ball.outer_radius_m:g} m; the slab must "
+                         "reach beyond the contact patch (e.g. 3 ball radii)")

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..plausibility import FE_SPEED_RANGE_M_S
+from ..plausibility import BALL_RANGES, FE_SPEED_RANGE_M_S
 
 #: parameter -> (default low, default high, unit)
 PARAMETERS: dict[str, tuple[float, float, str]] = {
@@ -30,7 +30,7 @@ PARAMETERS: dict[str, tuple[float, float, str]] = {
 }
 MATERIAL_PARAMETERS = ("c10_pa", "c01_pa", "g1", "tau1_s")
 LOG_SCALED = ("tau1_s",)
-#: hard limits of each range (physics, or the FE solver's validated speeds: a study must not
+#: hard limits of each range (physics, or the FE solver's checked speeds: a study must not
 #: stop at its first run outside them)
 ALLOWED: dict[str, tuple[float, float]] = {
     "c10_pa": (1e4, 1e9), "c01_pa": (-1e9, 1e9), "g1": (0.0, 0.99), "tau1_s": (1e-8, 1.0),
@@ -69,6 +69,16 @@ def check_ranges(ranges: dict[str, Any]) -> dict[str, tuple[float, float]]:
         raise InputError(f"ranges c10_pa low {out['c10_pa'][0]:g} + c01_pa low "
                          f"{out['c01_pa'][0]:g} = {softest:g} Pa: the softest balls would have "
                          "mu0 = 2 (C10 + C01) <= 0; raise either low end")
+    # ... and a sports ball (`plausibility.BALL_RANGES`), checked here rather than when the
+    # study reaches that corner
+    low_mu, high_mu, _ = BALL_RANGES["shear modulus"]
+    stiffest = out["c10_pa"][1] + out["c01_pa"][1]
+    if not (low_mu <= 2 * softest and 2 * stiffest <= high_mu):
+        raise InputError(f"ranges c10_pa {out['c10_pa'][0]:g}:{out['c10_pa'][1]:g} and c01_pa "
+                         f"{out['c01_pa'][0]:g}:{out['c01_pa'][1]:g} Pa give balls with mu0 = "
+                         f"2 (C10 + C01) from {2 * softest:g} to {2 * stiffest:g} Pa, outside "
+                         f"the shear moduli of sports balls {low_mu:g}..{high_mu:g} Pa "
+                         "(MPa typed for Pa?)")
     return out
 
 
