@@ -171,3 +171,23 @@ def test_fit_bad_input_exits_2(capsys, tmp_path, extra, message):
     code, out, err = run(capsys, "fit", path, *extra)
     assert code == 2
     assert err.startswith("error:") and message in err and err.count("\n") == 1
+
+
+def test_fit_flags_parameters_the_record_does_not_determine(capsys, tmp_path):
+    """Three units fitted to one unit's pulse: a parameter whose standard error exceeds its value
+    is "not identified" in the JSON, on stderr (naming the file) and in the text output."""
+    path = write_test(tmp_path, "one_unit", 20.0)
+    code, out, err = run(capsys, "fit", path, "--model", "three_element", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    unknown = result["not_identified"]
+    assert unknown and any(name.startswith("k") for name in unknown)
+    for name in unknown:
+        error = result["standard_errors"][name]
+        assert error is None or error > abs(result["params"][name])  # None: inf in JSON
+        assert f"warning: one_unit.csv: {name}: not identified (standard error " in err
+    assert len(result["notes"]) == len(unknown)
+    code, out, _ = run(capsys, "fit", path, "--model", "three_element")
+    assert code == 0
+    flagged = [line.split()[0] for line in out.splitlines() if line.endswith("not identified")]
+    assert flagged == unknown

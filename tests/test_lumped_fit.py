@@ -173,3 +173,76 @@ def test_polish_improves_on_the_search_alone():
     assert not searched.polished and polished.polished
     assert searched.history_best == polished.history_best  # same seed, same search
     assert polished.fitness <= searched.fitness
+
+
+# ---- honest standard errors (issue 24): inf where the record does not determine a parameter --
+
+
+def test_parameter_standard_errors_are_the_gauss_newton_ones_or_inf():
+    from ballimpact.lumped.fit import parameter_standard_errors
+
+    rng = np.random.default_rng(0)
+    jac = rng.normal(size=(40, 3))
+    r = rng.normal(size=40)
+    mapping = np.array([[2.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.0, 0.0, 0.0]])  # third: fixed
+    expected = np.sqrt(np.diag(r @ r / 37 * mapping @ np.linalg.inv(jac.T @ jac) @ mapping.T))
+    np.testing.assert_allclose(parameter_standard_errors(jac, r, mapping), expected, rtol=1e-9)
+    assert parameter_standard_errors(jac, r, mapping)[2] == 0.0  # a fixed parameter
+    no_effect = jac.copy()
+    no_effect[:, 2] = 0.0  # the third coordinate changes nothing: what depends on it is unknown
+    errors = parameter_standard_errors(no_effect, r, mapping)
+    assert np.isfinite(errors[0]) and np.isinf(errors[1])
+    together = jac.copy()
+    together[:, 1] = together[:, 0]  # two coordinates that act only together: both unknown...
+    errors = parameter_standard_errors(together, r, np.eye(3))
+    assert np.isinf(errors[0]) and np.isinf(errors[1]) and np.isfinite(errors[2])
+    # ...but their difference-free combination is: x0 + x1 is determined
+    summed = parameter_standard_errors(together, r, np.array([[1.0, 1.0, 0.0]]))
+    assert np.isfinite(summed[0])
+    assert np.all(np.isinf(parameter_standard_errors(jac[:3], r[:3], np.eye(3))))  # no dof
+
+
+def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero():
+    """A model with a parameter that its force ignores: `pinv` with clipped variances gave it a
+    standard error of 0, the most certain of all; it is inf, listed as not identified, and null
+    in JSON."""
+    import jax.numpy as jnp
+
+    from ballimpact.cli.common import json_safe
+    from ballimpact.lumped import single_element
+    from ballimpact.lumped.base import Parameter
+    from ballimpact.lumped.engine import OdeModel
+
+    unused = Parameter("unused", "1", "a parameter the force ignores")
+    model = OdeModel(
+        name="single_element_unused", summary="single element with a parameter of no effect",
+        parameters=(single_element.STIFFNESS, single_element.EXPONENT, single_element.DAMPING,
+                    unused),
+        bounds=lambda scale: {**single_element.bounds(scale), "unused": (0.0, 1.0)},
+        split=lambda p, mass: (p[None, :3], jnp.atleast_1d(mass)),
+        force=single_element.force)
+    result = fit(noisy(clean("single_element", SINGLE), 0.01, seed=1), model, seed=1)
+    assert np.isinf(result.standard_errors["unused"])
+    assert result.not_identified == ["unused"]
+    assert result.notes["unused"] == ("unused: not identified (standard error inf: the record "
+                                      "does not determine it)")
+    for name in SINGLE:  # the others are determined as without it
+        assert 0 < result.standard_errors[name] < 0.2 * abs(result.params[name]), name
+    assert json_safe(result.to_dict())["standard_errors"]["unused"] is None
+
+
+def test_three_element_on_a_single_element_pulse_flags_what_it_cannot_determine():
+    """Three units fitted to one unit's pulse: some of the twelve parameters are one of many
+    sets that fit as well. Each whose standard error exceeds its value is listed, with a note;
+    none is reported as determined with an error larger than itself."""
+    result = fit(noisy(clean("single_element", SINGLE), 0.01, seed=0), "three_element", seed=1)
+    assert result.nrmse < 0.02  # the curve is fitted (1% noise)...
+    unknown = result.not_identified
+    assert any(name.startswith("k") for name in unknown)  # ...its stiffnesses are not
+    for name, value in result.params.items():
+        error = result.standard_errors[name]
+        assert error > 0, name  # every parameter was searched: none is certain
+        assert (name in unknown) == (error > abs(value)), name
+    for name in unknown:
+        assert result.notes[name].startswith(f"{name}: not identified (standard error ")
+    assert result.to_dict()["not_identified"] == unknown

@@ -5,10 +5,11 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from .common import (
     add_processing,
     add_record_options,
@@ -81,6 +82,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     if len(processed) == 1:
         fitted = lumped.fit(processed[0], model, **options)
         result = {**fitted.to_dict(), "file": str(args.files[0])}
+        _warn_not_identified(fitted, args.files[0])
         if not args.json:
             _print_fit(fitted, args.files[0])
         if args.plot:
@@ -93,6 +95,8 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     table, fits = lumped.fit_speed_table(processed, model, labels=[str(p) for p in args.files],
                                          **options)
     _note_repeats(table)
+    for f, file in zip(fits, table.labels):
+        _warn_not_identified(f, Path(file))
     result = {"model": model.name, "units": model.units, "table": table.to_dict(),
               "fits": [{**f.to_dict(), "file": file} for f, file in zip(fits, table.labels)]}
     if args.table is not None:
@@ -109,6 +113,13 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
     return result
+
+
+def _warn_not_identified(fitted, path: Path) -> None:
+    """One warning per parameter the record does not determine (standard error inf or larger
+    than the value), naming the file: its value is one of many that fit as well."""
+    for note in fitted.notes.values():
+        warnings.warn(f"{path.name}: {note}", InputWarning, stacklevel=2)
 
 
 def _note_repeats(table) -> None:
@@ -131,7 +142,8 @@ def _print_fit(fitted, path: Path) -> None:
         error = fitted.standard_errors.get(name, 0.0)
         spread = f" +/- {error:.3g}" if error > 0 else " (fixed)" if name not in fitted.bounds \
             else ""
-        print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}")
+        unknown = "  not identified" if name in fitted.notes else ""
+        print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}{unknown}")
     print(f"  RMSE {fitted.rmse_n:.4g} N, NRMSE {fitted.nrmse:.2%} of the measured peak")
     print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact {fitted.contact_time_s * 1e3:.4g} "
           f"ms, COR {fitted.cor:.4f}")

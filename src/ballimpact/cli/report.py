@@ -51,6 +51,7 @@ def add_parser(verbs) -> None:
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..report import build_report, builtin_files, parse_models
     from ..report.inputs import builtin_ball, label_tests
+    from ..report.models import check_balls
 
     if bool(args.files) == bool(args.builtin):
         raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
@@ -58,14 +59,19 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError(f"--out: folder {args.out.parent} does not exist")
     if args.out.exists() and not args.out.is_dir():
         raise InputError(f"--out: {args.out} is a file, not a folder")
-    names = args.models or DEFAULT_MODELS
+    if args.seed < 0:
+        raise InputError(f"--seed: must be an integer >= 0, got {args.seed}")
+    _check_files(args)
     ball = builtin_ball(args.builtin) if args.builtin else None
+    # an empty --models is a mistake, not a request for the default
+    names = DEFAULT_MODELS if args.models is None else args.models
     if args.models is None and ball is not None:
         names += f",{ball}"
     models = parse_models(names)
     files = builtin_files(args.builtin) if args.builtin else args.files
-    processed = [process_record(load(path, args), args) for path in files]
+    processed = [process_record(_loaded(path, args, len(files)), args) for path in files]
     tests = label_tests([str(f) for f in files], processed)
+    check_balls(models, tests[len(tests) // 2].speed_m_s)
     universal = None
     if any(m.kind == "universal" for m in models):
         from ..universal.model import load_model
@@ -87,6 +93,36 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     return result
 
 
+def _check_files(args: argparse.Namespace) -> None:
+    """Test files: each once, and each with its own speed (a report compares speeds)."""
+    seen: dict[Path, Path] = {}
+    for path in args.files:
+        key = path.resolve()
+        if key in seen:
+            raise InputError(f"TEST: {path} is given twice (as {seen[key]}); give each test once")
+        seen[key] = path
+    for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
+                        ("--rebound-speed-m-s", args.rebound_speed_m_s)):
+        if value is not None and len(args.files) > 1:
+            raise InputError(f"{flag}: one speed for {len(args.files)} test files; each test "
+                             "has its own: give it in the file's side file (FILE.json with "
+                             "impact_speed_m_s and rebound_speed_m_s)")
+
+
+def _loaded(path: Path, args: argparse.Namespace, count: int):
+    """The record of a test, which must carry its impact speed and the ball mass."""
+    record = load(path, args)
+    missing = [name for name, value in (("impact_speed_m_s", record.impact_speed_m_s),
+                                        ("mass_kg", record.mass_kg)) if value is None]
+    if missing:
+        flags = " or --" + " and --".join(m.replace("_", "-") for m in missing)
+        raise InputError(
+            f"{path}: no {' and no '.join(missing)}; a report compares tests at their speeds: "
+            f"give them in the side file {path.with_suffix('.json').name} (e.g. {{\"mass_kg\": "
+            f"0.16, \"impact_speed_m_s\": 25}}){flags if count == 1 else ''}")
+    return record
+
+
 def _print(result: dict[str, Any]) -> None:
     tables = result["tables"]
     for key in ("nrmse", "cor_error"):
@@ -94,7 +130,14 @@ def _print(result: dict[str, Any]) -> None:
         print(table["title"])
         print("  " + "".join(f"{c:>20}" for c in table["columns"]))
         for row in table["rows"]:
-            cells = [f"{row[0]:>20}"] + [f"{v:>20.2%}" if key == "nrmse" else f"{v:>+20.4f}"
-                                         for v in row[1:]]
+            cells = [f"{row[0]:>20}"] + [_cell(v, key) for v in row[1:]]
             print("  " + "".join(cells))
+    for failure in result["failures"]:
+        print(f"failed: {failure['model']} at {failure['test']}: {failure['error']}")
     print(f"report: {result['report_html']} ({result['wall_time_s']:.1f} s)")
+
+
+def _cell(value: Any, key: str) -> str:
+    if isinstance(value, str):  # "failed"
+        return f"{value:>20}"
+    return f"{value:>20.2%}" if key == "nrmse" else f"{value:>+20.4f}"

@@ -2,11 +2,14 @@
 (pymoo) over the whole search box, then a bounded least-squares polish.
 
 Fitness (minimised): sqrt(NRMSE^2 + (w_cor dCOR)^2 + (w_tc dT_c / T_c)^2), with NRMSE the RMS
-force error over the comparison window divided by the measured peak force; with the default zero
+force error over the comparison window (and the zero force after it) divided by the measured peak
+force; with the default zero
 weights it is the NRMSE of the force curve (the thesis' RMSE fitness, made dimensionless).
 
 The comparison window runs from just before the measured contact start to a quarter of the contact
-time after its end, on the record's own samples, so a model pulse that is too long is penalised.
+time after its end, on the record's own samples, so a model pulse that is too long is penalised;
+beyond it, to the end of the model's grid (1.6 contact times), the model's force is compared with
+zero at the record's spacing (the test's ball has left), so that a pulse cannot run on unseen.
 The model's first contact (`onset_s`) is searched too, within 5% of the contact time (at least
 two samples) of the measured start: a sampled record locates it only to within a sample, and noise
 raises the contact threshold, which moves the measured start by several.
@@ -44,6 +47,8 @@ FIT_GRID_CONTACTS = 1.6
 TAIL_FRACTION = 0.25  # of the contact time, compared after the measured end
 ONSET_SLACK_FRACTION = 0.05  # of the contact time: model onset searched this far around the start
 _FD_STEP = 1e-6  # finite-difference step in the unit box
+#: fitness of a model that has not left the surface by the end of its grid (see `_Objective`)
+STUCK_PENALTY = 0.1
 
 
 @dataclass(frozen=True)
@@ -63,12 +68,13 @@ class Gene:
 @dataclass
 class FitResult:
     """A fitted model. `params` and `units` in SI; `standard_errors` what the record's noise
-    leaves uncertain in each parameter (linearised, same units; large for parameters the pulse
-    does not determine); `rmse_n` the RMS force error (N) and `nrmse` it divided by the measured
-    peak force; `history_best` / `history_mean` the best and the mean
-    fitness of each generation; `fitted` the model's force on the record's samples. `bounds` is
-    the searched box in the parameters' own units (see `reported_bounds`), which `bounds=` takes
-    back."""
+    leaves uncertain in each parameter (linearised, same units; inf for a parameter the pulse does
+    not determine at all, 0 for a fixed one); `not_identified` the parameters whose standard
+    error is inf or larger than their value, with a note each (`notes`); `rmse_n` the RMS force
+    error (N) and `nrmse` it divided by the measured peak force; `history_best` /
+    `history_mean` the best and the mean fitness of each generation; `fitted_force_n` the
+    model's force on the record's samples. `bounds` is the searched box in the parameters' own
+    units (see `reported_bounds`), which `bounds=` takes back."""
 
     model: str
     params: dict[str, float]
@@ -97,13 +103,21 @@ class FitResult:
     measured_force_n: np.ndarray = field(repr=False)
     fitted_force_n: np.ndarray = field(repr=False)
     reproduction: bool = False
+    #: parameter -> "k1: not identified (standard error ... > value ...)"
+    #: (`identification_notes`)
+    notes: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def not_identified(self) -> list[str]:
+        return list(self.notes)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-able, with the command-line contract's keys (`model`, `params`, `units`, `rmse_n`,
         `nrmse`, `wall_time_s`)."""
         return {
             "model": self.model, "params": self.params, "units": self.units,
-            "standard_errors": self.standard_errors,
+            "standard_errors": self.standard_errors, "not_identified": self.not_identified,
+            "notes": list(self.notes.values()),
             "rmse_n": self.rmse_n, "nrmse": self.nrmse, "fitness": self.fitness,
             "wall_time_s": self.wall_time_s, "onset_s": self.onset_s,
             "contact_time_s": self.contact_time_s, "cor": self.cor,
@@ -268,6 +282,13 @@ class _Objective:
         self.time, self.force = record.time_s[keep], record.force_n[keep]
         self.step = self.contact / FIT_STEPS_PER_CONTACT
         self.steps = int(FIT_GRID_CONTACTS * FIT_STEPS_PER_CONTACT)
+        # after the window the test's ball has left: the model's force there, at the record's
+        # spacing up to the end of the model's grid, is compared with zero. Without it a model
+        # whose pulse runs on at a few percent of the peak beyond the window (a soft unit of the
+        # three-element model) fits as well as one that ends, and its COR is far off.
+        spacing = 1.0 / sample_rate_hz(record)
+        self.after = np.arange(self.time[-1] + spacing,
+                               self.onset[0] + FIT_GRID_CONTACTS * self.contact, spacing)
         self.evaluations = 0
 
     def split(self, u: np.ndarray):
@@ -284,14 +305,21 @@ class _Objective:
         return batch, force, onset
 
     def residuals(self, u: np.ndarray) -> np.ndarray:
-        batch, force, _ = self.run(u)
-        scaled = (force - self.force) / (self.peak * np.sqrt(self.force.size))
+        batch, force, onset = self.run(u)
+        norm = self.peak * np.sqrt(self.force.size)
+        scaled = (force - self.force) / norm
+        after = sample_on(batch, self.after[None, :] - onset[:, None]) / norm
         # a run that has not left the surface within the grid counts as a unit error
         errors = {"cor": batch.rebound_speed_m_s / self.scale.impact_speed_m_s - self.cor,
                   "contact_time": batch.contact_time_s / self.contact - 1.0}
         extra = [(self.weights[k] * np.where(np.isfinite(e), e, 1.0))[:, None]
                  for k, e in errors.items()]
-        residual = np.concatenate([scaled] + extra, axis=1)
+        # a unit still touching at the grid's end would bring an impulse the fit never sees (a
+        # light soft unit returns m v_in (1 + e) however small its force): it costs as much as
+        # an NRMSE of STUCK_PENALTY, enough to be avoided, small enough to leave the search
+        # informed (a unit cost flattens the landscape and worsened fits)
+        stuck = STUCK_PENALTY * np.where(batch.separated, 0.0, 1.0)[:, None]
+        residual = np.concatenate([scaled, after, stuck] + extra, axis=1)
         return np.where(np.isfinite(residual), residual, 1.0)
 
     def fitness(self, u: np.ndarray) -> np.ndarray:
@@ -361,19 +389,71 @@ def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
     return solution.x
 
 
-def _standard_errors(objective: _Objective, best: np.ndarray, names: tuple[str, ...]):
-    """Linearised standard errors of the parameters (SI), s^2 (J^T J)^-1 mapped from the unit box
-    to the parameters, with s^2 the residual variance: what the noise in the record allows."""
+#: singular values of the column-scaled Jacobian below this fraction of the largest are directions
+#: the record does not determine (forward differences at `_FD_STEP` are exact to ~1e-10 relative,
+#: so smaller ones are round-off); the calibration's refinement uses the same rule
+RANK_TOLERANCE = 1e-8
+#: a parameter whose gradient has a component (relative) above this along such a direction is
+#: undetermined
+NULL_COMPONENT = 1e-6
+
+
+def parameter_standard_errors(jacobian: np.ndarray, residuals: np.ndarray,
+                              mapping: np.ndarray) -> np.ndarray:
+    """Linearised standard errors of parameters p = mapping @ x, for a least-squares fit in the
+    coordinates x with `jacobian` (M, d) of the model output and `residuals` (M,) at the optimum:
+    s^2 (J^T J)^-1 with s^2 = RSS / (M - d), mapped by `mapping` (P, d).
+
+    A parameter that the record does not determine -- it depends on a coordinate with no effect
+    on the output (a zero column), or on a combination of coordinates whose effects cancel --
+    gets inf: its variance is unbounded (a pseudo-inverse would give it 0, the most certain
+    value of all). The others get the variance of their determined part, from the singular value
+    decomposition restricted to the determined directions. A parameter that depends on no
+    coordinate (fixed) gets 0; all the rest inf when M <= d (no degrees of freedom for s^2)."""
+    m, d = jacobian.shape
+    depends = np.any(mapping != 0, axis=1)
+    if m <= d:
+        return np.where(depends, np.inf, 0.0)
+    norms = np.linalg.norm(jacobian, axis=0)
+    safe = np.where(norms > 0, norms, 1.0)  # columns scaled to unit length: no unit decides
+    _, singular, vt = np.linalg.svd(jacobian / safe, full_matrices=False)
+    determined = (singular > RANK_TOLERANCE * singular[0]) if singular[0] > 0 \
+        else np.zeros(singular.size, bool)
+    gradient = mapping / safe  # d p / d (scaled coordinate)
+    along = gradient @ vt[determined].T / singular[determined]
+    variance = residuals @ residuals / (m - d) * np.sum(along**2, axis=1)
+    null = np.linalg.norm(gradient @ vt[~determined].T, axis=1)
+    variance[null > NULL_COMPONENT * np.linalg.norm(gradient, axis=1)] = np.inf
+    return np.sqrt(np.where(depends, variance, 0.0))
+
+
+def _standard_errors(objective: _Objective, best: np.ndarray,
+                     names: tuple[str, ...]) -> dict[str, float]:
+    """Standard errors of the parameters (SI) at the unit-box point `best` (the onset included
+    as a coordinate, so its trade-off with the parameters counts): `parameter_standard_errors`
+    of the force on the record's samples, mapped from the unit box to the parameters."""
     steps, points = _difference_points(best)
     _, force, _ = objective.run(points)
     jacobian = ((force[1:] - force[0]) / steps[:, None]).T  # (M, d) in N per unit box
-    dof = max(force.shape[1] - best.size, 1)
-    variance = np.sum((force[0] - objective.force) ** 2) / dof
-    covariance = variance * np.linalg.pinv(jacobian.T @ jacobian)
     params = objective.split(points)[0]
     mapping = ((params[1:] - params[0]) / steps[:, None]).T  # (P, d)
-    errors = np.sqrt(np.maximum(np.diag(mapping @ covariance @ mapping.T), 0.0))
+    errors = parameter_standard_errors(jacobian, force[0] - objective.force, mapping)
     return dict(zip(names, (float(e) for e in errors)))
+
+
+def identification_notes(params: dict[str, float], errors: dict[str, float]) -> dict[str, str]:
+    """Parameter -> note, for each parameter whose standard error is infinite or larger than its
+    value: the record does not determine it, and its value is one of many that fit as well
+    ("k1: not identified (standard error 9.01e+09 > value 4.8e+08)")."""
+    notes = {}
+    for name, value in params.items():
+        error = errors.get(name, 0.0)
+        if error <= abs(value):
+            continue
+        why = ("inf: the record does not determine it" if np.isinf(error)
+               else f"{error:.3g} > value {value:.3g}")
+        notes[name] = f"{name}: not identified (standard error {why})"
+    return notes
 
 
 def fit(
@@ -450,5 +530,5 @@ def fit(
         bounds=reported_bounds(model, genes, params, scale),
         weights=weights, wall_time_s=time.perf_counter() - started,
         time_s=objective.time, measured_force_n=objective.force, fitted_force_n=force[0],
-        reproduction=model.reproduction,
+        reproduction=model.reproduction, notes=identification_notes(params, errors),
     )

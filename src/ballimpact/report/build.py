@@ -13,7 +13,7 @@ from typing import Any
 
 from .. import __version__
 from ..cli.common import json_safe
-from ..errors import SimulationError
+from ..errors import InputError, InputWarning, SimulationError
 from ..progress import progress_bar
 from . import figures
 from .inputs import ReportTest
@@ -24,6 +24,7 @@ from .tables import (
     by_speed_table,
     comparison_table,
     cost_table,
+    not_identified,
     parameter_tables,
     tests_table,
 )
@@ -54,26 +55,37 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
 
     runs: list[ModelRun] = []
     failures: list[dict[str, str]] = []
+    errors: list[Exception] = []
     for spec in models:
         for test in tests:
             try:
                 runs.append(run_model(spec, test, seed=seed, universal_model=universal_model,
                                       options=options))
-            except SimulationError as error:
+            except (InputError, SimulationError) as error:
+                # one model that cannot follow one test (a fit that fails, an FE run that
+                # stops, a pulse that cannot be measured) must not take the report down
+                errors.append(error)
                 failures.append({"model": spec.label, "test": test.label, "error": str(error)})
                 warnings.warn(f"{spec.label} at {test.label}: failed run: {error}", stacklevel=2)
             step(f"{spec.label} at {test.label}")
     if not runs:
-        raise SimulationError("every model run failed: " + "; ".join(
-            f"{f['model']} at {f['test']}: {f['error']}" for f in failures))
+        reason = "every model run failed: " + "; ".join(
+            f"{f['model']} at {f['test']}: {f['error']}" for f in failures)
+        # all refused as bad input: the input is the problem (exit 2), else a failed run
+        raise (InputError if all(isinstance(e, InputError) for e in errors)
+               else SimulationError)(reason)
+    _warn_not_identified(runs)
     timed = {}
     for spec in models:
         mine = sorted((r for r in runs if r.model == spec.label), key=lambda r: r.impact_speed_m_s)
         if mine:
-            timed[spec.label] = mine[(len(mine) - 1) // 2].rerun()
+            try:
+                timed[spec.label] = mine[(len(mine) - 1) // 2].rerun()
+            except (InputError, SimulationError):  # it ran once: the cost shows as unknown
+                timed[spec.label] = float("nan")
         step(f"timing {spec.label}")
 
-    tables = _tables(tests, runs, timed)
+    tables = _tables(tests, runs, timed, failures, [m.label for m in models])
     html_text = _page(tests, runs, tables, failures, note)
     (out / "report.html").write_text(html_text, encoding="utf-8")
     for table in tables.values():
@@ -93,21 +105,34 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
     return result
 
 
-def _tables(tests: list[ReportTest], runs: list[ModelRun],
-            timed: dict[str, float]) -> dict[str, Table]:
+def _warn_not_identified(runs: list[ModelRun]) -> None:
+    """One warning per lumped model whose fits leave parameters undetermined, naming them per
+    test (the parameter tables mark each such value "not identified")."""
+    for model in dict.fromkeys(r.model for r in runs):
+        found = [f"{', '.join(not_identified(r))} at {r.test}" for r in runs
+                 if r.model == model and not_identified(r)]
+        if found:
+            warnings.warn(f"{model}: not identified (standard error inf or larger than the "
+                          f"value): {'; '.join(found)}", InputWarning, stacklevel=3)
+
+
+def _tables(tests: list[ReportTest], runs: list[ModelRun], timed: dict[str, float],
+            failures: list[dict[str, str]], models: list[str]) -> dict[str, Table]:
+    def by_speed(key, name, title):  # every model ran or failed at each test: a row each
+        return by_speed_table(runs, tests, key, name, title, failures, models)
+
     tables = {
         "tests": tests_table(tests),
-        "comparison": comparison_table(runs),
-        "nrmse": by_speed_table(runs, tests, "force_nrmse", "nrmse_by_speed",
-                                "Force NRMSE (of the test's peak) per model and speed"),
-        "cor_error": by_speed_table(runs, tests, "cor_error", "cor_error_by_speed",
-                                    "COR error (model - test) per model and speed"),
-        "peak_force_error": by_speed_table(
-            runs, tests, "peak_force_relative_error", "peak_force_error_by_speed",
-            "Peak force relative error per model and speed"),
-        "contact_time_error": by_speed_table(
-            runs, tests, "contact_time_relative_error", "contact_time_error_by_speed",
-            "Contact time relative error per model and speed"),
+        "comparison": comparison_table(runs, failures, tests),
+        "nrmse": by_speed("force_nrmse", "nrmse_by_speed",
+                          "Force NRMSE (of the test's peak) per model and speed"),
+        "cor_error": by_speed("cor_error", "cor_error_by_speed",
+                              "COR error (model - test) per model and speed"),
+        "peak_force_error": by_speed("peak_force_relative_error", "peak_force_error_by_speed",
+                                     "Peak force relative error per model and speed"),
+        "contact_time_error": by_speed("contact_time_relative_error",
+                                       "contact_time_error_by_speed",
+                                       "Contact time relative error per model and speed"),
         "cost": cost_table(runs, timed),
     }
     tables.update({f"parameters:{model}": t for model, t in parameter_tables(runs).items()})
@@ -118,7 +143,9 @@ def _page(tests, runs, tables, failures, note) -> str:
     models = list(dict.fromkeys(r.model for r in runs))
     when = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     intro = (f"<p class=\"small\">ballimpact {__version__}, {when}. {len(models)} models against "
-             f"{len(tests)} tests. SI units; figures in ms and kN for reading.</p>")
+             f"{len(tests)} tests"
+             + (f", {len(failures)} failed runs (listed below)" if failures else "")
+             + ". SI units; figures in ms and kN for reading.</p>")
     if note:
         intro += f"<p class=\"note\">{html.escape(note)}</p>"
     intro += ("<p>Each model's pulse is compared with the test's as a calibration compares "
@@ -165,14 +192,18 @@ def _page(tests, runs, tables, failures, note) -> str:
     parameters = "".join(
         table_html(t) + figure_html(figures.svg(figures.parameters_vs_speed(key[11:], runs)),
                                     f"Parameters of {key[11:]} against impact speed, with "
-                                    "standard errors (lumped) or 90% intervals (universal).")
+                                    "standard errors (lumped) or 90% intervals (universal); "
+                                    "open markers without a bar: not identified (standard "
+                                    "error inf or larger than the value).")
         for key, t in tables.items() if key.startswith("parameters:"))
     if parameters:
         sections.append(("Parameters against impact speed (thesis tables 7-1 to 7-3)",
                          parameters))
-    if failures:
+    if failures:  # right after the tests, before any table that has holes because of them
         items = "".join(f"<li>{html.escape(f['model'])} at {html.escape(f['test'])}: "
                         f"{html.escape(f['error'])}</li>" for f in failures)
-        sections.append(("Failed runs", f"<ul>{items}</ul>"))
+        sections.insert(1, ("Failed runs",
+                            "<p>These model runs failed; their cells read \"failed\" and the "
+                            f"means leave them out.</p><ul>{items}</ul>"))
     return page("Ball models against impact tests", sections, intro)
 

@@ -123,6 +123,12 @@ def parameters_vs_speed(model: str, runs: list[ModelRun]):
         low, high = _spread(mine, name, values)
         ax.errorbar(speeds, values * factor, fmt="o-", ms=4, capsize=3,
                     yerr=[(values - low) * factor, (high - values) * factor])
+        unknown = [i for i, r in enumerate(mine) if name in r.uncertainty.get("not_identified",
+                                                                              ())]
+        if unknown:  # open markers: a value the test does not determine
+            ax.plot([speeds[i] for i in unknown], values[unknown] * factor, "o", ms=8,
+                    mfc="white", mec="C3", label="not identified")
+            ax.legend(fontsize=6)
         if np.all(values > 0) and values.max() > 30 * values.min():
             ax.set_yscale("log", nonpositive="clip")  # power-law stiffnesses span decades
         ax.set_title(f"{name} ({unit})" if unit and unit != "1" else name, fontsize=9)
@@ -140,7 +146,8 @@ def _spread(runs: list[ModelRun], name: str, values: np.ndarray):
     for i, r in enumerate(runs):
         if "standard_error" in r.uncertainty:
             e = r.uncertainty["standard_error"].get(name, 0.0)
-            if math.isfinite(e):
+            # a bar larger than the value says nothing and would swamp the axis
+            if math.isfinite(e) and name not in r.uncertainty.get("not_identified", ()):
                 low[i], high[i] = values[i] - e, values[i] + e
         elif name in r.uncertainty.get("interval_90", {}):
             low[i], high[i] = r.uncertainty["interval_90"][name]

@@ -12,11 +12,12 @@ Every model's pulse is compared with the test's as a calibration compares an FE 
 test's peak) with the model's pulse from its first touch at the best time shift within 5% of the
 test's contact time (a noisy test's contact start is uncertain by tens of microseconds), and the
 peak force, contact time and COR of the model's pulse measured as the test's was (resampled at
-its rate, windowed at its threshold).
+its rate, linearly, and windowed at its threshold; see `measured_like`).
 """
 
 from __future__ import annotations
 
+import difflib
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -81,8 +82,12 @@ def parse_models(text: str) -> list[ModelSpec]:
     from ..fe import PRESETS
     from ..lumped import MODELS
 
+    parts = [part.strip() for part in text.split(",")]
+    if not any(parts):
+        raise InputError(f"--models: no model named in {text!r}; give one or more, comma-"
+                         "separated, e.g. single_element,three_element,universal")
     specs: list[ModelSpec] = []
-    for name in (part.strip() for part in text.split(",")):
+    for name in parts:
         if not name:
             raise InputError(f"--models: empty name in {text!r}")
         if name in MODELS:
@@ -96,13 +101,30 @@ def parse_models(text: str) -> list[ModelSpec]:
                 raise InputError(f"--models: ball file {name} does not exist")
             spec = ModelSpec("ball", name, f"FE {Path(name).stem}")
         else:
-            raise InputError(f"--models: unknown model {name!r}; allowed: lumped models "
+            known = [*MODELS, "universal", *PRESETS]
+            nearest = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+            hint = f" (did you mean {nearest[0]}?)" if nearest else ""
+            raise InputError(f"--models: unknown model {name!r}{hint}; allowed: lumped models "
                              f"({', '.join(MODELS)}), universal, a ball preset "
                              f"({', '.join(PRESETS)}) or a ball file (.json, .toml)")
         if any(s.label == spec.label for s in specs):
             raise InputError(f"--models: {name!r} is named twice")
         specs.append(spec)
     return specs
+
+
+def check_balls(specs: list[ModelSpec], impact_speed_m_s: float) -> None:
+    """Load each ball model once before anything runs, so that a ball file that is not a ball
+    is refused up front, naming it, instead of failing at every test."""
+    from ..fe import load_ball
+
+    for spec in specs:
+        if spec.kind == "ball":
+            try:
+                load_ball(spec.name, impact_speed_m_s=impact_speed_m_s)
+            except InputError as error:  # its message names the file, or else add it
+                where = "" if spec.name in str(error) else f"{spec.name}: "
+                raise InputError(f"--models: {where}{error}") from None
 
 
 def run_model(spec: ModelSpec, test: ReportTest, *, seed: int = 0, universal_model=None,
@@ -128,7 +150,12 @@ def _compared(spec: ModelSpec, test: ReportTest, run, pulse: tuple[np.ndarray, n
 def _lumped(spec, test, *, seed, **_):
     from ..lumped import fit, get_model, simulate
 
-    fitted = fit(test.processed, spec.name, seed=seed)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fitted = fit(test.processed, spec.name, seed=seed)
+    for caution in caught:  # a report fits many: say which
+        warnings.warn(f"{spec.label} at {test.label}: {caution.message}", caution.category,
+                      stacklevel=2)
 
     def run():
         return simulate(spec.name, fitted.params, impact_speed_m_s=test.speed_m_s,
@@ -140,7 +167,8 @@ def _lumped(spec, test, *, seed, **_):
     return _compared(spec, test, record, (record.time_s, record.force_n),
                      parameters=dict(fitted.params),
                      units=dict(get_model(spec.name).units),
-                     uncertainty={"standard_error": dict(fitted.standard_errors)},
+                     uncertainty={"standard_error": dict(fitted.standard_errors),
+                                  "not_identified": fitted.not_identified},
                      identification_s=fitted.wall_time_s, simulation_s=simulation_s,
                      rerun=_timed(run))
 

@@ -52,7 +52,10 @@ def tests_table(tests: list[ReportTest]) -> Table:
                                     "contact_time_s", "mass_kg"], rows)
 
 
-def comparison_table(runs: list[ModelRun]) -> Table:
+def comparison_table(runs: list[ModelRun], failures: list[dict[str, str]] = (),
+                     tests: list[ReportTest] = ()) -> Table:
+    """A row per model run; a failed pair gets a row too, its numbers empty and its reason in
+    the last column (`failed`, empty for a run that worked)."""
     rows = []
     for r in runs:
         c = r.comparison
@@ -60,24 +63,37 @@ def comparison_table(runs: list[ModelRun]) -> Table:
                      c["peak_force_measured_n"], c["peak_force_relative_error"],
                      c["contact_time_simulated_s"], c["contact_time_measured_s"],
                      c["contact_time_relative_error"], c["cor_simulated"], c["cor_measured"],
-                     c["cor_error"], c["force_nrmse"]])
+                     c["cor_error"], c["force_nrmse"], ""])
+    speeds = {t.label: t.speed_m_s for t in tests}
+    for f in failures:
+        rows.append([f["model"], f["test"], speeds.get(f["test"], math.nan),
+                     *[math.nan] * 10, f"failed: {f['error']}"])
     return Table("comparison", "Every model against every test",
                  ["model", "test", "impact_speed_m_s", "peak_force_n", "peak_force_test_n",
                   "peak_force_relative_error", "contact_time_s", "contact_time_test_s",
-                  "contact_time_relative_error", "cor", "cor_test", "cor_error", "force_nrmse"],
+                  "contact_time_relative_error", "cor", "cor_test", "cor_error", "force_nrmse",
+                  "failed"],
                  rows)
 
 
+def model_order(runs: list[ModelRun], failures: list[dict[str, str]] = ()) -> list[str]:
+    """The models that ran or failed, in the order they first appear."""
+    return list(dict.fromkeys([r.model for r in runs] + [f["model"] for f in failures]))
+
+
 def by_speed_table(runs: list[ModelRun], tests: list[ReportTest], key: str, name: str,
-                   title: str) -> Table:
-    """One row per model, one column per test (ordered by speed): `comparison[key]`, and the
-    mean of its magnitude over the tests."""
-    models = list(dict.fromkeys(r.model for r in runs))
-    cells = {(r.model, r.test): r.comparison[key] for r in runs}
+                   title: str, failures: list[dict[str, str]] = (),
+                   models: list[str] | None = None) -> Table:
+    """One row per model (`models`, default in the order they ran), one column per test
+    (ordered by speed): `comparison[key]`, "failed" where that run failed (its reason is in
+    `comparison.csv`), and the mean of its magnitude over the tests that ran."""
+    models = models or model_order(runs, failures)
+    cells: dict[tuple[str, str], Any] = {(f["model"], f["test"]): "failed" for f in failures}
+    cells.update({(r.model, r.test): r.comparison[key] for r in runs})
     rows = []
     for model in models:
         values = [cells.get((model, t.label), math.nan) for t in tests]
-        finite = [abs(v) for v in values if math.isfinite(v)]
+        finite = [abs(v) for v in values if isinstance(v, float) and math.isfinite(v)]
         rows.append([model, *values, sum(finite) / len(finite) if finite else math.nan])
     return Table(name, title, ["model", *[t.label for t in tests], "mean_abs"], rows)
 
@@ -89,25 +105,36 @@ def cost_table(runs: list[ModelRun], timed_run_s: dict[str, float]) -> Table:
         mine = [r for r in runs if r.model == model]
         identification = sum(r.identification_s for r in mine) / len(mine)
         total = sum(r.identification_s + r.simulation_s for r in mine)
-        rows.append([model, mine[0].kind, identification, timed_run_s[model], total])
+        rows.append([model, mine[0].kind, identification, timed_run_s.get(model, math.nan),
+                     total])
     return Table("cost", "Computing cost (this machine)",
                  ["model", "kind", "identification_s_per_test", "run_s", "total_s"], rows)
+
+
+def not_identified(run: ModelRun) -> list[str]:
+    """The parameters of a lumped fit whose standard error is inf or larger than the value."""
+    return list(run.uncertainty.get("not_identified", []))
 
 
 def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
     """Per fitted or identified model, its parameters against impact speed laid out as thesis
     tables 7-1..7-3 (a row per parameter, a column per test), each followed by its standard
-    error (lumped fits) or the ends of its 90% interval (universal identifications)."""
+    error (lumped fits) or the ends of its 90% interval (universal identifications).
+
+    A value the test does not determine (standard error inf or larger than the value) is shown
+    as "VALUE (not identified)", in the CSV too: read as a number it would pass for a result.
+    An infinite standard error is written "inf" (an empty cell would read as missing)."""
     tables = {}
     for model in dict.fromkeys(r.model for r in runs if r.parameters):
         mine = sorted((r for r in runs if r.model == model), key=lambda r: r.impact_speed_m_s)
         rows: list[list[Any]] = [["impact_speed_m_s", *[r.impact_speed_m_s for r in mine]]]
         for name in mine[0].parameters:
             rows.append([f"{name} [{mine[0].units.get(name, '')}]",
-                         *[r.parameters[name] for r in mine]])
+                         *[_value(r, name) for r in mine]])
             if "standard_error" in mine[0].uncertainty:
                 rows.append([f"{name} standard error",
-                             *[r.uncertainty["standard_error"].get(name, 0.0) for r in mine]])
+                             *[_error(r.uncertainty["standard_error"].get(name, 0.0))
+                               for r in mine]])
             elif name in mine[0].uncertainty.get("interval_90", {}):
                 for end, label in ((0, "low"), (1, "high")):
                     rows.append([f"{name} 90% {label}",
@@ -116,3 +143,12 @@ def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
         tables[model] = Table(stem, f"Parameters of {model} against impact speed",
                               ["parameter", *[r.test for r in mine]], rows)
     return tables
+
+
+def _value(run: ModelRun, name: str) -> Any:
+    value = run.parameters[name]
+    return f"{value:.5g} (not identified)" if name in not_identified(run) else value
+
+
+def _error(error: float) -> Any:
+    return "inf" if math.isinf(error) else error
