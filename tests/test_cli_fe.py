@@ -1,4 +1,4 @@
-"""The FE verbs of the command line: simulate, balls, demo (DESIGN.md "Verbs")."""
+"""The FE verbs of the command line: simulate, balls, demo (README "Command line")."""
 
 import json
 

@@ -19,7 +19,7 @@ from ballimpact.fe.ball import (
 )
 from ballimpact.fe.materials import MooneyRivlin, NeoHookean, OgdenHyperfoam
 
-# DESIGN.md "Files": the example ball specification, which is the cricket-3layer preset.
+# the example ball specification of docs/balls.md, which is the cricket-3layer preset.
 DESIGN_EXAMPLE = {
     "name": "cricket-3layer",
     "layers": [

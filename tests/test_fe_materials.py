@@ -1,4 +1,4 @@
-"""Material point tests (DESIGN.md "Verification"): uniaxial stress of Mooney-Rivlin and Ogden
+"""Material point tests (docs/fe.md "Verification"): uniaxial stress of Mooney-Rivlin and Ogden
 hyperfoam against closed forms (1e-6), stress relaxation after a step stretch against g_R(t)
 (1e-3), and the long_term / instantaneous conventions (exactly 1 - sum g)."""
 

@@ -1,4 +1,4 @@
-"""Explicit FE ball against closed forms and conservation laws (DESIGN.md "Verification"):
+"""Explicit FE ball against closed forms and conservation laws (docs/fe.md "Verification"):
 Hertz (peak force and contact time), energy balance, dissipation = kinetic energy lost, layered =
 homogeneous, a vmap batch = single runs, clear errors."""
 

@@ -1,4 +1,4 @@
-"""Features of analytic pulses against their closed forms (DESIGN.md "Features").
+"""Features of analytic pulses against their closed forms (docs/features.md).
 
 Tolerance: every feature within 0.5% of its closed form at 1 MHz and within 2% at 20 kHz, for
 pulses of 1 ms sampled at several phases of the sampling grid. Quantities whose closed form is zero

@@ -1,4 +1,4 @@
-"""A linear spring-dashpot impact (DESIGN.md "Verification"): the load-cell identities hold and
+"""A linear spring-dashpot impact (docs/lumped.md "Verification"): the load-cell identities hold and
 the integrated ball-centre motion returns to the closed form; with 3% noise and a CFC filter, peak
 force and contact time stay within 3%."""
 

@@ -1,4 +1,4 @@
-"""Lumped models against their closed forms (DESIGN.md "Verification references"), with the
+"""Lumped models against their closed forms (docs/lumped.md "Verification"), with the
 issue's 0.1% tolerance unless stated."""
 
 import math
@@ -103,7 +103,7 @@ def test_a_run_that_does_not_separate_keeps_its_velocity_history():
 def test_hertz_model_equals_hertz_closed_form():
     e_modulus, nu, radius, v = 10e6, 0.45, 0.036, 1.0
     e_star = e_modulus / (1 - nu**2)
-    delta = (15 * M * v**2 / (16 * e_star * math.sqrt(radius))) ** 0.4  # DESIGN.md
+    delta = (15 * M * v**2 / (16 * e_star * math.sqrt(radius))) ** 0.4  # Hertz
     f_max = 4 / 3 * e_star * math.sqrt(radius) * delta**1.5
     t_c = 2.94328 * delta / v
     record = simulate("hertz", {"youngs_modulus_pa": e_modulus, "poissons_ratio": nu,
@@ -111,7 +111,7 @@ def test_hertz_model_equals_hertz_closed_form():
     assert contact(record) == pytest.approx(t_c, rel=1e-3)
     assert record.force_n.max() == pytest.approx(f_max, rel=1e-3)
     assert hertz_impact(e_modulus, nu, radius, M, v) == pytest.approx((delta, f_max, t_c), rel=1e-5)
-    # the rounded form of DESIGN.md, t_c = 2.868 (m^2 / (R E*^2 v))^(1/5)
+    # the rounded closed form, t_c = 2.868 (m^2 / (R E*^2 v))^(1/5)
     assert contact(record) == pytest.approx(2.868 * (M**2 / (radius * e_star**2 * v)) ** 0.2,
                                             rel=1e-3)
 

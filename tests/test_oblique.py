@@ -235,7 +235,7 @@ def test_full_integration_with_fbar_agrees_and_does_not_lock():
 
 
 def test_peak_force_insensitive_to_the_penalty_scale():
-    """DESIGN.md: doubling the contact penalty changes the peak force by less than 2%."""
+    """docs/oblique.md: doubling the contact penalty changes the peak force by less than 2%."""
     ball = _ball({"model": "mooney_rivlin", "c10_pa": 1e6, "c01_pa": 1e5})
     runs = [simulate_oblique(ball, ImpactCondition(5.0, 30.0, 0.0, 0.3),
                              Options3D(divisions=8, penalty_scale=scale)) for scale in (1.0, 2.0)]

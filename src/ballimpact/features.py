@@ -5,7 +5,7 @@ sampling rate: the force is taken as piecewise linear through the samples of the
 its two ends at zero force, and the refined peak (see `refine_peak`). Crossing times, integrals and
 moments of that curve are computed exactly, never by counting samples.
 
-Definitions (DESIGN.md "Features"; times relative to contact start):
+Definitions (docs/features.md; times relative to contact start):
 
 - P1 contact time; P2, P3, P4 spans with force >= 10, 50, 90% of the peak (first up-crossing to
   last down-crossing); P5 peak time; P6 peak force; P7..P10 = P6 / P1..P4.

@@ -1,6 +1,6 @@
 """Reading impact tests: CSV with unit headers, WAV from a signal analyser, JSON side files.
 
-CSV (DESIGN.md "Files"): lines starting with `#` are comments; the first other line is a header
+CSV (docs/features.md): lines starting with `#` are comments; the first other line is a header
 naming each column with its unit: `time_s`/`time_ms`/`time_us`, `force_n`/`force_kn`, optional
 `velocity_m_s` and `tangential_force_n`/`tangential_force_kn`. Values are converted to SI.
 The histories `simulate --csv` writes load too: their force column is `contact_force_n`

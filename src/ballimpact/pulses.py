@@ -69,7 +69,7 @@ class KelvinVoigt:
     """Linear spring-dashpot ball on a rigid plane: m x'' + c x' + k x = 0, x(0) = 0,
     x'(0) = v_in. The ball leaves when the contact force k x + c x' returns to zero.
 
-    Closed forms (DESIGN.md "Verification"): b = c / 2m, w0^2 = k/m, w^2 = w0^2 - b^2,
+    Closed forms (docs/lumped.md "Verification"): b = c / 2m, w0^2 = k/m, w^2 = w0^2 - b^2,
     x = (v_in / w) e^(-b t) sin(w t), t_c = [pi - atan(2 b w / (w0^2 - 2 b^2))] / w for
     b < w0 / sqrt(2), COR = exp(-b t_c).
     """

@@ -1,7 +1,7 @@
 """What a calibration is: a template ball, the tests it is calibrated against, and the free
 parameters addressed by path in the ball specification, with their bounds.
 
-Paths: dot-separated keys of the ball specification (DESIGN.md "Files"), with layers named or
+Paths: dot-separated keys of the ball specification (docs/balls.md), with layers named or
 numbered and list entries numbered: `layers.core.material.c10_pa`,
 `layers.core.material.prony.0.g`, `layers.1.material.terms.0.mu_pa`, `layers.cover.density_kg_m3`.
 Parameters not listed keep the template's value. Geometry (radii) cannot be free: a calibration

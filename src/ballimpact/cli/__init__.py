@@ -1,4 +1,4 @@
-"""The `ballimpact` command (DESIGN.md "Command line contract").
+"""The `ballimpact` command (README "Command line").
 
 Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run,
 3 a check the user asked for failed (`CheckFailed`: the result is still printed), 130 interrupted

@@ -1,4 +1,4 @@
-"""Ball models for other codes (DESIGN.md "export"): ABAQUS/CalculiX input decks, LS-DYNA
+"""Ball models for other codes (docs/export.md): ABAQUS/CalculiX input decks, LS-DYNA
 keyword decks and VTK/XDMF meshes, and the import of ABAQUS materials.
 
 `export_ball` writes a complete impact on a rigid plane (or, with `ball_only`, the ball for the

@@ -1,5 +1,5 @@
 """Run a CalculiX deck written by `write_deck` and read its contact force (the cross-code check
-of DESIGN.md "Verification").
+of docs/export.md "Checks").
 
 The force is the summed reaction of the fixed plane's nodes, printed every increment to the
 `.dat` file (doubled for a half model). COR from the impulse, e = J / (m v_n) - 1, with the mesh's

@@ -1,4 +1,4 @@
-"""Consistent unit systems of the exported decks (DESIGN.md "Principles": SI in the package;
+"""Consistent unit systems of the exported decks (SI in the package;
 exports convert and say so in the file header).
 
 A system is fixed by its units of length, mass and time; force, stress, density, velocity and

@@ -58,7 +58,7 @@ MODEL = OdeModel(
 
 def hertz_impact(youngs_modulus_pa: float, poissons_ratio: float, radius_m: float,
                  mass_kg: float, speed_m_s: float) -> tuple[float, float, float]:
-    """Hertz closed form (DESIGN.md "Verification"): (max compression m, peak force N,
+    """Hertz closed form (docs/lumped.md "Verification"): (max compression m, peak force N,
     contact time s), with t_c = C(1.5) y_max / v, C(1.5) = 2.94328."""
     check_positive("youngs_modulus_pa", youngs_modulus_pa)
     check_positive("radius_m", radius_m)

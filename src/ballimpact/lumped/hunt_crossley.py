@@ -1,6 +1,6 @@
 """Hunt-Crossley model: F = k y^n (1 + lambda y'). Damping proportional to the elastic force, so
 the force starts and ends at zero; the COR depends only on z = lambda v_in:
-z (1 + e) = ln[(1 + z) / (1 - e z)] (DESIGN.md "Verification")."""
+z (1 + e) = ln[(1 + z) / (1 - e z)] (docs/lumped.md "Verification")."""
 
 from __future__ import annotations
 

@@ -57,7 +57,7 @@ def power_law_contact_constant(exponent: float) -> float:
 
 
 def undamped_power_law(stiffness: float, exponent: float, mass_kg: float, speed_m_s: float):
-    """Closed form of m y'' = -k y^a, y(0) = 0, y'(0) = v (DESIGN.md "Verification"):
+    """Closed form of m y'' = -k y^a, y(0) = 0, y'(0) = v (docs/lumped.md "Verification"):
     returns (y_max in m, F_max in N, contact time in s)."""
     y_max = ((exponent + 1.0) * mass_kg * speed_m_s**2 / (2.0 * stiffness)) ** (1.0 / (exponent + 1.0))
     return y_max, stiffness * y_max**exponent, power_law_contact_constant(exponent) * y_max / speed_m_s

@@ -2,7 +2,7 @@
 optional Prony series, and the convention (`moduli`) in which its constants are given.
 
 The solver works with instantaneous constants. A set given as `long_term` is scaled up: deviatoric
-constants by 1 / (1 - sum g_i), the bulk modulus by 1 / (1 - sum k_i) (DESIGN.md "FE engine").
+constants by 1 / (1 - sum g_i), the bulk modulus by 1 / (1 - sum k_i) (docs/fe.md "Materials").
 Stresses are second Piola-Kirchhoff, S = 2 dW/dC, from the energy by automatic differentiation.
 """
 

@@ -1,4 +1,4 @@
-"""Prony-series viscoelasticity, Simo's recursive update (DESIGN.md "FE engine requirements").
+"""Prony-series viscoelasticity, Simo's recursive update (docs/fe.md "Materials").
 
 Each term i carries an overstress Q_i (second Piola-Kirchhoff) driven by the instantaneous elastic
 stress S0 of the part it relaxes:  dQ_i/dt = (g_i S0 - Q_i) / tau_i,  S = S0 - sum_i Q_i.
