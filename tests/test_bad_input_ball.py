@@ -360,3 +360,59 @@ def test_large_run_check_uses_the_available_memory():
         estimate.check_memory(available_bytes=1e9)
     with pytest.warns(InputWarning, match="^large-run: the run would need"):
         estimate.check_memory({"large-run"}, available_bytes=1e9)
+
+
+@pytest.fixture
+def fresh_judgements(monkeypatch):
+    """The large-run check as in a new process (nothing judged yet)."""
+    from ballimpact.fe import progress
+
+    monkeypatch.setattr(progress, "_JUDGED_BYTES", {"fitted": 0.0, "allowed": 0.0})
+    return progress
+
+
+GIB = 2 ** 30
+
+
+def test_large_run_check_counts_only_what_the_process_does_not_hold(fresh_judgements,
+                                                                     monkeypatch):
+    """JAX already loaded: a small run is not refused because less than the base is free."""
+    estimate = RunEstimate(elements=10, steps=10, end_time_s=1e-3, memory_bytes=0.05 * GIB,
+                           element_steps_limit=1e9, seconds_per_element_step=1e-7,
+                           model_bytes=0.65 * GIB, base_bytes=0.6 * GIB)
+    monkeypatch.setattr(fresh_judgements, "process_memory_bytes", lambda: 0.4 * GIB)
+    estimate.check_memory(available_bytes=0.35 * GIB)  # needs 0.3 GiB more
+    with pytest.raises(InputError, match="about 0.3 GiB of memory besides the 0.4 GiB this "
+                                         "process holds .* than the 0.2 GiB available"):
+        estimate.check_memory(available_bytes=0.2 * GIB)
+    monkeypatch.setattr(fresh_judgements, "process_memory_bytes", lambda: 2.0 * GIB)
+    estimate.check_memory(available_bytes=0.15 * GIB)  # the whole base held: 0.1 GiB more
+
+
+def test_large_run_check_judges_a_size_once_per_process(fresh_judgements, monkeypatch):
+    """A brief dip in free memory does not stop a search whose batches fitted before; a larger
+    batch is still checked."""
+    balls = [load_ball("cricket-3layer")] * 4
+    available = [16 * GIB]
+    monkeypatch.setattr(fresh_judgements, "available_memory_bytes", lambda: available[0])
+    fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(), group_size=4)
+    available[0] = 1.0  # the dip
+    fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(), group_size=4)
+    fe_solver.check_run_memory(balls[:2], [20.0] * 2, fe_solver.SolverOptions())
+    with pytest.raises(InputError, match="would need about"):
+        fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(element_size_m=1e-3),
+                                   group_size=4)
+
+
+def test_large_run_allowed_warns_once_for_the_same_run(fresh_judgements, monkeypatch):
+    """`estimate_run` then `simulate` (the command line's order) check the same run: one
+    warning."""
+    monkeypatch.setattr(fresh_judgements, "available_memory_bytes", lambda: 1.0)
+    ball, options = load_ball("cricket-3layer"), fe_solver.SolverOptions()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(2):
+            fe_solver.check_run_memory([ball], [20.0], options, {"large-run"})
+    assert [str(w.message)[:25] for w in caught] == ["large-run: the run would "]
+    with pytest.raises(InputError, match="large-run"):  # not allowed: still refused
+        fe_solver.check_run_memory([ball], [20.0], options)

@@ -46,9 +46,10 @@ FREE_CASES = [
     ([MAT + "prony.0.tau_s=20:200"], ["7e-05 s", "looks like us", "use 2e-05:0.0002"]),
     (["layers.ball.density_kg_m3=0.7:0.9"], ["looks like g/cm3", "use 700:900"]),
     ([MAT + "prony.0.g=50:90"], ["looks like percent", "use 0.5:0.9"]),
-    ([MAT + "c10_pa=10:20"], ["more than 100x from the bounds", "give them in Pa"]),
+    ([MAT + "c10_pa=10:20"], ["more than 100x from the bounds", "give them in Pa",
+                              "--allow unit-slip"]),
     ([MAT + "c10_pa=3e6:7e6", MAT + "c10_pa=4e6:5e6"],
-     ["--free " + MAT + "c10_pa: given twice", "3e6:7e6", "4e6:5e6"]),
+     ["--free: " + MAT + "c10_pa given twice", "3e6:7e6", "4e6:5e6"]),
     ([MAT + "c11_pa=3e6:7e6"], ["unknown parameter path", "did you mean " + MAT + "c10_pa?"]),
     (["layers.bal.material.c10_pa=3e6:7e6"], ["no entry 'bal'", "did you mean " + MAT + "c10_pa?"]),
     ([MAT + "c10_pa=7e6:3e6"], ["7e+06:3e+06", "reversed"]),
@@ -71,6 +72,24 @@ def test_bad_free_parameters(bad_input, record, free, fragments):
     bad_input(calibrate_argv(record, free=free), *fragments)
 
 
+def test_bounds_in_another_unit_can_be_allowed():
+    """Bounds far from the template's value are the `unit-slip` check: an error that names its
+    override, and with `allow` a warning, the bounds kept as given (a search far from the
+    template is the user's to choose)."""
+    from ballimpact.calibrate import free_parameter
+    from ballimpact.errors import InputError, InputWarning
+    from ballimpact.fe.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
+
+    spec = universal_spec({"c10_pa": 4.0e6, "c01_pa": -0.4e6, "g1": 0.7, "tau1_s": 8e-5},
+                          0.036, UNIVERSAL_DENSITY_KG_M3)
+    path = MAT + "prony.0.tau_s"  # 20:200 typed in us for 8e-5 s
+    with pytest.raises(InputError, match="looks like us.*--allow unit-slip"):
+        free_parameter(spec, path, 20.0, 200.0)
+    with pytest.warns(InputWarning, match="^unit-slip: --free .*looks like us; use 2e-05:0.0002"):
+        parameter = free_parameter(spec, path, 20.0, 200.0, allow={"unit-slip"})
+    assert (parameter.low, parameter.high) == (20.0, 200.0)
+
+
 # ---- --test ------------------------------------------------------------------------------------
 def test_test_speed_not_a_number(bad_input, record):
     bad_input(calibrate_argv(record, test=f"{record}:fast"), "the speed 'fast' is not a number")
@@ -84,9 +103,14 @@ def test_test_speed_nan(bad_input, record):
     bad_input(calibrate_argv(record, test=f"{record}:nan"), "the speed must be > 0")
 
 
-def test_test_speed_outside_the_fe_range(bad_input, record):
-    bad_input(calibrate_argv(record, test=f"{record}:500"), f"--test {record}:500",
-              "500 m/s is outside", "--allow speed-range")
+def test_test_speed_outside_the_fe_range(bad_input, record, tmp_path):
+    fast = tmp_path / "fast.csv"  # the record's pulse at 90 m/s (its impulse scaled with it)
+    t, f = np.loadtxt(record, delimiter=",", skiprows=1, unpack=True)
+    np.savetxt(fast, np.column_stack([t, 4.5 * f]), delimiter=",", header="time_s,force_n",
+               comments="")
+    fast.with_suffix(".json").write_text(json.dumps({"mass_kg": 0.16, "impact_speed_m_s": 90}))
+    bad_input(calibrate_argv(record, test=str(fast)), "--test fast:", "90 m/s is outside",
+              "--allow speed-range")
 
 
 def test_test_layer_unknown(bad_input, record):

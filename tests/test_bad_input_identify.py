@@ -42,6 +42,13 @@ def test_no_mass_and_no_side_file(bad_input, sample):
               "--mass-kg")
 
 
+def test_several_tests_without_speeds(bad_input, sample, twin):
+    # the check for tests at one speed must leave missing speeds to the record's own refusal
+    for path in (sample, twin):
+        path.with_suffix(".json").write_text(json.dumps({"mass_kg": 0.16}))
+    bad_input(["identify", sample, twin, "--no-verify"], "sample.csv", "impact speed is required")
+
+
 def test_negative_mass(bad_input, sample):
     bad_input(["identify", sample, "--mass-kg", -0.16, "--no-verify"], "mass_kg")
 

@@ -114,6 +114,9 @@ def test_wav_without_sensitivity_or_with_zero(bad_input, tmp_path):
     # 94.42 mV/kN typed as V/N: the forces a million times too small, the slip named
     bad_input(["features", path, *SPEEDS, "--sensitivity-v-per-n", 94.42], "pulse.wav",
               "sensitivity in mV/kN given as V/N")
+    # 0.1 V/kN typed as V/N: the forces a thousand times too SMALL, as for mV/N
+    bad_input(["features", path, *SPEEDS, "--sensitivity-v-per-n", 0.1], "pulse.wav",
+              "sensitivity in mV/N or V/kN given as V/N")
 
 
 # --------------------------------------------------------------------------- side files

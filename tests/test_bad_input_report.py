@@ -2,6 +2,7 @@
 line on stderr naming the flag or file and the fix, nothing on stdout, no output folder."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -54,6 +55,53 @@ def test_a_ball_file_that_is_not_a_ball_is_refused_before_any_run(tmp_path, bad_
     ball.write_text(json.dumps({"name": "flat", "layers": []}))
     bad_input(report(tmp_path, "--builtin", "sample", "--models", f"hertz,{ball}"),
               "--models", "flat.json", "layers")
+
+
+#: a foam ball whose shear modulus 2 c10 = 5e3 Pa lies below the 1e4 Pa of `ball-units`
+FOAM = {"name": "foam", "layers": [{"name": "foam", "outer_radius_m": 0.0366, "density_kg_m3": 30.0,
+                                    "material": {"model": "neo_hookean", "c10_pa": 2.5e3}}]}
+
+
+def test_a_ball_outside_the_sports_ball_ranges_is_refused_unless_allowed(tmp_path, bad_input):
+    from ballimpact.errors import InputWarning
+    from ballimpact.report.models import check_balls, parse_models
+
+    ball = tmp_path / "myball.json"
+    ball.write_text(json.dumps(FOAM))
+    bad_input(report(tmp_path, "--builtin", "sample", "--models", f"hertz,{ball}"),
+              "--models", "myball.json", "shear modulus", "--allow ball-units")
+    with pytest.warns(InputWarning, match="^ball-units: .*shear modulus"):  # what --allow does
+        check_balls(parse_models(str(ball)), 20.0, allow=["ball-units"])
+
+
+def test_allow_reaches_the_runs_of_a_ball_and_of_the_universal_model(tmp_path, monkeypatch):
+    import importlib
+
+    import ballimpact.fe as fe
+    from ballimpact.loaders import load_record
+    from ballimpact.pipeline import process
+    from ballimpact.report.inputs import label_tests
+    from ballimpact.report.models import parse_models, run_model
+
+    ball = tmp_path / "myball.json"
+    ball.write_text(json.dumps(FOAM))
+    given = []
+
+    def stop(*args, allow=(), **kwargs):  # before any FE run
+        given.append(allow)
+        raise RuntimeError("stop")
+
+    monkeypatch.setattr(fe, "simulate", stop)
+    # the module, not the package's function of the same name
+    monkeypatch.setattr(importlib.import_module("ballimpact.universal.identify"), "identify",
+                        stop)
+    test = label_tests([SAMPLE], [process(load_record(SAMPLE))])[0]
+    for spec in parse_models(f"{ball},universal"):
+        with pytest.warns(UserWarning) if spec.kind == "ball" else warnings.catch_warnings(), \
+                pytest.raises(RuntimeError, match="stop"):
+            run_model(spec, test, universal_model=object(), options=object(),
+                      allow=["ball-units"])
+    assert given == [["ball-units"], ["ball-units"]]
 
 
 def test_out_that_is_a_file(tmp_path, bad_input):
@@ -114,7 +162,7 @@ def test_the_same_test_twice(tests_folder, bad_input):
 def test_the_same_test_twice_under_two_spellings(tests_folder, bad_input):
     bad_input(report(tests_folder, tests_folder / "a.csv",
                      tests_folder / "." / ".." / tests_folder.name / "a.csv"),
-              "is given twice", "give each test once")
+              "is given twice", "give each file once")
 
 
 def test_a_negative_seed(tmp_path, bad_input):

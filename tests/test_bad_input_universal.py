@@ -422,7 +422,7 @@ def test_train_refuses_a_model_that_fails_its_held_out_check(tmp_path, capsys):
     assert json.loads((tmp_path / "m.json").read_text())["held_out_check"] == check
     assert main(["universal", "report", str(tmp_path / "m.json"), "--json"]) == 0
     warned = json.loads(capsys.readouterr().out)["warnings"]
-    assert any("failed its held-out check" in w for w in warned)
+    assert any("failed its own held-out check" in w for w in warned)
 
 
 def test_resume_with_another_run_count_points_to_extend(tmp_path, bad_input):
@@ -431,7 +431,49 @@ def test_resume_with_another_run_count_points_to_extend(tmp_path, bad_input):
               "--extend N")
 
 
+SOFT = ["--range", "c10_pa=1e4:2e4", "--range=c01_pa=-9e3:0"]
+
+
 def test_ranges_whose_balls_are_no_sports_balls_are_refused_before_any_run(bad_input, tmp_path):
     # each range allowed alone, but the softest corner has mu0 = 2 (C10 + C01) = 2 kPa
-    bad_input(["universal", "run", tmp_path / "s", "--runs", "40", "--range", "c10_pa=1e4:2e4",
-               "--range=c01_pa=-9e3:0"], "c10_pa", "outside the shear moduli of sports balls")
+    bad_input(["universal", "run", tmp_path / "s", "--runs", "40", *SOFT], "c10_pa",
+              "outside the shear moduli of sports balls", "--allow ball-units")
+    assert not (tmp_path / "s").exists()
+
+
+def test_a_foam_template_and_soft_ranges_run_with_allow_ball_units(tmp_path, bad_input, capsys,
+                                                                    monkeypatch):
+    """A foam ball (mu0 4 kPa, below sports balls) as the template: refused, then run with
+    --allow ball-units, which the study keeps for its runs' balls (the FE runs are stubbed)."""
+    import ballimpact.fe
+    from ballimpact.fe import FailedRun
+    from ballimpact.fe.ball import universal_spec
+
+    foam = tmp_path / "foam.json"
+    foam.write_text(json.dumps(universal_spec({"c10_pa": 2e3, "c01_pa": 0.0, "g1": 0.5,
+                                               "tau1_s": 1e-4}, 0.036, 900.0, name="foam")))
+    argv = run(tmp_path / "s", "--template", foam, *SOFT, "--runs", "2", "--batch-size", "2",
+               "--json")
+    bad_input(argv, "foam", "shear modulus", "--allow ball-units")
+    assert not (tmp_path / "s").exists()
+
+    loaded = []
+
+    def stub(balls, speeds, options, **kw):
+        loaded.extend(balls)  # run_batch loaded every run's ball (soft ones included)
+        return [FailedRun(b.name, float(v), "stubbed") for b, v in zip(balls, speeds)]
+
+    monkeypatch.setattr(ballimpact.fe, "simulate_batch", stub)
+    assert main([str(a) for a in argv + ["--allow", "ball-units"]]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["failed_runs"] == 2 and len(loaded) == 2
+    assert any(w.startswith("ball-units:") for w in result["warnings"])
+    assert json.loads((tmp_path / "s" / "study.json").read_text())["allow"] == ["ball-units"]
+
+
+def test_train_on_a_truncated_batch_npz(tmp_path, bad_input):
+    fake_study(tmp_path / "s")
+    npz = batch_paths(tmp_path / "s", 1)[1]
+    npz.write_bytes(npz.read_bytes()[:200])  # what a truncated archive raises: BadZipFile
+    bad_input(train(tmp_path / "s", tmp_path), "batch-00001.npz", "truncated",
+              "delete batch-00001.parquet and resume")

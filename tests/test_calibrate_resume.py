@@ -67,7 +67,7 @@ def test_interrupted_search_resumes_to_the_uninterrupted_result(record, tmp_path
     def write_interrupted(problem, rows, folder):
         calls["write"] += 1
         if calls["write"] == 2:
-            (folder / "evaluations.parquet.tmp").write_bytes(b"PAR1 half a file")
+            (folder / "evaluations.tmp.parquet").write_bytes(b"PAR1 half a file")
             raise KeyboardInterrupt
         write_table(problem, rows, folder)
 
@@ -127,7 +127,25 @@ def test_interrupted_search_resumes_to_the_uninterrupted_result(record, tmp_path
                                                             rel=1e-12)
     assert resumed["chosen"]["objectives"] == pytest.approx(whole["chosen"]["objectives"],
                                                             rel=1e-9)
-    assert not (out / "calibration" / "evaluations.parquet.tmp").exists()  # replaced since
+    assert not (out / "calibration" / "evaluations.tmp.parquet").exists()  # replaced since
+
+
+def test_the_resume_hint_is_the_command_as_given(record, tmp_path, monkeypatch, capsys):
+    """A test whose speed is in its side file, then one given as FILE:SPEED: loading them leaves
+    the options alone, so the hint holds no --impact-speed-m-s (the last test's speed, which
+    would override the first test's side file on resuming)."""
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(search_module, "evaluate", interrupted)
+    given = argv(record, tmp_path / "out") + ["--test", f"{record}:25"]
+    assert main(given) == 130
+    hint = capsys.readouterr().err.strip().splitlines()[-1]
+    prefix = "error: interrupted; resume with: "
+    assert hint.startswith(prefix) and "--impact-speed-m-s" not in hint
+    resume = shlex.split(hint[len(prefix):])
+    assert vars(build_parser().parse_args(resume[1:])) == {
+        **vars(build_parser().parse_args(given)), "resume": True}
 
 
 def test_a_search_whose_first_generation_all_fails_stops_at_once(record, tmp_path, monkeypatch,

@@ -153,7 +153,7 @@ def test_internal_callers_stay_inside_the_range():
     assert LOW <= low and high <= HIGH
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no speed-range warning for a speed inside
-        fe_solver._speeds([LOW, 20.8, HIGH], 3)
+        fe_solver.impact_speeds([LOW, 20.8, HIGH], 3)
 
 
 @pytest.mark.slow

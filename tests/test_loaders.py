@@ -137,6 +137,16 @@ def test_side_file_speed_parts_that_cannot_be_one_speed(tmp_path, side, message)
         load_record(path)
 
 
+def test_video_json_without_normal_speed_or_angle(tmp_path):
+    path = half_sine_csv(tmp_path / "shot.csv", 1.0)
+    path.with_suffix(".json").write_text(json.dumps(
+        {"impact_speed_m_s": 20.0, "rebound_speed_m_s": 10.0, "rebound_angle_deg": 60.0,
+         "fps": 5000.0, "scale_m_per_px": 0.002}))
+    with pytest.raises(InputError, match=r"shot\.json: no impact_speed_normal_m_s and no "
+                                         r"impact_angle_deg.*add impact_speed_normal_m_s"):
+        load_record(path, mass_kg=0.16)
+
+
 def test_video_and_simulate_json_are_read_as_side_files(tmp_path):
     """`video --json > x.json` (totals and angles; the normal components where given) and
     `simulate --json > x.json` (axisymmetric; 3d: total speed at angle_deg, cor the normal COR)."""

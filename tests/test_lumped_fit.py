@@ -179,27 +179,27 @@ def test_polish_improves_on_the_search_alone():
 
 
 def test_parameter_standard_errors_are_the_gauss_newton_ones_or_inf():
-    from ballimpact.lumped.fit import parameter_standard_errors
+    from ballimpact.identifiability import standard_errors
 
     rng = np.random.default_rng(0)
     jac = rng.normal(size=(40, 3))
     r = rng.normal(size=40)
     mapping = np.array([[2.0, 0.0, 0.0], [0.0, 1.0, 1.0], [0.0, 0.0, 0.0]])  # third: fixed
     expected = np.sqrt(np.diag(r @ r / 37 * mapping @ np.linalg.inv(jac.T @ jac) @ mapping.T))
-    np.testing.assert_allclose(parameter_standard_errors(jac, r, mapping), expected, rtol=1e-9)
-    assert parameter_standard_errors(jac, r, mapping)[2] == 0.0  # a fixed parameter
+    np.testing.assert_allclose(standard_errors(jac, r, mapping), expected, rtol=1e-9)
+    assert standard_errors(jac, r, mapping)[2] == 0.0  # a fixed parameter
     no_effect = jac.copy()
     no_effect[:, 2] = 0.0  # the third coordinate changes nothing: what depends on it is unknown
-    errors = parameter_standard_errors(no_effect, r, mapping)
+    errors = standard_errors(no_effect, r, mapping)
     assert np.isfinite(errors[0]) and np.isinf(errors[1])
     together = jac.copy()
     together[:, 1] = together[:, 0]  # two coordinates that act only together: both unknown...
-    errors = parameter_standard_errors(together, r, np.eye(3))
+    errors = standard_errors(together, r, np.eye(3))
     assert np.isinf(errors[0]) and np.isinf(errors[1]) and np.isfinite(errors[2])
     # ...but their difference-free combination is: x0 + x1 is determined
-    summed = parameter_standard_errors(together, r, np.array([[1.0, 1.0, 0.0]]))
+    summed = standard_errors(together, r, np.array([[1.0, 1.0, 0.0]]))
     assert np.isfinite(summed[0])
-    assert np.all(np.isinf(parameter_standard_errors(jac[:3], r[:3], np.eye(3))))  # no dof
+    assert np.all(np.isinf(standard_errors(jac[:3], r[:3], np.eye(3))))  # no dof
 
 
 def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero():

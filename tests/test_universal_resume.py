@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.universal import dataset, study
+from ballimpact import fileio
+from ballimpact.universal import study
 from ballimpact.universal.dataset import load_dataset
 
 COARSE = 4e-3  # m: a coarse mesh keeps these studies to seconds
@@ -76,18 +77,20 @@ def test_ctrl_c_exits_130_with_a_resume_line_and_resume_completes_the_study(
 
     # Ctrl-C again while the second batch is being written: between its NPZ and its Parquet
     monkeypatch.setattr(study, "run_batch", real)
-    real_replace = dataset.os.replace
+    real_replace = fileio.os.replace
 
     def ctrl_c_before_parquet(src, dst):
         if str(dst).endswith("batch-00001.parquet"):
             raise KeyboardInterrupt
         return real_replace(src, dst)
 
-    monkeypatch.setattr(dataset.os, "replace", ctrl_c_before_parquet)
+    monkeypatch.setattr(fileio.os, "replace", ctrl_c_before_parquet)
     assert universal_run(folder, "--resume", "--json") == 130
     assert study.done_batches(folder) == {0}  # the half-written batch does not count
-    assert (folder / "runs" / "batch-00001.tmp.parquet").exists()
-    monkeypatch.setattr(dataset.os, "replace", real_replace)
+    assert not list((folder / "runs").glob("*.tmp.*"))  # the interrupted write removed its own
+    monkeypatch.setattr(fileio.os, "replace", real_replace)
+    # a killed process removes nothing: what it left is cleared by the resume
+    (folder / "runs" / "batch-00001.tmp.parquet").write_bytes(b"PAR1 half a file")
 
     capsys.readouterr()
     assert universal_run(folder, "--resume", "--json") == 0

@@ -122,6 +122,19 @@ DEFAULT_WINDOW_FRACTION = 0.1
 FILTER_NAMES = ("none", "cfc60", "cfc180", "cfc600", "cfc1000", "savgol", "lowess", "loess", "poly5")
 #: The filters that take a window (`window_s`).
 WINDOWED_FILTERS = ("savgol", "lowess", "loess")
+#: `cfc<N>`: an SAE J211 filter of any class N
+_CFC = re.compile(r"cfc(\d+(?:\.\d+)?)")
+
+
+def check_filter_name(name: str, flag: str = "filter") -> str:
+    """The filter's key (`name` stripped, lower case); `InputError` naming `flag` for a name
+    `apply_filter` does not know."""
+    key = name.strip().lower()
+    if not _CFC.fullmatch(key) and key not in (*WINDOWED_FILTERS, "none", "poly5"):
+        raise InputError(
+            f"{flag}: unknown name {name!r}; allowed: {', '.join(FILTER_NAMES)} or cfc<N>"
+        )
+    return key
 
 
 def apply_filter(
@@ -134,12 +147,8 @@ def apply_filter(
     `window_s` sets the window of savgol/lowess/loess, by default 10% of the contact time of the
     unfiltered pulse and at least 5 samples. The filter's name and settings go into the metadata.
     """
-    key = name.strip().lower()
-    cfc = re.fullmatch(r"cfc(\d+(?:\.\d+)?)", key)
-    if not cfc and key not in (*WINDOWED_FILTERS, "none", "poly5"):
-        raise InputError(
-            f"filter: unknown name {name!r}; allowed: {', '.join(FILTER_NAMES)} or cfc<N>"
-        )
+    key = check_filter_name(name)
+    cfc = _CFC.fullmatch(key)
     if window_s is not None and key not in WINDOWED_FILTERS:
         # a window the filter would ignore: say so rather than run without it
         raise InputError(f"window_s (--filter-window-s): filter {name!r} has no window; the "

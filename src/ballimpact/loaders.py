@@ -396,6 +396,7 @@ def _video_scalars(content: dict[str, Any]) -> dict[str, float]:
         if key in content:
             numbers = {key: _number(key, content[key])}
         else:
+            _check_video_keys(content, phase)
             numbers = {f"{phase}_{part}": _number(f"{phase}_{part}", content[f"{phase}_{part}"])
                        for part in ("speed_m_s", "angle_deg")}
             numbers[f"{phase}_speed_total_m_s"] = numbers.pop(f"{phase}_speed_m_s")
@@ -403,6 +404,17 @@ def _video_scalars(content: dict[str, Any]) -> dict[str, float]:
     if "mass_kg" in content:
         scalars["mass_kg"] = check_positive("mass_kg", _number("mass_kg", content["mass_kg"]))
     return scalars
+
+
+def _check_video_keys(content: dict[str, Any], phase: str) -> None:
+    """A `video --json` output without the normal speed of `phase` needs its total and angle
+    (edited by hand, or cut short): `InputError` naming the missing keys."""
+    missing = [f"{phase}_{part}" for part in ("speed_m_s", "angle_deg")
+               if f"{phase}_{part}" not in content]
+    if missing:
+        raise InputError(f"no {phase}_speed_normal_m_s and no {' or '.join(missing)}: the "
+                         f"output of `video --json` needs one of the two to give the normal "
+                         f"{phase} speed; add {phase}_speed_normal_m_s (m/s)")
 
 
 def load_record(path: str | Path, **given: Any) -> ImpactRecord:

@@ -20,7 +20,9 @@ from .errors import InputError, InputWarning
 #: Overridable checks: name -> what it catches (for help texts and error messages).
 CHECKS: dict[str, str] = {
     "clipping": "samples stuck at the recorder's full scale (a flat top at the extreme value)",
-    "unit-slip": "impulse and m (v_in + v_out) differ by more than UNIT_SLIP_FACTOR",
+    "unit-slip": "impulse and m (v_in + v_out) differ by more than UNIT_SLIP_FACTOR, or "
+                 "calibrate bounds more than 100x from the template value (a unit slip such as "
+                 "MPa typed for Pa)",
     "cor-above-one": "rebound speed above impact speed (COR > 1 for a passive ball)",
     "speed-range": "FE impact speed outside the speeds the FE solver was checked at "
                    "(FE_SPEED_RANGE_M_S, 3D: FE_3D_SPEED_RANGE_M_S), or, for identify, outside "
@@ -280,10 +282,10 @@ _SLIPS = {
 }
 #: The same for a WAV record: no header, but the sensor settings that scale its force.
 _WAV_SLIPS = {
-    1e-3: ("sensitivity in mV/N given as V/N (9.442e-5 V/N is 0.09442 mV/N)",
+    # a sensitivity too large makes the force too small: V/kN typed as V/N is the slip of mV/N
+    1e-3: ("sensitivity in mV/N or V/kN given as V/N (9.442e-5 V/N is 0.09442 mV/N)",
            "mass in g given as mass_kg (a cricket ball is 0.16 kg)"),
     1e-6: ("sensitivity in mV/kN given as V/N (94.42 mV/kN is 9.442e-5 V/N)",),
-    1e3: ("sensitivity in V/kN given as V/N",),
     10.0: ("the amplifier gain not given (--amplifier-gain)",),
     0.1: ("the full scale not given (--full-scale-v: the volts of the largest code)",),
     1 / 3.6: _SLIPS[1 / 3.6],

@@ -215,23 +215,18 @@ def stage_folder(out: Path, stage: Stage) -> Path:
 
 
 def _check_resume(out: Path | None, stages: list[Stage], method: str, resume: bool) -> None:
-    """Before the first run: a resume needs a search that was started in `out`; a new
-    calibration must not write over one."""
-    from .search import MANIFEST_FILE, has_checkpoint
+    """Before the first run, what `search.open_checkpoint` (which checks each stage's folder as
+    the stage starts) does not: that a resume is of a search, and that some stage's folder holds
+    one to continue."""
+    from .search import MANIFEST_FILE
 
-    folders = [stage_folder(out, s) for s in stages] if out is not None else []
     if not resume:
-        taken = next((f for f in folders if has_checkpoint(f)), None)
-        if taken is not None:
-            raise InputError(f"--out {out}: holds a search already (in {taken}); add --resume "
-                             "to continue it, or use another folder")
         return
-    if out is None:
-        raise InputError("--resume: needs --out (the folder of the stopped search)")
     if "nsga2" not in method:
         raise InputError(f"--resume: --method {method} keeps no checkpoint (only a search, "
                          "nsga2 or nsga2+gradient, can be resumed)")
-    if not any((f / MANIFEST_FILE).exists() for f in folders):
+    if out is not None and not any((stage_folder(out, s) / MANIFEST_FILE).exists()
+                                   for s in stages):
         raise InputError(f"--resume: no search to resume in {out} (no stage folder holds "
                          f"{MANIFEST_FILE}); run without --resume")
 
@@ -284,15 +279,15 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
                                      [free_parameter(current, p, *bounds[p], allow)
                                       for p in paths],
                                      tuple(stage.objectives or objectives), allow=allow)
-        folder = None
-        stage_resume = False
-        if out is not None:
-            folder = stage_folder(out, stage)
-            # a stage the stopped calibration never reached starts afresh
-            stage_resume = resume and (folder / MANIFEST_FILE).exists()
-            if "nsga2" in method:  # a damaged or foreign checkpoint fails before any run
-                open_checkpoint(problem, options, seed, population, folder, stage_resume,
-                                write=False)
+        folder = stage_folder(out, stage) if out is not None else None
+        # a stage the stopped calibration never reached starts afresh
+        stage_resume = resume and (folder is None or (folder / MANIFEST_FILE).exists())
+        if "nsga2" in method:
+            # before the stage's runs: a resume without `out`, a folder holding a search
+            # without `resume`, a damaged or foreign checkpoint
+            open_checkpoint(problem, options, seed, population, folder, stage_resume,
+                            write=False)
+        if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
         if verbose:
             _say(f"stage {k + 1}/{len(stages)}: {stage.name}")

@@ -45,6 +45,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from ..errors import InputError, InputWarning, SimulationError
+from ..identifiability import identification_notes, standard_errors
 from .evaluate import max_shift_s
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
@@ -339,7 +340,7 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
         if all(m.increment_s <= 0.95 * fe.final_time_increment_s
                for m, fe in zip(misfits, runs)) or counts["value"] >= max_evaluations:
             break
-    sigma_u = unit_standard_errors(jac, r)[:len(u)]  # the time shifts are in the covariance
+    sigma_u = standard_errors(jac, r)[:len(u)]  # the time shifts are in the covariance
     values = problem.values(u)
     error, interval = {}, {}
     for p, s, x in zip(problem.free, sigma_u, u):
@@ -353,62 +354,15 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
             interval[p.path] = (float(p.from_unit(x - 1.96 * s)),
                                 float(p.from_unit(x + 1.96 * s)))
     m, n_unknowns = jac.shape
-    unknown = not_identified(values, error, "the tests do not determine it" if m > n_unknowns
-                             else f"{m} residuals for {n_unknowns} unknowns (parameters and "
-                             "time shifts) leave none to estimate the noise from")
+    notes = identification_notes(values, error, "the tests do not determine it"
+                                 if m > n_unknowns else f"{m} residuals for {n_unknowns} "
+                                 "unknowns (parameters and time shifts) leave none to estimate "
+                                 "the noise from")
+    for note in notes.values():  # the calibration's result has no other place for the note
+        warnings.warn(note, InputWarning, stacklevel=2)
     return Refinement(u, values, float(r @ r), start_misfit, error, interval, counts["value"],
                       counts["jacobian"], time.perf_counter() - started, history, message, runs,
-                      passes, unknown)
-
-
-#: singular values of the Jacobian (columns scaled to unit length, so that no unit decides)
-#: below this fraction of the largest are directions the tests do not determine: the parameter
-#: map's central differences are exact to ~1e-9 relative, so smaller ones are round-off
-RANK_TOLERANCE = 1e-8
-#: a coordinate whose component along such a direction exceeds this is undetermined
-NULL_COMPONENT = 1e-6
-
-
-def unit_standard_errors(jac: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Standard errors of the coordinates of `jac`'s columns from the Gauss-Newton covariance
-    s^2 (J^T J)^-1, s^2 = RSS / (m - n) for m residuals `r` and n columns.
-
-    A coordinate that the Jacobian does not determine -- a column of zeros (the parameter has no
-    effect), or one in a combination of columns that cancels (two parameters that only act
-    together) -- gets inf: its variance is unbounded. A pseudo-inverse would give it 0, the
-    most certain value of all. The others get the variance of their estimable part, from the
-    singular value decomposition restricted to the determined directions. All inf with no more
-    residuals than columns (no degrees of freedom for s^2)."""
-    m, n = jac.shape
-    if m <= n:
-        return np.full(n, np.inf)
-    norms = np.linalg.norm(jac, axis=0)
-    safe = np.where(norms > 0, norms, 1.0)
-    _, singular, vt = np.linalg.svd(jac / safe, full_matrices=False)
-    determined = singular > RANK_TOLERANCE * singular[0] if singular[0] > 0 else \
-        np.zeros(n, bool)
-    variance = (r @ r / (m - n)) * np.sum(
-        (vt[determined] / singular[determined, None]) ** 2, axis=0) / safe ** 2
-    undetermined = (norms == 0) | (np.linalg.norm(vt[~determined], axis=0) > NULL_COMPONENT)
-    variance[undetermined] = np.inf
-    return np.sqrt(variance)
-
-
-def not_identified(values: dict[str, float], error: dict[str, float],
-                   why_infinite: str = "the tests do not determine it") -> list[str]:
-    """The parameters whose standard error is infinite or larger than their value (the lumped
-    `fit`'s convention), each with a warning that says so (`InputWarning`: the tests and the
-    free parameters chosen do not determine it)."""
-    out = []
-    for path, value in values.items():
-        se = error[path]
-        if se <= abs(value):
-            continue
-        out.append(path)
-        why = f"inf: {why_infinite}" if math.isinf(se) else f"{se:.3g} > value {value:.4g}"
-        warnings.warn(f"{path}: not identified (standard error {why})", InputWarning,
-                      stacklevel=3)
-    return out
+                      passes, list(notes))
 
 
 def levenberg_marquardt(residuals, jacobian, u0: np.ndarray, max_evaluations: int,

@@ -122,8 +122,8 @@ def with_values(spec: dict, values: dict[str, float]) -> dict:
 
 def free_parameter(spec: dict, path: str, low: float, high: float, allow=()) -> FreeParameter:
     """A checked free parameter: the path exists and holds a number, not a radius; the bounds are
-    finite, ordered, and give a valid ball at both ends (`allow`: plausibility checks, such as
-    "ball-units", that only warn)."""
+    finite, ordered, in the template value's unit (`check_scale`), and give a valid ball at both
+    ends (`allow`: plausibility checks that only warn, such as "ball-units" or "unit-slip")."""
     from ..fe import load_ball
 
     if path.endswith("outer_radius_m"):
@@ -137,7 +137,7 @@ def free_parameter(spec: dict, path: str, low: float, high: float, allow=()) -> 
     if not low < high:
         raise InputError(f"--free {path}={low:g}:{high:g}: bounds reversed or equal "
                          "(expected LOW < HIGH)")
-    check_scale(path, low, high, value)
+    check_scale(path, low, high, value, allow)
     for bound in (low, high):
         try:
             load_ball(with_values(spec, {path: bound}), allow=allow)
@@ -158,13 +158,15 @@ _UNITS = {"_pa": ("Pa", ((1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa"))),
           ".g": ("", ((0.01, "percent"),))}
 
 
-def check_scale(path: str, low: float, high: float, value: float) -> None:
-    """`InputError` if the bounds look like another unit than the template's value: they leave
-    the value out and their larger magnitude differs from |value| by more than
-    `SCALE_SLIP_FACTOR` either way (c10_pa=1:4, MPa typed, against 3.5e6 Pa). Bounds that merely
-    miss a value nearby are a search away from the template (the problem warns). Where a usual
-    slip of the unit, or a power of 1000, brings the bounds around the value (or within half of
-    it), the message gives them."""
+def check_scale(path: str, low: float, high: float, value: float, allow=()) -> None:
+    """The `unit-slip` plausibility check (an `InputError`, or a warning if `allow` holds it) of
+    bounds that look like another unit than the template's value: they leave the value out and
+    their larger magnitude differs from |value| by more than `SCALE_SLIP_FACTOR` either way
+    (c10_pa=1:4, MPa typed, against 3.5e6 Pa). Bounds that merely miss a value nearby are a
+    search away from the template (the problem warns). Where a usual slip of the unit, or a power
+    of 1000, brings the bounds around the value (or within half of it), the message gives them."""
+    from ..plausibility import flag
+
     size = max(abs(low), abs(high))
     if low <= value <= high or value == 0.0:
         return
@@ -174,17 +176,22 @@ def check_scale(path: str, low: float, high: float, value: float) -> None:
     si, slips = next((units for end, units in _UNITS.items() if path.endswith(end)), ("", ()))
     message = (f"--free {path}={low:g}:{high:g}: the template's value is {value:g}"
                f"{' ' + si if si else ''}, more than {SCALE_SLIP_FACTOR:g}x from the bounds")
+    flag("unit-slip", f"{message}{_slip_fix(low, high, value, ratio, slips, si)}", allow)
+
+
+def _slip_fix(low: float, high: float, value: float, ratio: float, slips, si: str) -> str:
+    """'; 1:4 looks like MPa; use 1e+06:4e+06' where a usual slip of the unit (`slips`), or a
+    power of 1000, brings the bounds around `value` or within half of it; else where to give
+    them."""
     if math.isfinite(ratio):
-        candidates = list(slips) + [(1000.0 ** round(math.log10(ratio) / 3), None)]
-        for factor, unit in candidates:
+        for factor, unit in list(slips) + [(1000.0 ** round(math.log10(ratio) / 3), None)]:
             scaled = (low * factor, high * factor)
             if scaled[0] <= value <= scaled[1] or min(abs(value - b) for b in scaled) <= 0.5 * abs(
                     value):
                 slip = (f"looks like {unit}" if unit else f"looks {factor:g}x too small"
                         if factor > 1 else f"looks {1 / factor:g}x too large")
-                raise InputError(f"{message}; {low:g}:{high:g} {slip}; use {scaled[0]:g}:"
-                                 f"{scaled[1]:g}")
-    raise InputError(f"{message}: give them in {si or 'SI'} around the value")
+                return f"; {low:g}:{high:g} {slip}; use {scaled[0]:g}:{scaled[1]:g}"
+    return f": give them in {si or 'SI'} around the value"
 
 
 @dataclass(frozen=True)
@@ -239,7 +246,7 @@ class CalibrationProblem:
     def __post_init__(self) -> None:
         from ..fe import load_ball
 
-        from ..plausibility import check_allow, check_fe_speed
+        from ..plausibility import check_allow
 
         self.start = dict(self.start)  # the caller's dict is left alone
         self.allow = check_allow(self.allow)
@@ -254,11 +261,8 @@ class CalibrationProblem:
         if bad or not self.objectives:
             raise InputError(f"--objectives {','.join(self.objectives)}: allowed any of "
                              f"{', '.join(OBJECTIVES)}")
+        # the tests' speeds: `calibrate` checks them before any run, and every FE run does
         for test in self.tests:
-            try:
-                check_fe_speed(test.impact_speed_m_s, self.allow)
-            except InputError as error:
-                raise InputError(f"test {test.name}: {error}") from None
             ball = load_ball(sub_ball(self.template, test.layers), allow=self.allow)
             mass = test.features.mass_kg
             if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:

@@ -21,7 +21,6 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..fileio import first_line, replacing, write_atomic  # cli/calibrate.py imports it from here
 from .evaluate import evaluate
 from .problem import CalibrationProblem
 
@@ -299,7 +299,7 @@ def read_manifest(out: Path) -> dict:
     try:
         saved = json.loads(path.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-        raise InputError(f"--resume: {path} is damaged ({_first_line(error)}); delete the "
+        raise InputError(f"--resume: {path} is damaged ({first_line(error)}); delete the "
                          "folder's search files to start afresh") from None
     wrong = _malformed(saved)
     if wrong:
@@ -330,18 +330,6 @@ def _malformed(saved: Any) -> str | None:
     return None
 
 
-def write_atomic(path: Path, text: str) -> None:
-    """Write `text` to `path` by a temporary file renamed over it: an interrupt leaves the old
-    file or the new one, never a part."""
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-
-
-def _first_line(error: BaseException) -> str:
-    return (str(error).strip().splitlines() or [type(error).__name__])[0]
-
-
 def _columns(problem: CalibrationProblem, rows: dict) -> dict[str, list]:
     unit = np.array(rows["unit"])
     objectives = np.array(rows["objectives"])
@@ -367,9 +355,8 @@ def _write_evaluations(problem: CalibrationProblem, rows: dict, out: Path) -> No
 
     table = pa.table(_columns(problem, rows))
     for name, write in ((EVALUATIONS_FILE, pq.write_table), ("evaluations.csv", pacsv.write_csv)):
-        tmp = out / (name + ".tmp")
-        write(table, tmp)
-        os.replace(tmp, out / name)
+        with replacing(out / name) as tmp:
+            write(table, tmp)
 
 
 def _saved_rows(out: Path | None) -> int:
@@ -390,7 +377,7 @@ def _load_checkpoint(problem: CalibrationProblem, out: Path) -> dict[bytes, Any]
     try:
         table = pq.read_table(path).to_pydict()
     except Exception as error:  # noqa: BLE001 - pyarrow's errors for a damaged file vary
-        raise InputError(f"--resume: {path} cannot be read ({_first_line(error)}): it is "
+        raise InputError(f"--resume: {path} cannot be read ({first_line(error)}): it is "
                          f"damaged; delete it to run this search's designs again") from None
     names = [f"u:{p.path}" for p in problem.free]
     needed = (["generation", "failed"] + names + [p.path for p in problem.free]
@@ -409,7 +396,7 @@ def _load_checkpoint(problem: CalibrationProblem, out: Path) -> dict[bytes, Any]
         failed = [str(reason) if reason else None for reason in table["failed"]]
     except (TypeError, ValueError) as error:
         raise InputError(f"--resume: {path} holds a column that is not numbers "
-                         f"({_first_line(error)}): it is damaged; delete it") from None
+                         f"({first_line(error)}): it is damaged; delete it") from None
     if not np.all(np.isfinite(unit) & (unit >= 0.0) & (unit <= 1.0)):
         raise InputError(f"--resume: {path} holds unit coordinates outside [0, 1]: it is "
                          "damaged; delete it")

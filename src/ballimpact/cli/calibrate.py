@@ -23,17 +23,12 @@ from .common import (
 )
 from .simulate import add_solver_options, solver_options
 
-#: the verb's parser, as last built: the resume hint rebuilds the command line from its options
-_PARSER: argparse.ArgumentParser | None = None
-
-
-def add_parser(verbs) -> None:
+def add_parser(verbs) -> argparse.ArgumentParser:
     from ..calibrate.calibration import METHODS
     from ..calibrate.decision import METHODS as DECISIONS
     from ..calibrate.problem import OBJECTIVES
 
-    global _PARSER
-    p = _PARSER = verbs.add_parser(
+    p = verbs.add_parser(
         "calibrate", help="calibrate a layered FE ball's material constants against tests",
         description="Multi-objective search (pymoo NSGA-II; NSGA-III for four objectives) of "
                     "free parameters of a ball specification against impact tests, a decision "
@@ -74,6 +69,7 @@ def add_parser(verbs) -> None:
     add_solver_options(p)
     add_record_options(p)
     add_processing(p)
+    return p
 
 
 def parse_test(text: str) -> tuple[Path, float | None, str | None]:
@@ -93,47 +89,32 @@ def parse_test(text: str) -> tuple[Path, float | None, str | None]:
 
 def load_tests(args: argparse.Namespace) -> list:
     from ..calibrate.problem import CalibrationTest
-    from ..plausibility import check_fe_speed
 
     parsed = [parse_test(text) for text in args.test]  # every --test's form before any file
     tests, names = [], set()
-    given_speed = args.impact_speed_m_s
     for text, (path, speed, layer) in zip(args.test, parsed):
-        args.impact_speed_m_s = speed if speed is not None else given_speed
-        record = load(path, args)
+        # a copy: `args` stays the command as given (the resume hint is built from it)
+        given = argparse.Namespace(**vars(args))
+        if speed is not None:
+            given.impact_speed_m_s = speed
+        record = load(path, given)
         if record.impact_speed_m_s is None:
             raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
                              "or in the side file (impact_speed_m_s)")
-        try:  # the FE runs would refuse it after the search had started
-            check_fe_speed(record.impact_speed_m_s, args.allow)
-        except InputError as error:
-            raise InputError(f"--test {text}: {error}") from None
         processed = process_record(record, args)
         name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
         names.add(name)
         tests.append(CalibrationTest(name, processed.features, layer))
-    args.impact_speed_m_s = given_speed
     return tests
 
 
-def parse_free(items: list[str]) -> dict[str, tuple[float, float]]:
-    """--free PATH=LOW:HIGH flags as path -> (low, high); a path given twice is an error (the
-    second would silently replace the first)."""
-    seen: dict[str, str] = {}
-    for item in items:
-        path = item.partition("=")[0]
-        if path in seen:
-            raise InputError(f"--free {path}: given twice ({seen[path]} and {item}); give each "
-                             "parameter once")
-        seen[path] = item
-    return assignments(items, "--free", bounds=True)
-
-
 def command_line(args: argparse.Namespace) -> str:
-    """The command as given (options that differ from their defaults), for the resume hint:
-    `sys.argv` is not the command when the verb runs inside another program (or a test)."""
+    """The command as given, for the resume hint: the options that differ from their defaults,
+    read from `args` by this verb's flags (`sys.argv` is not the command when the verb runs
+    inside another program or a test), plus --resume."""
+    verbs = argparse.ArgumentParser().add_subparsers()
     words = ["ballimpact", "calibrate"]
-    for action in _PARSER._actions if _PARSER is not None else []:
+    for action in add_parser(verbs)._actions:
         if not action.option_strings or action.dest in ("help", "resume"):
             continue
         value = getattr(args, action.dest, action.default)
@@ -150,8 +131,8 @@ def command_line(args: argparse.Namespace) -> str:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..calibrate.calibration import calibrate, parse_stage
-    from ..calibrate.search import check_search_options, write_atomic
     from ..fe import load_ball
+    from ..fileio import write_atomic
 
     check_plot_path(args.plot)
     if args.out is not None:
@@ -159,11 +140,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             raise InputError(f"--out {args.out}: is a file; give a folder (it holds the "
                              "evaluations, plots and the calibrated ball)")
         check_output_folder(args.out, "--out")
-    if args.resume and args.out is None:
-        raise InputError("--resume: needs --out (the folder of the stopped search)")
-    if "nsga2" in args.method:
-        check_search_options(args.population, args.generations)
-    bounds = parse_free(args.free)
+    bounds = assignments(args.free, "--free", bounds=True)
     stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
     objectives = tuple(o.strip() for o in args.objectives.split(",") if o.strip())
     weights = None

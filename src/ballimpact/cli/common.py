@@ -160,6 +160,20 @@ def check_output_folder(path: Path | None, flag: str) -> None:
         raise InputError(f"{flag}: folder {path.parent} does not exist")
 
 
+def check_distinct_files(paths: list[Path], label: str) -> list[Path]:
+    """Each file of `paths` (the positional argument `label`, e.g. TEST) given once: the same
+    file under two spellings (a.csv and ./a.csv) counts as twice, so paths are compared
+    resolved. Returns the resolved paths."""
+    seen: dict[Path, Path] = {}
+    for path in paths:
+        key = path.resolve()
+        if key in seen:
+            spelling = f" (as {seen[key]})" if str(seen[key]) != str(path) else ""
+            raise InputError(f"{label}: {path} is given twice{spelling}; give each file once")
+        seen[key] = path
+    return list(seen)
+
+
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:
     """Parse NAME=VALUE (or NAME=LOW:HIGH) flags into a dict of floats (or float pairs)."""
     parsed: dict[str, Any] = {}

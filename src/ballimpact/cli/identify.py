@@ -13,6 +13,7 @@ from ..errors import CheckFailed, InputError, InputWarning
 from .common import (
     add_processing,
     add_record_options,
+    check_distinct_files,
     check_output_folder,
     check_plot_path,
     load,
@@ -121,13 +122,8 @@ def check_arguments(args: argparse.Namespace) -> None:
         check_max_nrmse(args.max_nrmse)
         if not args.verify:
             raise InputError("--max-nrmse: needs the FE check, which --no-verify turns off")
-    seen: dict[Path, Path] = {}
-    for path in args.files:
-        key = path.resolve()
-        if key in seen:
-            raise InputError(f"{path}: given twice (identify each test once)")
-        seen[key] = path
-    inputs = set(seen) | {p.with_suffix(".json") for p in seen}  # records and their side files
+    records = check_distinct_files(args.files, "FILE")
+    inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
     for path, flag, suffix in ((args.table, "--table", ".csv"),
                                (args.ball_out, "--ball-out", ".json")):
         if path is None:
@@ -146,11 +142,13 @@ def check_arguments(args: argparse.Namespace) -> None:
                          "--ball-out")
 
 
-def check_speeds(args: argparse.Namespace, speeds: list[float]) -> None:
+def check_speeds(args: argparse.Namespace, speeds: list[float | None]) -> None:
     """Several tests at one speed: a speed-table ball (--ball-out) cannot hold both (error); the
     table keeps a row for each (a note)."""
     first: dict[float, Path] = {}
     for path, speed in zip(args.files, speeds):
+        if speed is None:  # no speed to compare: processing the record refuses it, naming it
+            continue
         if speed not in first:
             first[speed] = path
             continue

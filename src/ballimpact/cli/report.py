@@ -10,6 +10,7 @@ from ..errors import InputError
 from .common import (
     add_filtering,
     add_record_options,
+    check_distinct_files,
     load,
     process_record,
     use_compilation_cache,
@@ -71,7 +72,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     files = builtin_files(args.builtin) if args.builtin else args.files
     processed = [process_record(_loaded(path, args, len(files)), args) for path in files]
     tests = label_tests([str(f) for f in files], processed)
-    check_balls(models, tests[len(tests) // 2].speed_m_s)
+    check_balls(models, tests[len(tests) // 2].speed_m_s, args.allow)
     universal = None
     if any(m.kind == "universal" for m in models):
         from ..universal.model import load_model
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                      "default mesh (the tests used one twice as fine): its errors are the "
                      "floor set by the noise and the mesh.")
     result = build_report(tests, models, args.out, seed=args.seed, universal_model=universal,
-                          note=note, progress=not args.quiet)
+                          note=note, progress=not args.quiet, allow=args.allow)
     if not args.json:
         _print(result)
     return result
@@ -95,12 +96,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 def _check_files(args: argparse.Namespace) -> None:
     """Test files: each once, and each with its own speed (a report compares speeds)."""
-    seen: dict[Path, Path] = {}
-    for path in args.files:
-        key = path.resolve()
-        if key in seen:
-            raise InputError(f"TEST: {path} is given twice (as {seen[key]}); give each test once")
-        seen[key] = path
+    check_distinct_files(args.files, "TEST")
     for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
                         ("--rebound-speed-m-s", args.rebound_speed_m_s)):
         if value is not None and len(args.files) > 1:

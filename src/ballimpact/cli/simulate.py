@@ -317,20 +317,18 @@ ANIMATION_FRAMES = 40
 
 
 def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[str, Any]:
-    import numpy as np
+    ball, condition, target, options = _checked_3d(args, allow)
+    result = _simulate_3d(ball, condition, target, options, allow)
+    return _output_3d(args, result, ball, condition, target)
 
-    from ..fe import RunProgress, load_ball
-    from ..features import extract_features
-    from ..oblique import (
-        ImpactCondition,
-        Options3D,
-        estimate_oblique,
-        load_target,
-        simulate_oblique,
-    )
+
+def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
+    """The 3D run's inputs, checked before anything is meshed: (ball, condition, target or None,
+    `Options3D`)."""
+    from ..fe import load_ball
+    from ..oblique import ImpactCondition, Options3D, load_target
+    from ..oblique.output import check_animation_path
     from ..oblique.target import check_target_width
-    from ..oblique.output import animate_section, check_animation_path, write_series
-    from ..oblique.plots import plot_oblique
 
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
@@ -362,6 +360,17 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
         stick_scale=defaults.stick_scale if args.stick_scale is None else args.stick_scale,
         precision=args.precision, chunk_steps=50 if want_frames else 200,
         frames=1 if want_frames else 0)
+    return ball, condition, target, options
+
+
+def _simulate_3d(ball, condition, target, options, allow: frozenset[str]):
+    """The 3D run, with its estimate's warnings first and progress lines; the frames thinned to
+    about `ANIMATION_FRAMES` when they are kept for output (`options.frames`)."""
+    import numpy as np
+
+    from ..fe import RunProgress
+    from ..oblique import estimate_oblique, simulate_oblique
+
     # refused before meshing; the mesh is then built and cached for the run
     estimate = estimate_oblique(ball, [condition], options, target, allow=allow)
     use_compilation_cache()
@@ -370,9 +379,18 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
     _warn_now(estimate.warning())
     result = simulate_oblique(ball, condition, options, target=target, allow=allow,
                               progress=RunProgress(estimate.end_time_s, options.chunk_steps))
-    if want_frames and len(result.frames) > ANIMATION_FRAMES:
+    if options.frames and len(result.frames) > ANIMATION_FRAMES:
         keep = np.unique(np.linspace(0, len(result.frames) - 1, ANIMATION_FRAMES).astype(int))
         result.frames[:] = [result.frames[i] for i in keep]
+    return result
+
+
+def _output_3d(args: argparse.Namespace, result, ball, condition, target) -> dict[str, Any]:
+    """The 3D run's summary, the files asked for, and the text lines unless --json."""
+    from ..features import extract_features
+    from ..oblique.output import animate_section, write_series
+    from ..oblique.plots import plot_oblique
+
     out = result.summary()
     out["features"] = extract_features(result.record()).to_dict()["features"]
     out["materials"] = ball.to_dict()
@@ -388,31 +406,35 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
         plot_oblique([result], args.plot)
         out["plot"] = str(args.plot)
     if not args.json:
-        spin = (f"spin {condition.spin_rad_s:g} rad/s" if condition.symmetric else
-                f"spin (x, y, z) {', '.join(f'{w:g}' for w in condition.spin_vector_rad_s)} rad/s")
-        print(f"{result.ball_name} in 3D at {condition.speed_m_s:g} m/s, "
-              f"{condition.angle_deg:g} deg, {spin}, friction {condition.friction:g} on "
-              f"{result.target}:")
-        print(f"  normal COR {result.normal_cor:.4f}, tangential COR {result.tangential_cor:.4f}, "
-              f"rebound angle {result.rebound_angle_deg:.2f} deg, rebound spin "
-              f"{result.rebound_spin_rad_s:.1f} rad/s, rebound speed "
-              f"{result.rebound_speed_m_s:.3f} m/s")
-        if not condition.symmetric:
-            print("  rebound spin (x, y, z) "
-                  f"{', '.join(f'{w:.1f}' for w in out['rebound_spin_vector_rad_s'])} rad/s, "
-                  "velocity (x, y, z) "
-                  f"{', '.join(f'{v:.3f}' for v in out['rebound_velocity_m_s'])} m/s")
-        print(f"  peak normal force {result.peak_force_n:.5g} N, contact time "
-              f"{result.contact_time_s * 1e3:.4g} ms")
-        e = result.energies_j
-        print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
-              f"{e['viscous_dissipation_j']:.4g} J, friction {e['frictional_dissipation_j']:.4g} J,"
-              f" bulk viscous {e['bulk_viscous_dissipation_j']:.4g} J of "
-              f"{e['initial_kinetic_energy_j']:.4g} J")
-        print(f"  {result.elements} hexahedra ({'half' if result.half_model else 'full'} model), "
-              f"{result.steps} steps of {result.stable_time_increment_s:.3g} s, "
-              f"{result.wall_time_s:.2f} s wall")
+        _print_3d(result, condition, out)
     return out
+
+
+def _print_3d(result, condition, out: dict[str, Any]) -> None:
+    spin = (f"spin {condition.spin_rad_s:g} rad/s" if condition.symmetric else
+            f"spin (x, y, z) {', '.join(f'{w:g}' for w in condition.spin_vector_rad_s)} rad/s")
+    print(f"{result.ball_name} in 3D at {condition.speed_m_s:g} m/s, "
+          f"{condition.angle_deg:g} deg, {spin}, friction {condition.friction:g} on "
+          f"{result.target}:")
+    print(f"  normal COR {result.normal_cor:.4f}, tangential COR {result.tangential_cor:.4f}, "
+          f"rebound angle {result.rebound_angle_deg:.2f} deg, rebound spin "
+          f"{result.rebound_spin_rad_s:.1f} rad/s, rebound speed "
+          f"{result.rebound_speed_m_s:.3f} m/s")
+    if not condition.symmetric:
+        print("  rebound spin (x, y, z) "
+              f"{', '.join(f'{w:.1f}' for w in out['rebound_spin_vector_rad_s'])} rad/s, "
+              "velocity (x, y, z) "
+              f"{', '.join(f'{v:.3f}' for v in out['rebound_velocity_m_s'])} m/s")
+    print(f"  peak normal force {result.peak_force_n:.5g} N, contact time "
+          f"{result.contact_time_s * 1e3:.4g} ms")
+    e = result.energies_j
+    print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
+          f"{e['viscous_dissipation_j']:.4g} J, friction {e['frictional_dissipation_j']:.4g} J,"
+          f" bulk viscous {e['bulk_viscous_dissipation_j']:.4g} J of "
+          f"{e['initial_kinetic_energy_j']:.4g} J")
+    print(f"  {result.elements} hexahedra ({'half' if result.half_model else 'full'} model), "
+          f"{result.steps} steps of {result.stable_time_increment_s:.3g} s, "
+          f"{result.wall_time_s:.2f} s wall")
 
 
 def run_balls(args: argparse.Namespace) -> dict[str, Any]:

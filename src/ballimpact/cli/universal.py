@@ -4,15 +4,19 @@ universal model and its held-out figures."""
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 import time
-import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, InputWarning
-from .common import assignments, check_output_folder, check_plot_path, use_compilation_cache
+from ..errors import InputError
+from .common import (
+    add_allow,
+    assignments,
+    check_output_folder,
+    check_plot_path,
+    use_compilation_cache,
+)
 
 
 def add_parser(verbs) -> None:
@@ -47,6 +51,7 @@ def add_parser(verbs) -> None:
                           "the study then equals one run with the total)")
     run.add_argument("--workers", type=int, help="run on a local Dask cluster of N processes")
     run.add_argument("--scheduler", help="run on the Dask scheduler at ADDRESS")
+    add_allow(run)  # ball-units: a template or ranges outside sports balls (a foam ball)
     run.add_argument("--json", action="store_true", help="print one JSON object")
 
     train = steps.add_parser("train", help="train the universal model on the study in DIR",
@@ -123,12 +128,13 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
     ranges = assignments(args.range, "--range", bounds=True)
     stored = args.resume or args.extend is not None
     config = None
-    if not stored or given or ranges or args.template:
+    if not stored or given or ranges or args.template or args.allow:
         config = make_config(template=args.template or "cricket-universal", ranges=ranges,
-                             **settings)
+                             allow=args.allow, **settings)
         if stored:  # compare only what was given on the command line
             config = {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
-                                             *(["template"] if args.template else []))}
+                                             *(["template"] if args.template else []),
+                                             *(["allow"] if args.allow else []))}
     # Ctrl-C from here on: the command line ends with exit 130 and this line (finished batches
     # are on disk, each written atomically)
     args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
@@ -184,16 +190,8 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
-def _check_filter(name: str) -> None:
-    from ..filters import FILTER_NAMES
-
-    if name.strip().lower() not in FILTER_NAMES and not re.fullmatch(r"cfc\d+(\.\d+)?",
-                                                                     name.strip().lower()):
-        raise InputError(f"--filter {name!r}: unknown; allowed: {', '.join(FILTER_NAMES)} or "
-                         "cfc<N>")
-
-
 def _report(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.identify import warn_failed_model
     from ..universal.model import load_model
 
     check_plot_path(args.plot)
@@ -209,7 +207,9 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
                          "fraction of the peak force, e.g. 0.01)")
     _at_least(args.runs, "--runs", 1, "closed-loop runs")
     if args.filter is not None:
-        _check_filter(args.filter)
+        from ..filters import check_filter_name
+
+        check_filter_name(args.filter, "--filter")
     started = time.perf_counter()
     model = load_model(args.model)
     config = None
@@ -219,14 +219,9 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
 
         config = load_config(args.closed_loop, "--closed-loop")
         check_study_matches(model, config, args.closed_loop)
-    check = model.metadata.get("held_out_check")
-    if check is not None and not check["passed"]:
-        warnings.warn(f"this model failed its held-out check ({check.get('worst')} R^2 "
-                      f"{check.get('r2', {}).get(check.get('worst'), float('nan')):.3g}, needs "
-                      f">= {check.get('min_r2', 0.5):g}) and was written with --force: its "
-                      "identifications are not to be trusted", InputWarning, stacklevel=2)
+    warn_failed_model(model)
     out = {"model": args.model or "built-in", "held_out": model.metadata["held_out"],
-           "held_out_check": check, "runs": model.metadata["runs"],
+           "held_out_check": model.metadata.get("held_out_check"), "runs": model.metadata["runs"],
            "study": model.metadata["study"]}
     if not args.json:
         _print_report(model.metadata)

@@ -53,7 +53,8 @@ def check_export_memory(ball: BallModel, solver: str = "axisymmetric", *,
     estimate = RunEstimate(elements=elements, steps=0, end_time_s=0.0, memory_bytes=0.0,
                            element_steps_limit=float("inf"), seconds_per_element_step=0.0,
                            hint=hint, model_bytes=EXPORT_BASE_BYTES
-                           + EXPORT_BYTES_PER_ELEMENT[solver] * elements)
+                           + EXPORT_BYTES_PER_ELEMENT[solver] * elements,
+                           base_bytes=EXPORT_BASE_BYTES)
     estimate.check_memory(check_allow(allow), what="the export")
     return estimate
 

@@ -38,6 +38,36 @@ def available_memory_bytes() -> float | None:
         return None
 
 
+def process_memory_bytes() -> float:
+    """Memory (bytes) this process holds now: the resident set of /proc/self/statm (Linux), else
+    its peak resident set (`resource.getrusage`), else 0 (unknown: nothing is counted as held)."""
+    try:
+        with open("/proc/self/statm", encoding="ascii") as f:
+            return float(f.read().split()[1]) * float(os.sysconf("SC_PAGE_SIZE"))
+    except (OSError, ValueError, IndexError, AttributeError):
+        pass
+    try:
+        import resource
+
+        peak = float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
+    except (ImportError, OSError, ValueError):
+        return 0.0
+    return peak if sys.platform == "darwin" else peak * 1024.0  # macOS: bytes; else KiB
+
+
+#: the largest extra memory (bytes) of a `check_memory` in this process that fitted, and of one
+#: let through by "large-run": a later run needing no more is let through unchecked, so that a
+#: brief dip in free memory does not stop a calibration or study partway, and `simulate` after
+#: `estimate_run` (the same run) is judged, and warned about, once
+_JUDGED_BYTES = {"fitted": 0.0, "allowed": 0.0}
+
+
+def _judged_before(needed_bytes: float, allowed: bool) -> bool:
+    """Whether a run needing `needed_bytes` more memory was judged already in this process."""
+    return (needed_bytes <= _JUDGED_BYTES["fitted"]
+            or (allowed and needed_bytes <= _JUDGED_BYTES["allowed"]))
+
+
 @dataclass(frozen=True)
 class RunEstimate:
     """A run's cost, estimated before it starts (on the high side: the end time from a Hertz
@@ -56,6 +86,8 @@ class RunEstimate:
     - `model_bytes`: the rest of the run's memory: the process with JAX and the compiled
       program, the mesh, its geometry and the state of every run held at once (an estimate from
       measured peaks, docs/fe.md "Progress and very large runs").
+    - `base_bytes`: the process's part of `model_bytes` (Python, JAX, the compiled program), which
+      a process that has imported JAX already holds in part (`check_memory`).
     - `runs`: runs of the batch.
     """
 
@@ -68,6 +100,7 @@ class RunEstimate:
     hint: str = ""
     model_bytes: float = 0.0
     runs: int = 1
+    base_bytes: float = 0.0
 
     @property
     def element_steps(self) -> float:
@@ -86,22 +119,40 @@ class RunEstimate:
 
     def check_memory(self, allow: Collection[str] = (), available_bytes: float | None = None,
                      what: str = "the run") -> None:
-        """The `large-run` check: `InputError` (an `InputWarning` if allowed) when
-        `total_bytes` exceeds `available_bytes` (default `available_memory_bytes()`; unknown:
-        nothing is checked). The message states the estimate (GiB, elements, steps, time) and
-        `hint`."""
-        available = available_memory_bytes() if available_bytes is None else available_bytes
-        if available is None or self.total_bytes <= available:
+        """The `large-run` check: `InputError` (an `InputWarning` if allowed) when the memory the
+        run still needs exceeds `available_bytes` (default `available_memory_bytes()`; unknown:
+        nothing is checked). What it still needs is `total_bytes` less the part of `base_bytes`
+        this process already holds (`process_memory_bytes`): the free memory does not include
+        it. The message states the estimate (GiB, elements, steps, time) and `hint`.
+
+        Measured checks (`available_bytes` None) are judged once per size in a process: a run
+        needing no more than one that fitted before (or, when allowed, that was let through) is
+        not checked again (`_JUDGED_BYTES`)."""
+        held = min(self.base_bytes, process_memory_bytes())
+        needed = self.total_bytes - held
+        measured = available_bytes is None
+        if measured and _judged_before(needed, "large-run" in allow):
             return
+        available = available_memory_bytes() if measured else available_bytes
+        if available is None:
+            return
+        if needed > available:
+            flag("large-run", self._memory_message(needed, held, available, what), allow)
+        if measured:  # it fitted, or was allowed (else `flag` raised)
+            key = "fitted" if needed <= available else "allowed"
+            _JUDGED_BYTES[key] = max(_JUDGED_BYTES[key], needed)
+
+    def _memory_message(self, needed: float, held: float, available: float, what: str) -> str:
         size = f"{_count(self.elements)} elements"
         if self.steps:  # a run (an export runs nothing)
             size += f" x {_count(self.steps)} steps" + (f" x {self.runs} runs" if self.runs > 1
                                                         else "")
+        besides = f" besides the {held / 2 ** 30:.2g} GiB this process holds" if held else ""
         took = (f", and take about {_duration(self.wall_time_s)} on a 2-core CPU"
                 if self.steps else "")
-        flag("large-run", f"{what} would need about {self.total_bytes / 2 ** 30:.3g} GiB of "
-             f"memory ({size}), more than the {available / 2 ** 30:.3g} GiB available{took}: "
-             f"{self.hint or 'a coarser mesh'}", allow)
+        return (f"{what} would need about {needed / 2 ** 30:.3g} GiB of memory{besides} ({size}), "
+                f"more than the {available / 2 ** 30:.3g} GiB available{took}: "
+                f"{self.hint or 'a coarser mesh'}")
 
     def warning(self) -> str | None:
         """The warning text (starting "large run:") when the run is above a guard, else None."""

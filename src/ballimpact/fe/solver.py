@@ -206,7 +206,7 @@ def default_group_size(n_balls: int) -> int:
     return max(1, min(n_balls, ACCELERATOR_GROUP_SIZE))
 
 
-def _speeds(impact_speeds_m_s, n: int, allow=(), solver: str = "axisymmetric") -> np.ndarray:
+def impact_speeds(impact_speeds_m_s, n: int, allow=(), solver: str = "axisymmetric") -> np.ndarray:
     """The impact speeds (m/s) of `n` balls, checked: finite, > 0, and inside the speeds `solver`
     was checked at (`plausibility.check_fe_speed`) unless "speed-range" is in `allow` (a
     warning)."""
@@ -245,7 +245,8 @@ INCREMENT_OVER_SMALLEST_ELEMENT = 1.5
 #: memory of a run (bytes): the process with JAX and the compiled program (peak 0.55-0.6 GB with
 #: 210 to 13,110 elements), and per element and ball run at once (mesh, geometry, state,
 #: Lanczos vectors: 4-6 kB measured with 13,110 to 80,370 elements, reduced integration; full
-#: integration's four points are assumed to double it, not measured). On the high side.
+#: integration's four points are assumed to double it, not measured). On the high side. The
+#: large-run check counts only the part of the base the process does not hold yet.
 BASE_MEMORY_BYTES = 0.6 * 2 ** 30
 MEMORY_PER_ELEMENT_BYTES = 8e3
 #: the contact patch must span this many elements at the contact pole (Hertz contact radius over
@@ -279,7 +280,8 @@ def check_run_memory(balls: list, speeds, options: SolverOptions, allow=(),
                      group_size: int | None = None) -> RunEstimate:
     """The `large-run` check before anything is meshed: the run's memory estimated from the
     ball's radii and the mesh options alone (`mesh.estimate_mesh`) against the available memory
-    (`progress.RunEstimate.check_memory`). Returns that estimate."""
+    (`progress.RunEstimate.check_memory`: the memory the run adds to this process's, judged once
+    per size in a process). Returns that estimate."""
     mesh = estimate_mesh(_mesh_radii(balls[0], options), options.element_size_m,
                          options.pole_element_size_m, options.pole_zone_deg)
     held = len(balls) if group_size is None else min(len(balls), group_size)
@@ -312,7 +314,7 @@ def _run_estimate(elements: int, smallest_m: float, balls: list, speeds, options
                        element_steps_limit=ELEMENT_STEPS_WARNING,
                        seconds_per_element_step=SECONDS_PER_ELEMENT_STEP, hint=_HINT,
                        model_bytes=BASE_MEMORY_BYTES + per_element * float(elements) * held,
-                       runs=len(balls))
+                       runs=len(balls), base_bytes=BASE_MEMORY_BYTES)
 
 
 def _warn_if_large(kernel: Kernel, balls: list, speeds, options: SolverOptions) -> None:
@@ -339,7 +341,7 @@ def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float) -> st
             f"{finer:.2g} m (pole_element_size_m, --pole-element-size-m; 3d: more --divisions)")
 
 
-def _warn_unresolved(balls: list, speeds, pole_element_m: float) -> None:
+def warn_unresolved_contact(balls: list, speeds, pole_element_m: float) -> None:
     """One `contact_resolution_note` warning, for the slowest run of a batch."""
     i = int(np.argmin(speeds))
     note = contact_resolution_note(balls[i], float(speeds[i]), pole_element_m)
@@ -384,7 +386,7 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     balls = list(balls)
     if not balls:
         raise InputError("balls: need at least one ball")
-    speeds = _speeds(impact_speeds_m_s, len(balls), allow)
+    speeds = impact_speeds(impact_speeds_m_s, len(balls), allow)
     if group_size is None:
         group_size = default_group_size(len(balls))
     if not (isinstance(group_size, int) and group_size >= 1):
@@ -392,7 +394,7 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     if any(_structure(b) != _structure(balls[0]) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
     check_run_memory(balls, speeds, options, allow, group_size)  # before anything is meshed
-    _warn_unresolved(balls, speeds, options.pole_element_size_m or options.element_size_m)
+    warn_unresolved_contact(balls, speeds, options.pole_element_size_m or options.element_size_m)
     kernel = kernel_for(balls[0], options)
     _warn_if_large(kernel, balls, speeds, options)
     if len(balls) <= group_size:
@@ -417,15 +419,16 @@ def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptio
     A speed outside `FE_SPEED_RANGE_M_S` (m/s; the speeds the solver was checked at,
     docs/fe.md) raises `InputError` before anything is meshed or compiled; with
     `allow={"speed-range"}` it runs, with an `InputWarning` starting "speed-range:". So does a
-    run whose memory estimate exceeds the memory available (`check_run_memory`, "large-run").
-    A run estimated above `ELEMENT_STEPS_WARNING` element updates (a very fine mesh) gets an
-    `InputWarning` before it starts, and so does a contact patch narrower than
-    `CONTACT_RESOLUTION_ELEMENTS` pole elements (`contact_resolution_note`). `progress(t_s)` is called after every chunk of steps
+    run whose memory estimate exceeds the memory available (`check_run_memory`, "large-run";
+    judged once: not again after `estimate_run` of the same run). A run estimated above
+    `ELEMENT_STEPS_WARNING` element updates (a very fine mesh) gets an `InputWarning` before it
+    starts, and so does a contact patch narrower than `CONTACT_RESOLUTION_ELEMENTS` pole elements
+    (`contact_resolution_note`). `progress(t_s)` is called after every chunk of steps
     (`progress.RunProgress` prints the time reached and the time left).
     """
-    speeds = _speeds(impact_speed_m_s, 1, allow)
+    speeds = impact_speeds(impact_speed_m_s, 1, allow)
     check_run_memory([ball], speeds, options, allow)  # before anything is meshed
-    _warn_unresolved([ball], speeds, options.pole_element_size_m or options.element_size_m)
+    warn_unresolved_contact([ball], speeds, options.pole_element_size_m or options.element_size_m)
     _warn_if_large(kernel_for(ball, options), [ball], speeds, options)
     return _simulate_group([ball], speeds, options, progress)[0]
 

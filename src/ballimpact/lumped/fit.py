@@ -33,6 +33,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..errors import InputError, InputWarning
+from ..identifiability import identification_notes, standard_errors
 from ..pipeline import ProcessedImpact, process
 from ..records import ImpactRecord, sample_rate_hz
 from .base import BatchResult, LumpedModel, Scale, shown
@@ -104,7 +105,7 @@ class FitResult:
     fitted_force_n: np.ndarray = field(repr=False)
     reproduction: bool = False
     #: parameter -> "k1: not identified (standard error ... > value ...)"
-    #: (`identification_notes`)
+    #: (`identifiability.identification_notes`)
     notes: dict[str, str] = field(default_factory=dict)
 
     @property
@@ -389,71 +390,19 @@ def _polish(objective: _Objective, start: np.ndarray) -> np.ndarray:
     return solution.x
 
 
-#: singular values of the column-scaled Jacobian below this fraction of the largest are directions
-#: the record does not determine (forward differences at `_FD_STEP` are exact to ~1e-10 relative,
-#: so smaller ones are round-off); the calibration's refinement uses the same rule
-RANK_TOLERANCE = 1e-8
-#: a parameter whose gradient has a component (relative) above this along such a direction is
-#: undetermined
-NULL_COMPONENT = 1e-6
-
-
-def parameter_standard_errors(jacobian: np.ndarray, residuals: np.ndarray,
-                              mapping: np.ndarray) -> np.ndarray:
-    """Linearised standard errors of parameters p = mapping @ x, for a least-squares fit in the
-    coordinates x with `jacobian` (M, d) of the model output and `residuals` (M,) at the optimum:
-    s^2 (J^T J)^-1 with s^2 = RSS / (M - d), mapped by `mapping` (P, d).
-
-    A parameter that the record does not determine -- it depends on a coordinate with no effect
-    on the output (a zero column), or on a combination of coordinates whose effects cancel --
-    gets inf: its variance is unbounded (a pseudo-inverse would give it 0, the most certain
-    value of all). The others get the variance of their determined part, from the singular value
-    decomposition restricted to the determined directions. A parameter that depends on no
-    coordinate (fixed) gets 0; all the rest inf when M <= d (no degrees of freedom for s^2)."""
-    m, d = jacobian.shape
-    depends = np.any(mapping != 0, axis=1)
-    if m <= d:
-        return np.where(depends, np.inf, 0.0)
-    norms = np.linalg.norm(jacobian, axis=0)
-    safe = np.where(norms > 0, norms, 1.0)  # columns scaled to unit length: no unit decides
-    _, singular, vt = np.linalg.svd(jacobian / safe, full_matrices=False)
-    determined = (singular > RANK_TOLERANCE * singular[0]) if singular[0] > 0 \
-        else np.zeros(singular.size, bool)
-    gradient = mapping / safe  # d p / d (scaled coordinate)
-    along = gradient @ vt[determined].T / singular[determined]
-    variance = residuals @ residuals / (m - d) * np.sum(along**2, axis=1)
-    null = np.linalg.norm(gradient @ vt[~determined].T, axis=1)
-    variance[null > NULL_COMPONENT * np.linalg.norm(gradient, axis=1)] = np.inf
-    return np.sqrt(np.where(depends, variance, 0.0))
-
-
 def _standard_errors(objective: _Objective, best: np.ndarray,
                      names: tuple[str, ...]) -> dict[str, float]:
     """Standard errors of the parameters (SI) at the unit-box point `best` (the onset included
-    as a coordinate, so its trade-off with the parameters counts): `parameter_standard_errors`
-    of the force on the record's samples, mapped from the unit box to the parameters."""
+    as a coordinate, so its trade-off with the parameters counts): `identifiability.
+    standard_errors` of the force on the record's samples, mapped from the unit box to the
+    parameters."""
     steps, points = _difference_points(best)
     _, force, _ = objective.run(points)
     jacobian = ((force[1:] - force[0]) / steps[:, None]).T  # (M, d) in N per unit box
     params = objective.split(points)[0]
     mapping = ((params[1:] - params[0]) / steps[:, None]).T  # (P, d)
-    errors = parameter_standard_errors(jacobian, force[0] - objective.force, mapping)
+    errors = standard_errors(jacobian, force[0] - objective.force, mapping)
     return dict(zip(names, (float(e) for e in errors)))
-
-
-def identification_notes(params: dict[str, float], errors: dict[str, float]) -> dict[str, str]:
-    """Parameter -> note, for each parameter whose standard error is infinite or larger than its
-    value: the record does not determine it, and its value is one of many that fit as well
-    ("k1: not identified (standard error 9.01e+09 > value 4.8e+08)")."""
-    notes = {}
-    for name, value in params.items():
-        error = errors.get(name, 0.0)
-        if error <= abs(value):
-            continue
-        why = ("inf: the record does not determine it" if np.isinf(error)
-               else f"{error:.3g} > value {value:.3g}")
-        notes[name] = f"{name}: not identified (standard error {why})"
-    return notes
 
 
 def fit(
@@ -530,5 +479,6 @@ def fit(
         bounds=reported_bounds(model, genes, params, scale),
         weights=weights, wall_time_s=time.perf_counter() - started,
         time_s=objective.time, measured_force_n=objective.force, fitted_force_n=force[0],
-        reproduction=model.reproduction, notes=identification_notes(params, errors),
+        reproduction=model.reproduction,
+        notes=identification_notes(params, errors, "the record does not determine it"),
     )

@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError, InputWarning, SimulationError
 from ..fe.kernel import cast, hertz_contact_time_s, time_limit_default
 from ..fe.progress import RunEstimate
-from ..fe.solver import _speeds, _warn_unresolved, contact_end_time
+from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
@@ -308,7 +308,9 @@ _HINT = ("a coarser mesh: fewer divisions, --divisions (a slab: a thinner or nar
 def check_oblique_memory(ball, conditions, options: Options3D, target, half: bool,
                          allow=()) -> RunEstimate:
     """The `large-run` check before anything is meshed: the run's memory estimated from the
-    mesh's counting rules (`_mesh_size`) against the available memory."""
+    mesh's counting rules (`_mesh_size`) against the available memory
+    (`fe.progress.RunEstimate.check_memory`: the memory the run adds to this process's, judged
+    once per size in a process)."""
     elements, smallest = _mesh_size(ball, target, options, half)
     estimate = _run_estimate(ball, target, conditions, options, elements, smallest)
     estimate.check_memory(check_allow(allow))
@@ -345,7 +347,7 @@ def _run_estimate(ball, target, conditions, options: Options3D, elements: int, s
                        memory_bytes=memory, element_steps_limit=ELEMENT_STEPS_WARNING,
                        seconds_per_element_step=SECONDS_PER_ELEMENT_STEP, hint=_HINT,
                        model_bytes=BASE_MEMORY_BYTES + per_element * elements * len(conditions),
-                       runs=len(conditions))
+                       runs=len(conditions), base_bytes=BASE_MEMORY_BYTES)
 
 
 def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), target=None,
@@ -354,12 +356,12 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     checked as in `simulate_oblique`; a run estimated above `ELEMENT_STEPS_WARNING` element
     updates or `fe.progress.MEMORY_WARNING_BYTES` gets an `InputWarning` before it starts."""
     conditions, half = _checked(conditions, options)
-    _speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
+    impact_speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
     if target is not None:
         check_target_width(target, ball)
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
-    _warn_unresolved([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options))
+    warn_unresolved_contact([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options))
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
     message = _estimate(ball, target, conditions, options, kernel).warning()

@@ -37,9 +37,10 @@ _THESIS = ("The thesis (section 7.2) found the three-element and the universal m
 
 def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *, seed: int = 0,
                  universal_model=None, options=None, note: str = "",
-                 progress: bool = True) -> dict[str, Any]:
+                 progress: bool = True, allow=()) -> dict[str, Any]:
     """Run every model against every test and write the report into the folder `out` (made if
-    missing). `note` is shown at the top of the page (e.g. that the tests are synthetic).
+    missing). `note` is shown at the top of the page (e.g. that the tests are synthetic);
+    `allow`: the plausibility checks that only warn in the model runs (`--allow`).
     A model run that fails is listed in the report and the others go on."""
     started = time.perf_counter()
     out.mkdir(exist_ok=True)
@@ -60,7 +61,7 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
         for test in tests:
             try:
                 runs.append(run_model(spec, test, seed=seed, universal_model=universal_model,
-                                      options=options))
+                                      options=options, allow=allow))
             except (InputError, SimulationError) as error:
                 # one model that cannot follow one test (a fit that fails, an FE run that
                 # stops, a pulse that cannot be measured) must not take the report down

@@ -113,25 +113,28 @@ def parse_models(text: str) -> list[ModelSpec]:
     return specs
 
 
-def check_balls(specs: list[ModelSpec], impact_speed_m_s: float) -> None:
+def check_balls(specs: list[ModelSpec], impact_speed_m_s: float, allow=()) -> None:
     """Load each ball model once before anything runs, so that a ball file that is not a ball
-    is refused up front, naming it, instead of failing at every test."""
+    is refused up front, naming it, instead of failing at every test. `allow`: the plausibility
+    checks that only warn (`plausibility.CHECKS`, e.g. "ball-units")."""
     from ..fe import load_ball
 
     for spec in specs:
         if spec.kind == "ball":
             try:
-                load_ball(spec.name, impact_speed_m_s=impact_speed_m_s)
+                load_ball(spec.name, impact_speed_m_s=impact_speed_m_s, allow=allow)
             except InputError as error:  # its message names the file, or else add it
                 where = "" if spec.name in str(error) else f"{spec.name}: "
                 raise InputError(f"--models: {where}{error}") from None
 
 
 def run_model(spec: ModelSpec, test: ReportTest, *, seed: int = 0, universal_model=None,
-              options=None) -> ModelRun:
-    """Fit, identify or run `spec` for `test` and compare its pulse with the test's."""
+              options=None, allow=()) -> ModelRun:
+    """Fit, identify or run `spec` for `test` and compare its pulse with the test's. `allow`:
+    the plausibility checks that only warn in the FE runs and identifications (`--allow`)."""
     runner = {"lumped": _lumped, "universal": _universal, "ball": _ball}[spec.kind]
-    return runner(spec, test, seed=seed, universal_model=universal_model, options=options)
+    return runner(spec, test, seed=seed, universal_model=universal_model, options=options,
+                  allow=allow)
 
 
 def _compared(spec: ModelSpec, test: ReportTest, run, pulse: tuple[np.ndarray, np.ndarray],
@@ -173,36 +176,37 @@ def _lumped(spec, test, *, seed, **_):
                      rerun=_timed(run))
 
 
-def _universal(spec, test, *, universal_model, options, **_):
+def _universal(spec, test, *, universal_model, options, allow, **_):
     from ..fe import load_ball, simulate
     from ..universal.identify import identify
     from ..universal.model import TARGET_UNITS
 
     options = options or universal_model.solver_options()
-    found = identify(test.processed, universal_model, verify=True, options=options)
+    found = identify(test.processed, universal_model, verify=True, options=options,
+                     allow=allow)
     fe = found.simulated
     return _compared(spec, test, fe, _fe_pulse(fe), parameters=dict(found.params),
                      units=dict(TARGET_UNITS),
                      uncertainty={"interval_90": dict(found.interval_90)},
                      identification_s=max(found.wall_time_s - fe.wall_time_s, 0.0),
                      simulation_s=fe.wall_time_s,
-                     rerun=_timed(lambda: simulate(load_ball(found.ball), test.speed_m_s,
-                                                   options)))
+                     rerun=_timed(lambda: simulate(load_ball(found.ball, allow=allow),
+                                                   test.speed_m_s, options, allow=allow)))
 
 
-def _ball(spec, test, *, options, **_):
+def _ball(spec, test, *, options, allow, **_):
     from ..fe import SolverOptions, load_ball, simulate
 
     options = options or SolverOptions()
-    ball = load_ball(spec.name, impact_speed_m_s=test.speed_m_s)
+    ball = load_ball(spec.name, impact_speed_m_s=test.speed_m_s, allow=allow)
     mass = test.processed.features.mass_kg
     if abs(ball.mass_kg / mass - 1.0) > 0.02:
         warnings.warn(f"{spec.name}: the ball's mass {ball.mass_kg:.4g} kg differs from the test's "
                       f"{mass:.4g} kg ({test.label}) by more than 2%", InputWarning, stacklevel=2)
-    fe = simulate(ball, test.speed_m_s, options)
+    fe = simulate(ball, test.speed_m_s, options, allow=allow)
     return _compared(spec, test, fe, _fe_pulse(fe), parameters={}, units={},
                      uncertainty={}, identification_s=0.0, simulation_s=fe.wall_time_s,
-                     rerun=_timed(lambda: simulate(ball, test.speed_m_s, options)))
+                     rerun=_timed(lambda: simulate(ball, test.speed_m_s, options, allow=allow)))
 
 
 def _fe_pulse(fe) -> tuple[np.ndarray, np.ndarray]:

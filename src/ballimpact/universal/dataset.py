@@ -8,14 +8,13 @@ Layout of a study folder::
     runs/batch-00012.npz       run_id, force_shape (F/F_peak on GRID, t/t_contact from 0 to 1),
                                force_n_100khz (the pulse sampled at 100 kHz from first contact)
 
-Each batch's files are written under a temporary name and renamed into place (atomic on POSIX),
-the Parquet file last: a batch counts as done when its Parquet file exists, so an interrupted
-study resumes with no lost and no duplicated runs.
+Each batch's files are written under a temporary name and renamed into place
+(`fileio.replacing`), the Parquet file last: a batch counts as done when its Parquet file exists,
+so an interrupted study resumes with no lost and no duplicated runs.
 """
 
 from __future__ import annotations
 
-import os
 import re
 from pathlib import Path
 from typing import Any
@@ -24,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..features import FEATURE_NAMES
+from ..fileio import first_line, read_arrays, replacing
 from . import space
 
 #: normalised time grid of the stored force shapes (t / contact time)
@@ -57,7 +57,8 @@ def done_batches(folder: Path) -> set[int]:
 
 
 def remove_temporaries(folder: Path) -> None:
-    """Delete what an interrupted write left (`*.tmp.*`): never a finished batch."""
+    """Delete what a killed write left (`*.tmp.*`; an interrupt with an exception deletes its
+    own): never a finished batch."""
     runs = Path(folder) / "runs"
     if runs.is_dir():
         for p in runs.glob("batch-*.tmp.*"):
@@ -78,12 +79,10 @@ def write_batch(folder: Path, batch: int, rows: list[dict[str, Any]],
 
     parquet, npz = batch_paths(Path(folder), batch)
     parquet.parent.mkdir(parents=True, exist_ok=True)
-    tmp = npz.with_name(npz.stem + ".tmp.npz")
-    np.savez(tmp, **arrays)
-    os.replace(tmp, npz)
-    tmp = parquet.with_name(parquet.stem + ".tmp.parquet")
-    pq.write_table(pa.Table.from_pylist(rows), tmp)
-    os.replace(tmp, parquet)
+    with replacing(npz) as tmp:
+        np.savez(tmp, **arrays)
+    with replacing(parquet) as tmp:
+        pq.write_table(pa.Table.from_pylist(rows), tmp)
 
 
 def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, dict]:
@@ -96,7 +95,7 @@ def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, di
     try:
         table = pq.read_table(parquet)
     except (OSError, ValueError, pa.ArrowException) as error:
-        raise InputError(f"{parquet}: not a readable Parquet file ({_first_line(error)}); "
+        raise InputError(f"{parquet}: not a readable Parquet file ({first_line(error)}); "
                          "delete it and resume the study to rerun that batch") from None
     missing = [c for c in ("run_id", "status", *NUMERIC_COLUMNS) if c not in table.column_names]
     if missing:
@@ -117,12 +116,14 @@ def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, di
     if bad.any():
         raise InputError(f"{parquet}: run {int(columns['run_id'][ok][bad][0])} is marked ok "
                          "but holds non-finite inputs or features")
+    rerun = f"delete {parquet.name} and resume the study to rerun that batch"
     try:
-        with np.load(npz, allow_pickle=False) as data:
-            curves = {key: data[key] for key in ("run_id", *CURVES)}
-    except (OSError, ValueError, EOFError, KeyError) as error:
-        raise InputError(f"{npz}: not this batch's curves ({_first_line(error)}); delete "
-                         f"{parquet.name} and resume the study to rerun that batch") from None
+        curves = read_arrays(npz, str(npz), "this batch's curves")
+    except InputError as error:
+        raise InputError(f"{error}; {rerun}") from None
+    missing = [key for key in ("run_id", *CURVES) if key not in curves]
+    if missing:
+        raise InputError(f"{npz}: not this batch's curves (array {missing[0]} missing); {rerun}")
     if list(curves["run_id"]) != list(expected_ids):
         raise InputError(f"{npz}: run ids {_span(curves['run_id'])}, expected "
                          f"{_span(expected_ids)} (as in {parquet.name})")
@@ -136,11 +137,6 @@ def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, di
 def _span(ids) -> str:
     ids = list(ids)
     return f"{ids[0]}..{ids[-1]}" if ids else "none"
-
-
-def _first_line(error: Exception) -> str:
-    text = str(error).strip().splitlines()
-    return text[0] if text else type(error).__name__
 
 
 def load_dataset(folder: Path, config: dict[str, Any] | None = None

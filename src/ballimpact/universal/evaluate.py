@@ -139,7 +139,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     from .compare import compare, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
-    from .study import load_config
+    from .study import load_config, study_allow
     from .training import synthetic_features
 
     folder = Path(folder)
@@ -173,8 +173,9 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         print(f"\rclosed loop{' (noisy)' if noise else ''}: identified {len(specs)}/{len(ids)}",
               end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    results = simulate_batch([load_ball(s) for s in specs], speeds, options or SolverOptions(),
-                             on_failure="return")
+    allow = study_allow(config)  # the study's soft balls (--allow ball-units) are its own
+    results = simulate_batch([load_ball(s, allow=allow) for s in specs], speeds,
+                             options or SolverOptions(), on_failure="return")
     rows = []
     for rid, result, (pulse, clean) in zip(ids, results, truths):
         if isinstance(result, FailedRun):

@@ -224,11 +224,12 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         warnings.warn(f"{where}mass_kg = {mass:g} differs from the model's ball ({template['mass_kg']:g} "
                       "kg) by more than 2%: the identified ball keeps the model's mass",
                       InputWarning, stacklevel=2)
+    # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
+    # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin
+    # material reads back as its initial shear modulus (`given_moduli_pa`)
     params, interval = estimate(model, values, refine)
     spec = space.universal_ball_spec(params, template, "identified-universal")
-    ball = load_ball(spec)  # checked as `simulate --ball` will check it
-    # the reported shear modulus is the written ball's (2 (C10 + C01) of its constants as given)
-    params["mu0_pa"] = float(ball.layers[0].material.given_moduli_pa()[0])
+    load_ball(spec)  # checked as `simulate --ball` will check it
     result = Identification(params, interval, spec, float(values["P15"]), refine)
     result.training_range, result.at_training_bound, result.clipped_to_training_range = \
         training_bounds(model, params, interval)

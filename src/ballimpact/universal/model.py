@@ -9,9 +9,6 @@ feature list, architecture, versions, training and held-out figures). No pickle 
 from __future__ import annotations
 
 import json
-import os
-import zipfile
-import zlib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -21,6 +18,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..features import FEATURE_NAMES
+from ..fileio import read_arrays, replacing, write_atomic
 from . import space
 from .dataset import SHAPE_POINTS
 from .networks import (
@@ -144,21 +142,13 @@ class UniversalModel:
                 arrays[f"{name}_{i:03d}"] = leaf.astype(np.float32)
         for key, value in self.held_out.items():
             arrays[f"held_out_{key}"] = value
-        tmp = npz.with_name(npz.stem + ".tmp.npz")
-        np.savez_compressed(tmp, **arrays)
-        os.replace(tmp, npz)
-        tmp = meta.with_name(meta.stem + ".tmp.json")
-        tmp.write_text(json.dumps(self.metadata, indent=2))
-        os.replace(tmp, meta)
+        with replacing(npz) as tmp:
+            np.savez_compressed(tmp, **arrays)
+        write_atomic(meta, json.dumps(self.metadata, indent=2))
         return npz, meta
 
 
 # -- validation of model files: everything is checked before anything is built from it ----------
-
-def _count(low: int, high: int):
-    return (lambda v: isinstance(v, int) and not isinstance(v, bool) and low <= v <= high,
-            f"an integer {low}-{high}")
-
 
 def _equal(expected):
     return (lambda v: v == expected, json.dumps(expected) if not isinstance(expected, list)
@@ -170,8 +160,8 @@ _FIGURES = {"median": _NUMBER, "p90": _NUMBER, "r2": _NUMBER}
 
 
 def _architecture(n_in: int, n_out: int) -> dict[str, Any]:
-    return {"n_in": _equal(n_in), "n_out": _equal(n_out), "width": _count(1, 4096),
-            "depth": _count(1, 16), "members": _count(1, 64)}
+    return {"n_in": _equal(n_in), "n_out": _equal(n_out), "width": space.count(1, 4096),
+            "depth": space.count(1, 16), "members": space.count(1, 64)}
 
 
 #: what MODEL.json must hold (keys outside it are free: versions, training figures, ...)
@@ -186,7 +176,7 @@ METADATA_SCHEMA: dict[str, Any] = {
                      "forward": _architecture(len(space.PARAMETERS), len(FEATURES) + SHAPE_POINTS)},
     "runs": (lambda v: isinstance(v, dict), "an object of run counts"),
     "held_out": {
-        "runs": _count(1, 10**9),
+        "runs": space.count(1, 10**9),
         "inverse": {t: {"range_relative_error": _FIGURES, "interval_90_coverage": _NUMBER,
                         "interval_90_mean_width_of_range": _NUMBER,
                         "relative_error": (lambda v: v is None or (
@@ -259,36 +249,6 @@ def check_arrays(arrays: dict[str, np.ndarray], expected: dict, where: str) -> N
         raise InputError(f"{where}: array interval_scale holds negative values")
 
 
-def read_arrays(npz: Path, where: str) -> dict[str, np.ndarray]:
-    """The arrays of an NPZ file without unpickling anything (`allow_pickle=False`); damaged or
-    foreign files give `InputError` naming the file."""
-    try:
-        data = np.load(npz, allow_pickle=False)
-        if not isinstance(data, np.lib.npyio.NpzFile):
-            raise InputError(f"{where}: a single array (.npy), not a model's NPZ archive")
-        with data:
-            arrays = {}
-            for key in data.files:
-                try:
-                    arrays[key] = data[key]
-                except ValueError as error:
-                    if "allow_pickle" not in str(error):
-                        raise
-                    raise InputError(f"{where}: not a universal model's weights: array {key} "
-                                     "holds Python objects (a pickle), refused unread") from None
-    except InputError:
-        raise
-    except ValueError as error:
-        if "pickle" in str(error):  # what np.load cannot read as arrays it would unpickle
-            raise InputError(f"{where}: not an NPZ archive (reading it would mean unpickling "
-                             "it; refused unread)") from None
-        raise InputError(f"{where}: not a universal model's weights ({error})") from None
-    except (OSError, EOFError, zipfile.BadZipFile, zlib.error) as error:
-        raise InputError(f"{where}: not a readable NPZ archive (damaged or truncated: "
-                         f"{type(error).__name__}: {error})") from None
-    return arrays
-
-
 def file_pair(path: str | Path) -> tuple[Path, Path]:
     """(MODEL.npz, MODEL.json) of a model path given with either suffix or none ("my.model"
     names my.model.json, not my.json)."""
@@ -325,7 +285,7 @@ def load_model(name_or_path: str | Path | None = None) -> UniversalModel:
     except (OSError, ValueError) as error:
         raise InputError(f"model file {meta}: not readable JSON ({error})") from None
     check_metadata(metadata, f"model file {meta}")
-    arrays = read_arrays(npz, f"model file {npz}")
+    arrays = read_arrays(npz, f"model file {npz}", "a universal model's weights")
     check_arrays(arrays, expected_arrays(metadata), f"model file {npz}")
     ensembles = {}
     for name in ("inverse", "forward"):

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import time
 import warnings
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any, Callable
 
@@ -15,6 +15,8 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError
+from ..fileio import write_atomic
+from ..plausibility import check_allow
 from . import space
 from .dataset import (
     COLUMNS,
@@ -34,10 +36,6 @@ DEFAULTS: dict[str, Any] = {"runs": 600, "seed": 0, "method": "sobol", "batch_si
                             "integration": "reduced"}
 
 
-def _count(low: int):
-    return lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= low
-
-
 def _positive(v) -> bool:
     return space.is_number(v) and v > 0
 
@@ -48,9 +46,9 @@ def _range(v) -> bool:
 
 #: what a study's configuration holds (`study.json`), checked by `check_config`
 CONFIG_SCHEMA: dict[str, Any] = {
-    "runs": (_count(1), "an integer >= 1"), "seed": (_count(0), "an integer >= 0"),
+    "runs": space.count(1), "seed": space.count(0),
     "method": (lambda v: v in space.METHODS, " or ".join(space.METHODS)),
-    "batch_size": (_count(1), "an integer >= 1"), "group_size": (_count(1), "an integer >= 1"),
+    "batch_size": space.count(1), "group_size": space.count(1),
     "element_size_m": (_positive, "a size in m > 0"),
     "precision": (lambda v: v in ("float32", "float64"), "float32 or float64"),
     "integration": (lambda v: v in ("reduced", "full"), "reduced or full"),
@@ -67,7 +65,7 @@ def check_config(config: Any, where: str) -> dict[str, Any]:
     names its source in the messages."""
     space.check_fields(config, CONFIG_SCHEMA, where)
     try:
-        space.check_ranges(config["ranges"])
+        space.check_ranges(config["ranges"], study_allow(config))
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
     radius, size = config["template"]["radius_m"], config["element_size_m"]
@@ -75,6 +73,16 @@ def check_config(config: Any, where: str) -> dict[str, Any]:
         raise InputError(f"{where}: element_size_m = {size:g} m: must be below the ball's "
                          f"radius / 2 = {radius / 2:g} m")
     return config
+
+
+def study_allow(config: dict[str, Any]) -> frozenset[str]:
+    """The plausibility checks the study's balls may fail with a warning (`allow`: kept in the
+    configuration, so that a resumed study and each Dask worker load its balls alike; studies
+    written before it have none)."""
+    allow = config.get("allow", [])
+    if not isinstance(allow, list):
+        raise InputError(f"'allow' = {json.dumps(allow)[:40]}: expected a list of check names")
+    return check_allow(allow)
 
 
 def load_config(folder: Path, flag: str = "DIR") -> dict[str, Any]:
@@ -97,26 +105,25 @@ def load_config(folder: Path, flag: str = "DIR") -> dict[str, Any]:
 
 
 def _write_config(folder: Path, config: dict[str, Any]) -> None:
-    """study.json under a temporary name, then renamed: never half written."""
-    stored = Path(folder) / CONFIG_FILE
-    tmp = stored.with_name(CONFIG_FILE + ".tmp")
-    tmp.write_text(json.dumps(config, indent=2))
-    os.replace(tmp, stored)
+    write_atomic(Path(folder) / CONFIG_FILE, json.dumps(config, indent=2))
 
 
 def make_config(*, template: str | Path = "cricket-universal", ranges: dict | None = None,
-                **settings: Any) -> dict[str, Any]:
+                allow: Collection[str] = (), **settings: Any) -> dict[str, Any]:
     """A checked study configuration. `template`: a preset or ball file giving the radius, mass
     and moduli convention; `ranges`: name -> (low, high) overriding `space.PARAMETERS`'s;
-    `settings`: any of `DEFAULTS`' keys."""
+    `allow`: plausibility checks the template and the design's balls may fail with a warning
+    ("ball-units": e.g. a foam ball softer than sports balls); `settings`: any of `DEFAULTS`'
+    keys."""
     from ..fe import load_ball
 
     unknown = set(settings) - set(DEFAULTS)
     if unknown:
         raise InputError(f"study settings {sorted(unknown)}: unknown; allowed {sorted(DEFAULTS)}")
     config = {**DEFAULTS, **{k: v for k, v in settings.items() if v is not None}}
-    ball = load_ball(str(template), impact_speed_m_s=25.0)
-    config["ranges"] = space.check_ranges(ranges or {})
+    config["allow"] = sorted(check_allow(allow))
+    ball = load_ball(str(template), impact_speed_m_s=25.0, allow=config["allow"])
+    config["ranges"] = space.check_ranges(ranges or {}, config["allow"])
     config["template"] = space.template_geometry(ball)
     config["version"] = __version__
     config = json.loads(json.dumps(config))  # as stored: tuples become lists
@@ -147,10 +154,12 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
     ids = list(batch_ids(config, batch))
     geometry = config["template"]
     names = list(space.PARAMETERS)
+    allow = study_allow(config)
     balls = []
     for i in ids:
         params = dict(zip(names, points[i]))
-        balls.append(load_ball(space.universal_ball_spec(params, geometry, f"run-{i}")))
+        balls.append(load_ball(space.universal_ball_spec(params, geometry, f"run-{i}"),
+                               allow=allow))
     options = SolverOptions(element_size_m=config["element_size_m"],
                             precision=config["precision"], integration=config["integration"])
     with warnings.catch_warnings(record=True) as caught:
@@ -233,34 +242,7 @@ def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: boo
     checked before anything is written.
     """
     folder = Path(folder)
-    if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool)
-                                    and workers >= 1):
-        raise InputError(f"--workers {workers}: need an integer >= 1 (Dask processes)")
-    if workers is not None and scheduler is not None:
-        raise InputError("--workers and --scheduler: give one (a local cluster of N processes, "
-                         "or a running scheduler's address)")
-    if workers is not None or scheduler is not None:
-        _dask()  # missing: said before the study is written
-    if extend is not None:
-        config = _extend(folder, config, extend)
-    elif resume:
-        saved = load_config(folder, "--resume")
-        _check_unchanged(config, saved, "--resume")
-        config = saved
-    else:
-        if config is None:
-            raise InputError("a new study needs its configuration")
-        config = check_config(config, "study settings")
-        if folder.exists() and not folder.is_dir():
-            raise InputError(f"DIR: {folder} is a file, not a study folder")
-        if (folder / CONFIG_FILE).exists() or done_batches(folder):
-            raise InputError(f"DIR: {folder} already holds a study: add --resume to continue "
-                             "it, --extend N to add N runs, or choose another folder")
-        if folder.is_dir() and any(folder.iterdir()):
-            raise InputError(f"DIR: {folder} is not empty and holds no study: choose a new or "
-                             "empty folder")
-        folder.mkdir(parents=True, exist_ok=True)
-        _write_config(folder, config)
+    config = _prepare(folder, config, resume, extend, workers, scheduler)
     remove_temporaries(folder)
     total = batch_count(config)
     done = {b for b in done_batches(folder) if b < total}
@@ -287,6 +269,45 @@ def run_study(folder: Path, config: dict[str, Any] | None = None, *, resume: boo
     return {"folder": str(folder), "runs": config["runs"], "finished_runs": done_runs,
             "new_runs": new_runs, "batches": total,
             "wall_time_s": time.perf_counter() - started}
+
+
+def _prepare(folder: Path, config: dict[str, Any] | None, resume: bool, extend: int | None,
+             workers: int | None, scheduler: str | None) -> dict[str, Any]:
+    """`run_study`'s arguments checked and its study opened: the configuration to run (a new
+    study's written to `folder`, an extended one's rewritten)."""
+    if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool)
+                                    and workers >= 1):
+        raise InputError(f"--workers {workers}: need an integer >= 1 (Dask processes)")
+    if workers is not None and scheduler is not None:
+        raise InputError("--workers and --scheduler: give one (a local cluster of N processes, "
+                         "or a running scheduler's address)")
+    if workers is not None or scheduler is not None:
+        _dask()  # missing: said before the study is written
+    if extend is not None:
+        return _extend(folder, config, extend)
+    if resume:
+        saved = load_config(folder, "--resume")
+        _check_unchanged(config, saved, "--resume")
+        return saved
+    return _new_study(folder, config)
+
+
+def _new_study(folder: Path, config: dict[str, Any] | None) -> dict[str, Any]:
+    """A new study's configuration, checked, written to `folder` (missing or empty)."""
+    if config is None:
+        raise InputError("a new study needs its configuration")
+    config = check_config(config, "study settings")
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"DIR: {folder} is a file, not a study folder")
+    if (folder / CONFIG_FILE).exists() or done_batches(folder):
+        raise InputError(f"DIR: {folder} already holds a study: add --resume to continue "
+                         "it, --extend N to add N runs, or choose another folder")
+    if folder.is_dir() and any(folder.iterdir()):
+        raise InputError(f"DIR: {folder} is not empty and holds no study: choose a new or "
+                         "empty folder")
+    folder.mkdir(parents=True, exist_ok=True)
+    _write_config(folder, config)
+    return config
 
 
 def _check_unchanged(config: dict[str, Any] | None, saved: dict[str, Any], flag: str,

@@ -106,23 +106,12 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
     y_inv = target_scaler.forward(targets)
     x_tr, y_tr, x_va, y_va = x_inv[tr], y_inv[tr], x_inv[va], y_inv[va]
     if noise_augment > 0:
-        mass = config["template"]["mass_kg"]
-        pulses = curves["force_n_100khz"][ok]
-        rng = np.random.default_rng(seed)
-        extra = {}
-        for name, rows in (("train", tr), ("validation", va)):
-            noisy, kept = [], []
-            for i in rows:
-                try:
-                    values = synthetic_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
-                                                mass, rng.uniform(0.0, noise_augment), rng)
-                except InputError:  # a pulse the processing refuses: no noisy copy
-                    continue
-                noisy.append([values[k] for k in FEATURES])
-                kept.append(i)
-            extra[name] = (feature_scaler.forward(np.array(noisy)), y_inv[kept])
-        x_tr, y_tr = np.concatenate([x_tr, extra["train"][0]]), np.concatenate([y_tr, extra["train"][1]])
-        x_va, y_va = np.concatenate([x_va, extra["validation"][0]]), np.concatenate([y_va, extra["validation"][1]])
+        copies = _noisy_copies(curves["force_n_100khz"][ok], params, features,
+                               config["template"]["mass_kg"], noise_augment, seed, (tr, va))
+        (x_tr, y_tr), (x_va, y_va) = (
+            (np.concatenate([x_inv[rows], feature_scaler.forward(noisy)]),
+             np.concatenate([y_inv[rows], y_inv[kept]]))
+            for rows, (noisy, kept) in zip((tr, va), copies))
     inv_arch = Architecture(len(FEATURES), len(TARGETS), width, depth, members)
     inverse, inv_fig = train_ensemble(inv_arch, x_tr, y_tr, x_va, y_va,
                                       seed=seed, steps=steps, label="inverse")
@@ -168,7 +157,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
         "split_seed": seed, "noise_augment_of_peak": noise_augment,
         "training": {"inverse": inv_fig, "forward": fwd_fig, "steps": steps},
     }
-    from .evaluate import held_out_check, held_out_report
+    from .evaluate import held_out_report
 
     report, held = held_out_report(model, params[te], features[te], shapes[te],
                                    columns["run_id"][ok][te])
@@ -176,18 +165,50 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
     model.metadata["held_out"] = report
     model.metadata["training"]["wall_time_s"] = time.perf_counter() - started
     print(f"trained in {model.metadata['training']['wall_time_s']:.1f} s", file=sys.stderr)
+    model.metadata["held_out_check"] = _held_out_check(report, force, folder, config, len(tr),
+                                                       len(ok))
+    return model, report
+
+
+def _noisy_copies(pulses, params, features, mass_kg, noise_augment, seed, row_sets
+                  ) -> list[tuple[np.ndarray, list[int]]]:
+    """Per set of rows: the features (n, 19) of one noisy copy of each run (its pulse at 100 kHz
+    with white noise of a level drawn uniformly up to `noise_augment` times the peak force,
+    processed as a measured test) and the rows they are of. One seeded generator through the
+    sets in order; a pulse the processing refuses gets no copy."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for rows in row_sets:
+        noisy, kept = [], []
+        for i in rows:
+            try:
+                values = synthetic_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
+                                            mass_kg, rng.uniform(0.0, noise_augment), rng)
+            except InputError:
+                continue
+            noisy.append([values[k] for k in FEATURES])
+            kept.append(i)
+        out.append((np.array(noisy), kept))
+    return out
+
+
+def _held_out_check(report: dict[str, Any], force: bool, folder: Path, config: dict[str, Any],
+                    n_train: int, n_ok: int) -> dict[str, Any]:
+    """The held-out check of the model (`evaluate.held_out_check`) as its metadata records it;
+    a failed one is an `InputError` naming the fix, or with `force` an `InputWarning`."""
+    from .evaluate import held_out_check
+
     check = held_out_check(report)
-    model.metadata["held_out_check"] = {**check, "forced": bool(force and not check["passed"])}
     if not check["passed"]:
         worst = check["worst"]
         problem = (f"the model fails its held-out check: {worst} has held-out R^2 "
                    f"{check['r2'][worst]:.3g} on {report['runs']} runs it never saw (needs >= "
                    f"{check['min_r2']:g} for {', '.join(check['r2'])}), trained on "
-                   f"{len(tr)} of {len(ok)} runs")
-        fix = f"{more_runs(folder, len(ok), config)} and train again"
+                   f"{n_train} of {n_ok} runs")
+        fix = f"{more_runs(folder, n_ok, config)} and train again"
         if not force:
             raise InputError(f"{problem}; {fix} (or --force to write it anyway, marked failed)")
         warnings.warn(f"{problem}: written because of --force and marked failed "
                       f"(held_out_check in its JSON); its identifications are not to be "
-                      f"trusted; {fix}", InputWarning, stacklevel=2)
-    return model, report
+                      f"trusted; {fix}", InputWarning, stacklevel=3)
+    return {**check, "forced": bool(force and not check["passed"])}

@@ -1,0 +1,86 @@
+"""Files written so that an interrupt never leaves half of one, and NPZ files read without
+unpickling anything.
+
+`replacing(path)` yields a temporary path beside `path` (`STEM.tmp.SUFFIX`: the same folder, so
+the rename is atomic on POSIX, and the same suffix, which some writers need: `np.savez` appends
+`.npz` to a name without it). The caller writes it; on success it is renamed over `path`, on an
+exception it is deleted. A killed process (no exception) leaves only the temporary file, which
+the next write replaces; the old `path`, or none, stays whole.
+"""
+
+from __future__ import annotations
+
+import os
+import zipfile
+import zlib
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+
+def temporary_path(path: Path) -> Path:
+    """Where `replacing` writes `path` first: STEM.tmp.SUFFIX beside it."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}.tmp{path.suffix}")
+
+
+@contextmanager
+def replacing(path: Path) -> Iterator[Path]:
+    """A temporary path to write; renamed over `path` when the block ends without an exception,
+    deleted when it raises (Ctrl-C included)."""
+    tmp = temporary_path(path)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write `text` to `path` through `replacing`: the old file or the new one, never a part."""
+    with replacing(path) as tmp:
+        tmp.write_text(text)
+
+
+def first_line(error: BaseException) -> str:
+    """The first line of an error's message (its type's name if it has none), for one-line
+    `InputError`s about a damaged file."""
+    return (str(error).strip().splitlines() or [type(error).__name__])[0]
+
+
+def read_arrays(npz: Path, where: str, what: str) -> dict[str, np.ndarray]:
+    """The arrays of an NPZ file without unpickling anything (`allow_pickle=False`). A damaged,
+    truncated or foreign file gives `InputError` naming it (`where`) and saying it is not `what`
+    ("a universal model's weights")."""
+    try:
+        data = np.load(npz, allow_pickle=False)
+        if not isinstance(data, np.lib.npyio.NpzFile):
+            raise InputError(f"{where}: a single array (.npy), not an NPZ archive of {what}")
+        with data:
+            return {key: _array(data, key, where, what) for key in data.files}
+    except InputError:
+        raise
+    except ValueError as error:
+        if "pickle" in str(error):  # what np.load cannot read as arrays it would unpickle
+            raise InputError(f"{where}: not an NPZ archive (reading it would mean unpickling "
+                             "it; refused unread)") from None
+        raise InputError(f"{where}: not {what} ({first_line(error)})") from None
+    except (OSError, EOFError, zipfile.BadZipFile, zlib.error) as error:
+        # a truncated archive: BadZipFile (no central directory) or zlib/EOF errors inside
+        raise InputError(f"{where}: not a readable NPZ archive (damaged or truncated: "
+                         f"{type(error).__name__}: {first_line(error)})") from None
+
+
+def _array(data, key: str, where: str, what: str) -> np.ndarray:
+    try:
+        return data[key]
+    except ValueError as error:
+        if "allow_pickle" not in str(error):
+            raise
+        raise InputError(f"{where}: not {what}: array {key} holds Python objects (a pickle), "
+                         "refused unread") from None
