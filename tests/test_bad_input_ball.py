@@ -199,6 +199,37 @@ def test_3d_target_files(bad_input, files, target, fragments):
     bad_input(THREE_D + ["--target", folder / "target.json"], "target.json", *fragments)
 
 
+def test_3d_target_file_not_text(bad_input, tmp_path):
+    (tmp_path / "target.json").write_bytes(b"\xff\xfe\x00{")
+    bad_input(THREE_D + ["--target", tmp_path / "target.json"], "target.json", "not valid JSON")
+
+
+def test_3d_mp4_without_ffmpeg(bad_input, tmp_path, monkeypatch):
+    from matplotlib import animation
+
+    monkeypatch.setattr(animation.FFMpegWriter, "isAvailable", classmethod(lambda cls: False))
+    bad_input(THREE_D + ["--animate", tmp_path / "run.mp4"], "--animate", "ffmpeg", ".gif")
+
+
+def test_api_narrow_target_is_refused_before_meshing():
+    from ballimpact.oblique import ImpactCondition, estimate_oblique
+    from ballimpact.oblique.target import Target
+
+    narrow = Target.from_dict({**TARGET, "half_width_m": 0.01}, where="target")
+    with pytest.raises(InputError, match="half_width_m = 0.01 m is less than the ball's radius"):
+        estimate_oblique(load_ball("cricket-3layer"), [ImpactCondition(speed_m_s=20.0)],
+                         target=narrow)
+
+
+def test_3d_unresolved_contact_names_the_3d_options():
+    """The note's advice is the 3D mesh's options, not the axisymmetric pole size."""
+    from ballimpact.oblique import ImpactCondition, simulate_oblique
+
+    with pytest.warns(InputWarning, match="^contact not resolved.*--divisions, --pole-grading"), \
+            pytest.raises(AssertionError, match="meshed"):
+        simulate_oblique(load_ball("cricket-3layer"), ImpactCondition(speed_m_s=0.05))
+
+
 # ---- the axisymmetric solver's flags and ball files --------------------------------------------
 
 AXI = ["simulate", "--ball", "cricket-universal", "--speed-m-s", "20"]
@@ -302,11 +333,19 @@ def test_import_material_numbers(bad_input, tmp_path, values, fragments):
     ("** units si:\n*MATERIAL, NAME=e\n*DENSITY\n1000\n*ELASTIC\n2e9\n", ("*ELASTIC", "E, nu")),
     ("** units si:\n*MATERIAL, NAME=f\n*DENSITY\n100\n*HYPERFOAM, N=x\n1e5, 4, 0\n",
      ("N=x", "positive integer")),
+    ("** units si:\n*MATERIAL, NAME=d\n*DENSITY\n\n*ELASTIC\n2e9, 0.3\n", ("*DENSITY", "no value")),
 ])
 def test_import_material_cards(bad_input, tmp_path, text, fragments):
     deck = tmp_path / "deck.inp"
     deck.write_text(text)
     bad_input(["import-material", deck], "deck.inp", *fragments)
+
+
+def test_import_material_ball_with_bad_node_rows(bad_input, tmp_path):
+    deck = tmp_path / "ball.inp"
+    deck.write_text(DECK.format(density="865", c10="4.72e6", c01="-4.5e5", prony="0.41, 0, 7e-5")
+                    + "*NODE\n1, 0.0, x\n")
+    bad_input(["import-material", deck, "--ball"], "ball.inp", "*NODE", "label and numbers")
 
 
 def test_import_material_files(bad_input, tmp_path):

@@ -12,22 +12,14 @@ import json
 import numpy as np
 import pytest
 
+from calibrate_cases import half_sine_record
+
 MAT = "layers.ball.material."
 
 
 @pytest.fixture(scope="module")
 def record(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("calibrate-bad-input")
-    mass, speed, cor, contact = 0.16, 20.0, 0.6, 5e-4
-    t = np.arange(0.0, 2e-3, 1e-5)
-    peak = mass * speed * (1 + cor) * np.pi / (2 * contact)  # impulse m (v_in + v_out)
-    inside = (t > 2e-4) & (t < 2e-4 + contact)
-    force = np.where(inside, peak * np.sin(np.pi * (t - 2e-4) / contact), 0.0)
-    csv = folder / "ball.csv"
-    np.savetxt(csv, np.column_stack([t, force]), delimiter=",", header="time_s,force_n",
-               comments="")
-    (folder / "ball.json").write_text(json.dumps({"mass_kg": mass, "impact_speed_m_s": speed}))
-    return csv
+    return half_sine_record(tmp_path_factory.mktemp("calibrate-bad-input"), contact_s=5e-4)
 
 
 def calibrate_argv(record, *extra, free=(MAT + "c10_pa=3e6:7e6",), test=None):

@@ -161,6 +161,9 @@ def frames_npz(tmp_path):
     (["--fps", 5000, "--scale-m-per-px", 0], ("--scale-m-per-px", "> 0")),
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--surface-row", "nan"], ("surface",)),
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--mass-kg=-0.16"], ("--mass-kg", "> 0")),
+    # the mass in grams: named before tracking, not only later by the force record's impulse
+    (["--fps", 5000, "--scale-m-per-px", 0.001, "--mass-kg", 160], ("--mass-kg",
+                                                                     "looks like grams", "0.16")),
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--side-file", "speeds.txt"],
      ("--side-file", "must end in .json")),
     (["--fps", 5000], ("--ball-diameter-m", "--scale-m-per-px")),

@@ -190,6 +190,12 @@ def test_report_noise_out_of_range(noise, tmp_path, bad_input):
               "--noise", "[0, 0.5)")
 
 
+def test_report_noise_as_a_percentage_names_the_slip(tmp_path, bad_input):
+    fake_study(tmp_path / "s")
+    bad_input(["universal", "report", "--closed-loop", tmp_path / "s", "--noise", "1"],
+              "--noise 1", "looks like a percentage: use 0.01")
+
+
 def test_report_plot_suffix(tmp_path, bad_input):
     bad_input(["universal", "report", "--plot", tmp_path / "r.pdf"], "--plot", ".png")
 
@@ -266,6 +272,8 @@ def run(folder, *flags):
     (["--workers", "2", "--scheduler", "tcp://x:1"], ["--workers", "--scheduler", "give one"]),
     (["--extend", "0"], ["--extend 0", ">= 1"]),
     (["--extend", "10", "--runs", "100"], ["--extend", "--runs", "give one"]),
+    (["--extend", "8"], ["--extend", "does not exist"]),
+    (["--allow", "ballunits"], ["allow", "ballunits", "ball-units"]),
 ])
 def test_run_flags(flags, fragments, tmp_path, bad_input):
     bad_input(run(tmp_path / "s", *flags), *fragments)
@@ -382,11 +390,20 @@ def test_train_on_a_batch_of_another_design(tmp_path, bad_input):
 @pytest.mark.parametrize("flags, fragments", [
     (["--steps", "10"], ["--steps 10", ">= 100"]),
     (["--members", "0"], ["--members 0"]),
+    (["--width", "0"], ["--width 0", ">= 1"]),
+    (["--seed", "-1"], ["--seed -1", ">= 0"]),
     (["--noise-augment", "0.7"], ["--noise-augment", "[0, 0.5)"]),
+    (["--noise-augment", "2"], ["--noise-augment 2", "looks like a percentage: use 0.02"]),
 ])
 def test_train_flags(flags, fragments, tmp_path, bad_input):
     fake_study(tmp_path / "s")
     bad_input(train(tmp_path / "s", tmp_path, *flags), *fragments)
+
+
+def test_train_out_is_a_folder(tmp_path, bad_input):
+    fake_study(tmp_path / "s")
+    (tmp_path / "m").mkdir()
+    bad_input(train(tmp_path / "s", tmp_path), "--out", "a folder", "model path")
 
 
 def test_train_out_in_a_missing_folder(tmp_path, bad_input):

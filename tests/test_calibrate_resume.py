@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import build_parser, main
+from calibrate_cases import half_sine_record
 
 # the module (the package's `search` is the function of the same name)
 search_module = importlib.import_module("ballimpact.calibrate.search")
@@ -25,17 +26,7 @@ MAT = "layers.ball.material."
 
 @pytest.fixture(scope="module")
 def record(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("calibrate-resume")
-    mass, speed, cor, contact = 0.16, 20.0, 0.6, 4.5e-4
-    t = np.arange(0.0, 2e-3, 1e-5)
-    peak = mass * speed * (1 + cor) * np.pi / (2 * contact)
-    inside = (t > 2e-4) & (t < 2e-4 + contact)
-    force = np.where(inside, peak * np.sin(np.pi * (t - 2e-4) / contact), 0.0)
-    csv = folder / "ball.csv"
-    np.savetxt(csv, np.column_stack([t, force]), delimiter=",", header="time_s,force_n",
-               comments="")
-    (folder / "ball.json").write_text(json.dumps({"mass_kg": mass, "impact_speed_m_s": speed}))
-    return csv
+    return half_sine_record(tmp_path_factory.mktemp("calibrate-resume"), contact_s=4.5e-4)
 
 
 def argv(record, out):

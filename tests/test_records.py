@@ -94,3 +94,20 @@ def test_resample_to_a_uniform_grid():
     assert np.allclose(np.diff(uniform.time_s), 5e-6)
     assert np.max(np.abs(uniform.force_n - pulse(uniform.time_s))) < 1e-4 * 1e3
     assert uniform.metadata["resampled_hz"] == 200e3
+
+
+def test_linear_resampling_keeps_the_zeros_after_a_separation_zero():
+    """A triangle pulse ending in exact zeros (a model's separation), resampled linearly onto a
+    grid of about 8.01 model steps: piecewise-linear data come back exactly (to rounding) and every
+    sample after the pulse stays 0, where a cubic spline rings on into the tail."""
+    time = np.arange(0.0, 3e-3, 2.5e-6)
+    force = np.interp(time, [0.0, 5e-4, 1e-3], [0.0, 1e4, 0.0], right=0.0)
+    record = ImpactRecord(time_s=time, force_n=force, mass_kg=0.16, impact_speed_m_s=20.0)
+    linear = resample(record, 1.0 / 20.025e-6, method="linear")
+    expected = np.interp(linear.time_s, [0.0, 5e-4, 1e-3], [0.0, 1e4, 0.0], right=0.0)
+    assert np.max(np.abs(linear.force_n - expected)) < 1e-9 * 1e4
+    assert np.all(linear.force_n[linear.time_s > 1.001e-3] == 0.0)
+    cubic = resample(record, 1.0 / 20.025e-6)
+    assert np.any(cubic.force_n[cubic.time_s > 1.001e-3] != 0.0)
+    with pytest.raises(ValueError, match="method 'akima'"):
+        resample(record, 1e5, method="akima")

@@ -13,6 +13,7 @@ from ballimpact.errors import InputError
 from ballimpact.report import parse_models
 from ballimpact.report.browser import check_page, find_browser
 from ballimpact.report.inputs import builtin_ball, builtin_files, label_tests
+from report_cases import fail_model
 
 #: the built-in sample's generating constants (examples/make_sample_record.py)
 SAMPLE_K, SAMPLE_N, SAMPLE_LAMBDA, SAMPLE_COR = 2.06e7, 1.5, 0.057001, 0.55
@@ -166,16 +167,9 @@ def test_bad_input_exits_2_naming_it(tmp_path, capsys, argv, message):
 
 
 def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, monkeypatch, capsys):
-    import ballimpact.report.build as build
     from ballimpact.errors import SimulationError
 
-    def run_model(spec, test, **options):
-        if spec.name == "kelvin_voigt":
-            raise SimulationError("inverted element at t = 1e-4 s")
-        return original(spec, test, **options)
-
-    original = build.run_model
-    monkeypatch.setattr(build, "run_model", run_model)
+    fail_model(monkeypatch, SimulationError("inverted element at t = 1e-4 s"), "kelvin_voigt")
     code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz,kelvin_voigt",
                        "--out", tmp_path / "r", "--quiet")
     assert code == 0
@@ -186,10 +180,7 @@ def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, monkeypatch, ca
                                    "error": "inverted element at t = 1e-4 s"}]
     assert "Failed runs" in (tmp_path / "r" / "report.html").read_text()
 
-    def always_fails(spec, test, **options):
-        raise SimulationError("energy blow-up")
-
-    monkeypatch.setattr(build, "run_model", always_fails)  # nothing to report: a failed run
+    fail_model(monkeypatch, SimulationError("energy blow-up"))  # nothing to report: a failed run
     code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz", "--out",
                        tmp_path / "s", "--quiet")
     assert code == 1 and "every model run failed: hertz at 20.8 m/s: energy blow-up" in err

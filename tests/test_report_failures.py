@@ -13,6 +13,7 @@ from ballimpact.calibrate.problem import CalibrationTest
 from ballimpact.cli import main
 from ballimpact.lumped import simulate
 from ballimpact.report.models import measured_like
+from report_cases import fail_model
 
 #: a cricket ball (160 g) as a Hunt-Crossley contact: peak 3.1, 7.5 and 14 kN, COR 0.79-0.51
 BALL = {"k": 2.06e7, "n": 1.5, "lambda": 0.057}
@@ -95,16 +96,10 @@ def test_the_three_noisy_tests_of_the_issue_give_a_whole_report(tmp_path, capsys
 def test_a_pair_that_fails_as_bad_input_is_a_failed_row(tmp_path, monkeypatch, capsys):
     """An InputError from one model at one test (a pulse that cannot be measured, a ball out of
     its speed range) is a failed row with its reason; the other models' results stay."""
-    import ballimpact.report.build as build
     from ballimpact.errors import InputError
 
-    def run_model(spec, test, **options):
-        if spec.name == "kelvin_voigt":
-            raise InputError("force_n: no sample at or below zero force where the record ends")
-        return original(spec, test, **options)
-
-    original = build.run_model
-    monkeypatch.setattr(build, "run_model", run_model)
+    fail_model(monkeypatch, InputError("force_n: no sample at or below zero force where the "
+                                       "record ends"), "kelvin_voigt")
     out = tmp_path / "r"
     code = main(["report", "--builtin", "sample", "--models", "hertz,kelvin_voigt", "--out",
                  str(out), "--quiet"])
@@ -126,12 +121,8 @@ def test_a_pair_that_fails_as_bad_input_is_a_failed_row(tmp_path, monkeypatch, c
 
 
 def test_every_pair_refused_as_bad_input_exits_2(tmp_path, monkeypatch, bad_input):
-    import ballimpact.report.build as build
     from ballimpact.errors import InputError
 
-    def refuses(spec, test, **options):
-        raise InputError("impact speed 0.5 m/s is below the FE engine's 1 m/s")
-
-    monkeypatch.setattr(build, "run_model", refuses)
+    fail_model(monkeypatch, InputError("impact speed 0.5 m/s is below the FE engine's 1 m/s"))
     bad_input(["report", "--builtin", "sample", "--models", "hertz", "--out", tmp_path / "r",
                "--quiet"], "every model run failed: hertz at 20.8 m/s: impact speed 0.5")

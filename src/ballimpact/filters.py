@@ -130,7 +130,7 @@ def check_filter_name(name: str, flag: str = "filter") -> str:
     """The filter's key (`name` stripped, lower case); `InputError` naming `flag` for a name
     `apply_filter` does not know."""
     key = name.strip().lower()
-    if not _CFC.fullmatch(key) and key not in (*WINDOWED_FILTERS, "none", "poly5"):
+    if key not in FILTER_NAMES and not _CFC.fullmatch(key):
         raise InputError(
             f"{flag}: unknown name {name!r}; allowed: {', '.join(FILTER_NAMES)} or cfc<N>"
         )

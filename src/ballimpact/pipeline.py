@@ -57,35 +57,29 @@ def process(
     Errors from a record loaded from a file start with the file's name.
     """
     source = record.metadata.get("file")
+    if warn_noisy is None:
+        warn_noisy = not record.metadata.get("builtin")
     try:
-        return _process(record, filter=filter, window_s=window_s, resample_hz=resample_hz,
-                        impulse_tolerance=impulse_tolerance, pulse=pulse, allow=allow,
-                        warn_noisy=not record.metadata.get("builtin") if warn_noisy is None
-                        else warn_noisy, source=source)
+        allow = check_allow(allow)
+        if window_s is not None:
+            check_positive("window_s (--filter-window-s)", window_s)
+        if resample_hz is not None:
+            check_positive("resample_hz (--resample-hz)", resample_hz)
+        check_polarity(record)
+        check_clipping(record, allow)
+        raw = remove_baseline(select_pulse(record, pulse))
+        if resample_hz is not None:
+            raw = resample(raw, resample_hz)
+        filtered = apply_filter(raw, filter, window_s=window_s)
+        features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow)
     except InputError as error:
         if source is None or str(error).startswith(source):
             raise
         raise InputError(f"{source}: {error}") from None
-
-
-def _process(record, *, filter, window_s, resample_hz, impulse_tolerance, pulse, allow,
-             warn_noisy, source) -> ProcessedImpact:
-    allow = check_allow(allow)
-    if window_s is not None:
-        check_positive("window_s (--filter-window-s)", window_s)
-    if resample_hz is not None:
-        check_positive("resample_hz (--resample-hz)", resample_hz)
-    check_polarity(record)
-    check_clipping(record, allow)
-    raw = remove_baseline(select_pulse(record, pulse))
-    if resample_hz is not None:
-        raw = resample(raw, resample_hz)
-    filtered = apply_filter(raw, filter, window_s=window_s)
-    features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow)
     note = noisy_window_note(features.window, features.values["P6"],
                              filtered.metadata.get("filter", "none"), source)
     if note is not None:
         if warn_noisy:
-            warnings.warn(note, InputWarning, stacklevel=3)
+            warnings.warn(note, InputWarning, stacklevel=2)
         features.warnings.append(note)
     return ProcessedImpact(raw, filtered, features)

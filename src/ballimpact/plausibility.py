@@ -109,17 +109,28 @@ def baseline_level(force_n) -> float:
     return float(np.median(np.concatenate([force[:n], force[-n:]])))
 
 
+def _scaled(force_n) -> tuple[np.ndarray, float]:
+    """The force divided by its largest magnitude (no overflow for absurd forces), and that
+    magnitude (1 for an all-zero record)."""
+    force = np.asarray(force_n, dtype=float)
+    scale = float(np.max(np.abs(force))) or 1.0
+    return force / scale, scale
+
+
+def _step_noise(signal: np.ndarray) -> float:
+    """The noise RMS from the median absolute step between samples: robust to the pulses and to
+    an offset."""
+    return 1.4826 * float(np.median(np.abs(np.diff(signal)))) / np.sqrt(2)
+
+
 def check_polarity(record) -> None:
     """`InputError` when the pulse is negative: the largest excursion from the baseline
     (`baseline_level`) is below it, and clearly above the noise. Checked before clipping, whose
     flat-top test would otherwise see the baseline as the top."""
-    force = np.asarray(record.force_n, dtype=float)
-    scale = float(np.max(np.abs(force))) or 1.0
-    signal = force / scale  # scaled: no overflow for absurd forces
+    signal, scale = _scaled(record.force_n)
     base = baseline_level(signal)
     up, down = float(np.max(signal)) - base, base - float(np.min(signal))
-    noise = 1.4826 * float(np.median(np.abs(np.diff(signal)))) / np.sqrt(2)
-    if down > up and down > POLARITY_NOISE_FACTOR * noise:
+    if down > up and down > POLARITY_NOISE_FACTOR * _step_noise(signal):
         at = int(np.argmin(signal))
         raise InputError(
             f"force_n: the pulse is negative ({-down * scale:.4g} N from the baseline at "
@@ -208,11 +219,9 @@ def find_pulses(time_s, force_n) -> list[tuple[int, int, int]]:
     impact) and the noise comes from the median absolute step between samples: both are robust
     to the pulses, and to an offset left in the record.
     """
-    force = np.asarray(force_n, dtype=float)
-    scale = float(np.max(np.abs(force))) or 1.0
-    signal = force / scale  # scaled: no overflow for absurd forces
+    signal, _ = _scaled(force_n)
     signal = signal - np.percentile(signal, 10)
-    noise = 1.4826 * float(np.median(np.abs(np.diff(signal)))) / np.sqrt(2)
+    noise = _step_noise(signal)
     peak = float(np.max(signal))
     level = max(PULSE_LEVEL_FRACTION * peak, PULSE_NOISE_FACTOR * noise)
     runs = [run for run in _runs(signal > level) if run[1] > run[0]]

@@ -141,12 +141,18 @@ def sample_rate_hz(record: ImpactRecord) -> float:
 MAX_RESAMPLED_SAMPLES = 100_000_000
 
 
-def resample(record: ImpactRecord, rate_hz: float) -> ImpactRecord:
-    """The record on a uniform time grid at `rate_hz` (Hz) by cubic-spline interpolation.
+def resample(record: ImpactRecord, rate_hz: float, method: str = "cubic") -> ImpactRecord:
+    """The record on a uniform time grid at `rate_hz` (Hz) by cubic-spline interpolation, or
+    with `method="linear"` by linear interpolation.
 
     The grid starts at the first sample. Going to a lower rate does not filter: low-pass the record
-    first (e.g. a CFC filter) so that nothing aliases.
+    first (e.g. a CFC filter) so that nothing aliases. Linear suits a finely sampled model pulse
+    that ends in exact zeros (a separation): a spline through its kink rings on into the tail with
+    small values of alternating sign, which a coarser grid can sample all positive, so that the
+    pulse never returns to zero (`calibrate.evaluate.measured_like`).
     """
+    if method not in ("cubic", "linear"):
+        raise ValueError(f"resample: method {method!r}: allowed cubic, linear")
     rate_hz = check_positive("rate_hz", rate_hz)
     start, end = record.time_s[0], record.time_s[-1]
     count = int(np.floor((end - start) * rate_hz * (1 + 1e-12))) + 1
@@ -158,7 +164,11 @@ def resample(record: ImpactRecord, rate_hz: float) -> ImpactRecord:
     time = start + np.arange(count) / rate_hz
 
     def on_grid(series: np.ndarray | None) -> np.ndarray | None:
-        return None if series is None else CubicSpline(record.time_s, series)(time)
+        if series is None:
+            return None
+        if method == "linear":
+            return np.interp(time, record.time_s, series)
+        return CubicSpline(record.time_s, series)(time)
 
     return record.replace(
         time_s=time,

@@ -74,33 +74,19 @@ def measured_like(test, run):
     starts and ends where its pulse crosses a threshold above the noise (5 x its RMS, 5% of the
     peak at 1% noise), extrapolated to zero; the clean FE pulse measured at 1e-3 of its peak would
     differ in contact time by the pulse's tails alone (5% on the thesis' ball). `run`: an FE run
-    or any model's `ImpactRecord`. Resampled by LINEAR interpolation.
-
-    Why not the cubic spline of `records.resample`: a clean model pulse ends in exact zeros after
-    a kink (separation). A spline through it rings on into the tail with crumbs that alternate
-    in sign from one model step to the next and decay by 0.27 per step; where the test's sample
-    spacing is close to an even number of model steps, every resampled tail sample falls on the
-    same sign. If that sign is positive, no sample after the pulse is at or below zero force, so
-    the window has no end and a report aborted with "force_n: no sample at or below zero force
-    where the record ends" (a three-element fit to a 50 kHz test: spacing 20 us, 8.01 steps of
-    2.5 us). Linear interpolation keeps the zeros zero; on the model's fine grid (a few
-    microseconds or less) it is as accurate as the spline within the pulse."""
+    or any model's `ImpactRecord`. Resampled by LINEAR interpolation: a clean model pulse ends
+    in exact zeros after a kink (separation), and the ringing of a cubic spline there once left
+    the resampled tail all positive, so that the contact never ended and a report aborted with
+    "force_n: no sample at or below zero force where the record ends" (a three-element fit to a
+    50 kHz test: spacing 20 us, 8.01 steps of 2.5 us; `records.resample`)."""
     from ..features import extract_features
-    from ..records import ImpactRecord
+    from ..records import ImpactRecord, resample
 
     features = test.features
     spacing = float(np.median(np.diff(features.time_s)))
     fraction = max(1e-3, features.window.threshold_n / features.values["P6"])
     record = run if isinstance(run, ImpactRecord) else run.record()
-    count = int(np.floor((record.time_s[-1] - record.time_s[0]) / spacing)) + 1
-    time = record.time_s[0] + np.arange(count) * spacing
-
-    def on_grid(series):
-        return None if series is None else np.interp(time, record.time_s, series)
-
-    resampled = record.replace(time_s=time, force_n=on_grid(record.force_n),
-                               velocity_m_s=on_grid(record.velocity_m_s),
-                               tangential_force_n=on_grid(record.tangential_force_n))
+    resampled = resample(record, 1.0 / spacing, method="linear")
     # notes on the model's own pulse (its impulse over the test's window) are nothing the user
     # can act on: warnings are for the user's data
     with warnings.catch_warnings():

@@ -245,7 +245,6 @@ class CalibrationProblem:
 
     def __post_init__(self) -> None:
         from ..fe import load_ball
-
         from ..plausibility import check_allow
 
         self.start = dict(self.start)  # the caller's dict is left alone

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..fileio import first_line, replacing, write_atomic  # cli/calibrate.py imports it from here
+from ..fileio import first_line, replacing, write_atomic
 from .evaluate import evaluate
 from .problem import CalibrationProblem
 

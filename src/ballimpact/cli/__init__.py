@@ -20,6 +20,7 @@ import warnings
 
 from .. import __version__
 from ..errors import CheckFailed, InputError, SimulationError
+from ..progress import line_open
 from . import calibrate, export, features, fit, identify, report, simulate, universal, video
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
@@ -75,7 +76,8 @@ def _main(argv: list[str] | None) -> int:
         notes = list(dict.fromkeys(str(w.message) for w in caught))
     except KeyboardInterrupt:
         hint = getattr(args, "resume_hint", None)
-        print("\n" * _progress_line_open() + "error: interrupted"
+        # a progress bar may have left its line unfinished: the message starts a line of its own
+        print("\n" * line_open() + "error: interrupted"
               + (f"; {hint}" if hint else ""), file=sys.stderr)
         return 130
     except InputError as error:
@@ -99,10 +101,3 @@ def _main(argv: list[str] | None) -> int:
         return failed_check.exit_code
     return 0
 
-
-def _progress_line_open() -> bool:
-    """Whether a progress bar has left its line unfinished on stderr (then the interrupt's
-    message starts a line of its own)."""
-    from ..progress import line_open
-
-    return line_open()

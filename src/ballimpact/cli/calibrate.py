@@ -23,6 +23,7 @@ from .common import (
 )
 from .simulate import add_solver_options, solver_options
 
+
 def add_parser(verbs) -> argparse.ArgumentParser:
     from ..calibrate.calibration import METHODS
     from ..calibrate.decision import METHODS as DECISIONS

@@ -324,14 +324,12 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
 
 def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     """The 3D run's inputs, checked before anything is meshed: (ball, condition, target or None,
-    `Options3D`)."""
+    `Options3D`). `run_simulate` has checked --plot, --csv and --friction."""
     from ..fe import load_ball
     from ..oblique import ImpactCondition, Options3D, load_target
     from ..oblique.output import check_animation_path
     from ..oblique.target import check_target_width
 
-    check_plot_path(args.plot)
-    check_output_folder(args.csv, "--csv")
     check_output_folder(args.vtk, "--vtk")
     if args.vtk is not None and args.vtk.suffix.lower() not in (".pvd", ".xdmf"):
         raise InputError(f"--vtk {args.vtk}: the file must end in .pvd or .xdmf")

@@ -108,11 +108,10 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
     from ..progress import progress_bar
     from ..universal.study import make_config, run_study
 
+    # --workers and --extend: checked by `run_study`, before anything is written
     for flag, value, low, what in (("--runs", args.runs, 1, "the number of runs"),
                                    ("--seed", args.seed, 0, "the design's seed"),
-                                   ("--batch-size", args.batch_size, 1, "runs per batch"),
-                                   ("--extend", args.extend, 1, "the number of runs to add"),
-                                   ("--workers", args.workers, 1, "Dask processes")):
+                                   ("--batch-size", args.batch_size, 1, "runs per batch")):
         _at_least(value, flag, low, what)
     if args.element_size_m is not None and not args.element_size_m > 0:
         raise InputError(f"--element-size-m {args.element_size_m:g}: need a size in m > 0 "
@@ -166,9 +165,7 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
     if args.out.is_dir():
         raise InputError(f"--out {args.out}: a folder; give a model path (writes OUT.json and "
                          "OUT.npz)")
-    if not (0.0 <= args.noise_augment < 0.5):
-        raise InputError(f"--noise-augment {args.noise_augment:g}: allowed range [0, 0.5) "
-                         "(a fraction of the peak force)")
+    _check_noise_fraction(args.noise_augment, "--noise-augment")
     for flag, value, low, what in (("--steps", args.steps, 100, "validation every 100 steps"),
                                    ("--width", args.width, 1, "hidden units per layer"),
                                    ("--members", args.members, 1, "ensemble members"),
@@ -202,9 +199,7 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError(f"{loop_only[0]}: applies to the closed loop only; add --closed-loop "
                          "DIR (the model's study folder)")
     noise = 0.0 if args.noise is None else args.noise
-    if not (0.0 <= noise < 0.5):
-        raise InputError(f"--noise {noise:g}: allowed range [0, 0.5) (white noise as a "
-                         "fraction of the peak force, e.g. 0.01)")
+    _check_noise_fraction(noise, "--noise")
     _at_least(args.runs, "--runs", 1, "closed-loop runs")
     if args.filter is not None:
         from ..filters import check_filter_name
@@ -275,3 +270,13 @@ def _print_report(metadata: dict) -> None:
           f"peak (median), COR error {fwd['cor_absolute_error']['median']:.4f} (median); "
           f"peak force error {fwd['P6']['median']:.2%}, contact time error {fwd['P1']['median']:.2%}",
           file=sys.stdout)
+
+
+def _check_noise_fraction(value: float, flag: str) -> None:
+    """A noise level: a fraction of the peak force in [0, 0.5); a percentage typed for it
+    (2 for 0.02) is named."""
+    if not 0.0 <= value < 0.5:
+        hint = f"; {value:g} looks like a percentage: use {value / 100:g}" \
+            if 0.5 <= value <= 50 else ""
+        raise InputError(f"{flag} {value:g}: allowed range [0, 0.5) (white noise as a fraction "
+                         f"of the peak force, e.g. 0.01){hint}")

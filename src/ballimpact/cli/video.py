@@ -43,6 +43,21 @@ def add_parser(verbs) -> None:
     video.add_argument("--json", action="store_true", help="print one JSON object")
 
 
+def check_mass(mass_kg: float) -> None:
+    """`InputError` for a --mass-kg no ball has: not a finite number > 0, or outside the masses
+    of `plausibility.BALL_RANGES` (grams typed as kg, most likely)."""
+    from ..plausibility import BALL_RANGES
+
+    if not (math.isfinite(mass_kg) and mass_kg > 0):
+        raise InputError(f"--mass-kg = {mass_kg:g}: must be a finite number > 0 (kg)")
+    low, high, _ = BALL_RANGES["mass"]
+    if not low <= mass_kg <= high:
+        slip = (f"looks like grams; use {mass_kg / 1e3:g}" if mass_kg > high
+                else "check the unit (kg)")
+        raise InputError(f"--mass-kg {mass_kg:g} kg is outside {low:g}..{high:g} kg, the masses "
+                         f"of balls: {slip}")
+
+
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..video import analyse, side_file
 
@@ -53,8 +68,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if args.side_file.suffix.lower() != ".json":
             raise InputError(f"--side-file: {args.side_file} must end in .json (the force "
                              "record's name with .json: test1.csv -> test1.json)")
-    if args.mass_kg is not None and not (math.isfinite(args.mass_kg) and args.mass_kg > 0):
-        raise InputError(f"--mass-kg = {args.mass_kg:g}: must be a finite number > 0 (kg)")
+    if args.mass_kg is not None:
+        check_mass(args.mass_kg)
     if args.fps is not None and not args.fps > 0:
         raise InputError(f"--fps = {args.fps!r}: must be > 0")
     options = dict(scale_m_per_px=args.scale_m_per_px, ball_diameter_m=args.ball_diameter_m,

@@ -299,10 +299,9 @@ def _arc_angles(outer: float, h: float, h_pole: float, zone_rad: float, refine: 
     surface segment at angle theta is about the target size there.
     """
     if not refine:
-        return np.linspace(0.0, math.pi, 4 * _quarter_count(outer, h, h_pole, zone_rad) + 1)
+        return np.linspace(0.0, math.pi, 4 * _quarters(math.pi * outer / h) + 1)
     grid, count = _arc_integral(outer, h, h_pole, zone_rad)
-    theta = np.interp(np.linspace(0.0, count[-1], 4 * _quarter_count(outer, h, h_pole, zone_rad)
-                                  + 1), count, grid)
+    theta = np.interp(np.linspace(0.0, count[-1], 4 * _quarters(count[-1]) + 1), count, grid)
     theta[0], theta[-1] = 0.0, math.pi
     return theta
 
@@ -316,12 +315,16 @@ def _arc_integral(outer: float, h: float, h_pole: float, zone_rad: float):
                                                   * np.diff(grid))])
 
 
+def _quarters(segments: float) -> int:
+    """n: a surface of about `segments` target-sized segments gets 4n (a multiple of 4)."""
+    return max(1, math.floor(segments / 4.0 + 0.5))
+
+
 def _quarter_count(outer: float, h: float, h_pole: float, zone_rad: float) -> int:
     """n: the surface has 4n segments (without building them: a mis-scaled ball can ask for
     billions)."""
-    count = (math.pi * outer / h if h_pole >= h
-             else float(_arc_integral(outer, h, h_pole, zone_rad)[1][-1]))
-    return max(1, math.floor(count / 4.0 + 0.5))
+    return _quarters(math.pi * outer / h if h_pole >= h
+                     else float(_arc_integral(outer, h, h_pole, zone_rad)[1][-1]))
 
 
 @dataclass(frozen=True)

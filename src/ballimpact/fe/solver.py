@@ -323,12 +323,17 @@ def _warn_if_large(kernel: Kernel, balls: list, speeds, options: SolverOptions) 
         warnings.warn(message, InputWarning, stacklevel=3)
 
 
-def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float) -> str | None:
+#: how to refine the contact pole (for the `contact_resolution_note` of the axisymmetric solver)
+_REFINE_POLE = "pole_element_size_m, --pole-element-size-m"
+
+
+def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float,
+                            refine: str = _REFINE_POLE) -> str | None:
     """A note when the contact patch at `speed_m_s` (m/s) spans fewer than
     `CONTACT_RESOLUTION_ELEMENTS` elements of `pole_element_m` (m) at the contact pole (a Hertz
     estimate with the ball's softest long-term plane-strain modulus,
     `kernel.hertz_contact_radius_m`); None when it spans enough. A slow impact on a coarse mesh:
-    the contact time reads long."""
+    the contact time reads long. `refine` names the options that refine the pole."""
     radius = hertz_contact_radius_m(ball, speed_m_s)
     if radius >= CONTACT_RESOLUTION_ELEMENTS * pole_element_m:
         return None
@@ -338,13 +343,14 @@ def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float) -> st
             f"elements of {pole_element_m * 1e3:.3g} mm at the contact pole, fewer than "
             f"{CONTACT_RESOLUTION_ELEMENTS:g}: the contact time reads long (on an elastic ball "
             "by 7% at 1.2 elements, 18% at 0.8, docs/fe.md); refine the pole to about "
-            f"{finer:.2g} m (pole_element_size_m, --pole-element-size-m; 3d: more --divisions)")
+            f"{finer:.2g} m ({refine})")
 
 
-def warn_unresolved_contact(balls: list, speeds, pole_element_m: float) -> None:
+def warn_unresolved_contact(balls: list, speeds, pole_element_m: float,
+                            refine: str = _REFINE_POLE) -> None:
     """One `contact_resolution_note` warning, for the slowest run of a batch."""
     i = int(np.argmin(speeds))
-    note = contact_resolution_note(balls[i], float(speeds[i]), pole_element_m)
+    note = contact_resolution_note(balls[i], float(speeds[i]), pole_element_m, refine)
     if note is not None:
         warnings.warn(note, InputWarning, stacklevel=3)
 

@@ -263,8 +263,11 @@ SECONDS_PER_ELEMENT_STEP = 9e-7
 INCREMENT_OVER_SMALLEST_ELEMENT = 0.66
 
 
-def _checked(conditions, options: Options3D) -> tuple[list, bool]:
-    """The conditions as a list, checked, and whether a half model serves."""
+def _checked(ball, conditions, options: Options3D, target) -> tuple[list, bool]:
+    """The conditions as a list, checked, and whether a half model serves; a target narrower
+    than the ball refused (`target.check_target_width`)."""
+    if target is not None:
+        check_target_width(target, ball)
     conditions = list(conditions)
     if not conditions:
         raise InputError("conditions: need at least one impact condition")
@@ -290,7 +293,7 @@ def estimate_oblique(ball, conditions, options: Options3D = Options3D(),
 
     The mesh is built only after the same estimate from the mesh's counting rules fits in the
     available memory (`check_oblique_memory`: the `large-run` check, overridden by `allow`)."""
-    conditions, half = _checked(conditions, options)
+    conditions, half = _checked(ball, conditions, options, target)
     check_oblique_memory(ball, conditions, options, target, half, allow)
     kernel, _ = kernel_for(ball, target, options, half)
     return _estimate(ball, target, conditions, options, kernel)
@@ -355,13 +358,12 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     """Several impact conditions of one ball (and target) as one vmapped run. Speeds are
     checked as in `simulate_oblique`; a run estimated above `ELEMENT_STEPS_WARNING` element
     updates or `fe.progress.MEMORY_WARNING_BYTES` gets an `InputWarning` before it starts."""
-    conditions, half = _checked(conditions, options)
+    conditions, half = _checked(ball, conditions, options, target)
     impact_speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
-    if target is not None:
-        check_target_width(target, ball)
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
-    warn_unresolved_contact([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options))
+    warn_unresolved_contact([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options),
+                            refine="more divisions or pole_grading: --divisions, --pole-grading")
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
     message = _estimate(ball, target, conditions, options, kernel).warning()

@@ -24,7 +24,6 @@ from .tables import (
     by_speed_table,
     comparison_table,
     cost_table,
-    not_identified,
     parameter_tables,
     tests_table,
 )
@@ -110,8 +109,8 @@ def _warn_not_identified(runs: list[ModelRun]) -> None:
     """One warning per lumped model whose fits leave parameters undetermined, naming them per
     test (the parameter tables mark each such value "not identified")."""
     for model in dict.fromkeys(r.model for r in runs):
-        found = [f"{', '.join(not_identified(r))} at {r.test}" for r in runs
-                 if r.model == model and not_identified(r)]
+        found = [f"{', '.join(r.not_identified)} at {r.test}" for r in runs
+                 if r.model == model and r.not_identified]
         if found:
             warnings.warn(f"{model}: not identified (standard error inf or larger than the "
                           f"value): {'; '.join(found)}", InputWarning, stacklevel=3)

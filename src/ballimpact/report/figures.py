@@ -123,8 +123,7 @@ def parameters_vs_speed(model: str, runs: list[ModelRun]):
         low, high = _spread(mine, name, values)
         ax.errorbar(speeds, values * factor, fmt="o-", ms=4, capsize=3,
                     yerr=[(values - low) * factor, (high - values) * factor])
-        unknown = [i for i, r in enumerate(mine) if name in r.uncertainty.get("not_identified",
-                                                                              ())]
+        unknown = [i for i, r in enumerate(mine) if name in r.not_identified]
         if unknown:  # open markers: a value the test does not determine
             ax.plot([speeds[i] for i in unknown], values[unknown] * factor, "o", ms=8,
                     mfc="white", mec="C3", label="not identified")
@@ -147,7 +146,7 @@ def _spread(runs: list[ModelRun], name: str, values: np.ndarray):
         if "standard_error" in r.uncertainty:
             e = r.uncertainty["standard_error"].get(name, 0.0)
             # a bar larger than the value says nothing and would swamp the axis
-            if math.isfinite(e) and name not in r.uncertainty.get("not_identified", ()):
+            if math.isfinite(e) and name not in r.not_identified:
                 low[i], high[i] = values[i] - e, values[i] + e
         elif name in r.uncertainty.get("interval_90", {}):
             low[i], high[i] = r.uncertainty["interval_90"][name]

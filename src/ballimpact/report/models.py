@@ -67,6 +67,12 @@ class ModelRun:
     force_n: np.ndarray = field(repr=False)
     rerun: Callable[[], float] | None = field(default=None, repr=False)
 
+    @property
+    def not_identified(self) -> list[str]:
+        """The parameters of a lumped fit whose standard error is inf or larger than the
+        value."""
+        return list(self.uncertainty.get("not_identified", []))
+
     def to_dict(self) -> dict[str, Any]:
         return {"model": self.model, "kind": self.kind, "test": self.test,
                 "impact_speed_m_s": self.impact_speed_m_s,

@@ -111,11 +111,6 @@ def cost_table(runs: list[ModelRun], timed_run_s: dict[str, float]) -> Table:
                  ["model", "kind", "identification_s_per_test", "run_s", "total_s"], rows)
 
 
-def not_identified(run: ModelRun) -> list[str]:
-    """The parameters of a lumped fit whose standard error is inf or larger than the value."""
-    return list(run.uncertainty.get("not_identified", []))
-
-
 def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
     """Per fitted or identified model, its parameters against impact speed laid out as thesis
     tables 7-1..7-3 (a row per parameter, a column per test), each followed by its standard
@@ -147,7 +142,7 @@ def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
 
 def _value(run: ModelRun, name: str) -> Any:
     value = run.parameters[name]
-    return f"{value:.5g} (not identified)" if name in not_identified(run) else value
+    return f"{value:.5g} (not identified)" if name in run.not_identified else value
 
 
 def _error(error: float) -> Any:

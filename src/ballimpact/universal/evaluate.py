@@ -139,8 +139,8 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     from .compare import compare, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
+    from .measurement import noisy_features
     from .study import load_config, study_allow
-    from .training import synthetic_features
 
     folder = Path(folder)
     config = load_config(folder, "--closed-loop")
@@ -162,7 +162,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         pulse = curves["force_n_100khz"][i]
         speed = float(columns["impact_speed_m_s"][i])
         clean = {k: float(columns[k][i]) for k in FEATURES}
-        values = clean if noise == 0 else synthetic_features(
+        values = clean if noise == 0 else noisy_features(
             pulse, speed, float(columns["cor"][i]), template["mass_kg"], noise, rng, filter)
         params, interval = estimate(model, values, refine)
         true = {k: float(columns[k][i]) for k in TARGETS}

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
 from . import space
 from .compare import compare, features_pulse, pulse_nrmse
@@ -73,8 +74,6 @@ def check_speed(model: UniversalModel, speed_m_s: float, allow: Collection[str] 
 def check_range(model: UniversalModel, values: dict[str, float], where: str = "") -> None:
     """Warn for each feature outside the range the model was trained on (the speed, P15, has its
     own check: `check_speed`)."""
-    from ..features import FEATURE_NAMES
-
     ranges = model.metadata["feature_range"]
     for key in FEATURES:
         low, high = ranges[key]

@@ -341,8 +341,9 @@ def _extend(folder: Path, config: dict[str, Any] | None, extra: int) -> dict[str
     last = batch_count(saved) - 1
     if len(batch_ids(saved, last)) < saved["batch_size"]:
         remove_batch(folder, last)
-    _write_config(folder, {**saved, "runs": saved["runs"] + extra})
-    return load_config(folder, "--extend")
+    grown = {**saved, "runs": saved["runs"] + extra}
+    _write_config(folder, grown)
+    return grown
 
 
 def _dask():

@@ -50,15 +50,6 @@ def split(run_ids: np.ndarray, seed: int) -> dict[str, np.ndarray]:
             "train": np.sort(order[n_test + n_val:])}
 
 
-def synthetic_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="none"):
-    """`noisy_features` of a pulse this package generated (a study's FE run): what the
-    measured-test checks say about it (e.g. "noisy record: filter it") is not about the user's
-    data and cannot be acted on, so it is not passed on as a warning."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", InputWarning)
-        return noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter)
-
-
 def more_runs(folder: Path, finished: int, config: dict[str, Any]) -> str:
     """How to get more runs: finish the study, or grow it (to the default 600, else double)."""
     if finished < config["runs"]:
@@ -182,8 +173,8 @@ def _noisy_copies(pulses, params, features, mass_kg, noise_augment, seed, row_se
         noisy, kept = [], []
         for i in rows:
             try:
-                values = synthetic_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
-                                            mass_kg, rng.uniform(0.0, noise_augment), rng)
+                values = noisy_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
+                                        mass_kg, rng.uniform(0.0, noise_augment), rng)
             except InputError:
                 continue
             noisy.append([values[k] for k in FEATURES])
