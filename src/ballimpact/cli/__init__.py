@@ -21,7 +21,8 @@ import warnings
 from .. import __version__
 from ..errors import CheckFailed, InputError, SimulationError
 from ..progress import line_open
-from . import calibrate, export, features, fit, identify, report, simulate, universal, video
+from . import (calibrate, compress, export, features, fit, identify, material, report, simulate,
+               universal, video)
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
 
@@ -33,7 +34,7 @@ RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_model
            "demo": simulate.run_demo, "universal": universal.run, "identify": identify.run,
            "calibrate": calibrate.run, "export": export.run_export,
            "import-material": export.run_import, "video": video.run,
-           "report": report.run}
+           "report": report.run, "material": material.run, "compress": compress.run}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -41,7 +42,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
     for module in (features, fit, simulate, universal, identify, calibrate, export, video,
-                   report):
+                   report, material, compress):
         module.add_parser(verbs)
     return parser
 
