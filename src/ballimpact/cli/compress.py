@@ -1,15 +1,136 @@
-"""`ballimpact compress`: the whole ball between two rigid platens (placeholder, being written)."""
+"""`ballimpact compress`: the whole ball squeezed between two rigid platens (quasi-static FE,
+`fe.compress`): the force-deflection curve, peak force and stiffness; JSON, CSV and a plot."""
 
 from __future__ import annotations
 
 import argparse
+import sys
+import time
+from pathlib import Path
 from typing import Any
+
+from ..errors import InputError
+from ..plausibility import check_allow
+from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .simulate import SolverDefaults
+
+#: print progress lines only for curves that take longer than this (s)
+PROGRESS_AFTER_S = 3.0
 
 
 def add_parser(verbs) -> None:
-    compress = verbs.add_parser("compress", help="the ball squeezed between two rigid platens")
+    compress = verbs.add_parser(
+        "compress", help="the ball squeezed between two rigid platens (force-deflection curve)",
+        description="Quasi-static FE compression of the whole ball between two rigid, "
+                    "frictionless platens (the ball on one, the other coming down on its top), "
+                    "with the impact solver's mesh and materials: the force against the platens' "
+                    "approach (the diameter change), its peak and the stiffness at the end. "
+                    "Without --rate-m-s the long-term (fully relaxed) curve; with it, the Prony "
+                    "terms relax over the time the platen takes (docs/fe.md, Compression).")
+    compress.add_argument("--ball", required=True,
+                          help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
+    compress.add_argument("--deflection-m", type=float, required=True,
+                          help="total platen approach, the ball's diameter change (m; up to its "
+                               "radius)")
+    compress.add_argument("--rate-m-s", type=float,
+                          help="platen speed (m/s); default: the long-term (relaxed) curve")
+    compress.add_argument("--steps", type=int, default=20,
+                          help="equal deflection increments (default 20)")
+    compress.add_argument("--impact-speed-m-s", type=float,
+                          help="for balls whose constants depend on the impact speed "
+                               "(cricket-universal): the speed to take them at (m/s)")
+    compress.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
+                          help=f"element length on the outer surface (m; default "
+                               f"{SolverDefaults.element_size_m:g})")
+    compress.add_argument("--integration", choices=("reduced", "full"),
+                          default=SolverDefaults.integration,
+                          help="reduced: one point with hourglass control (default); full: 2x2 "
+                               "points with F-bar")
+    compress.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
+                          help="platen contact penalty scale (default 1)")
+    compress.add_argument("--moduli", choices=("long_term", "instantaneous"),
+                          help="override the ball's moduli convention")
+    add_allow(compress)
     compress.add_argument("--json", action="store_true", help="print one JSON object")
+    compress.add_argument("--csv", type=Path, help="write the curve (deflection_m,force_n)")
+    compress.add_argument("--plot", type=Path, help="PNG: force against deflection")
+
+
+class _Progress:
+    """'  increment k of n, ~T s left' on stderr, once a curve has run `PROGRESS_AFTER_S`."""
+
+    def __init__(self) -> None:
+        self.start = time.perf_counter()
+
+    def __call__(self, done: int, total: int) -> None:
+        elapsed = time.perf_counter() - self.start
+        if elapsed < PROGRESS_AFTER_S or done >= total:
+            return
+        left = elapsed / done * (total - done)
+        print(f"  increment {done} of {total}, ~{left:.0f} s left", file=sys.stderr, flush=True)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    raise NotImplementedError("compress: being written")
+    from ..fe import SolverOptions, compress, load_ball
+    from ..fe.compression import check_compression_input
+
+    check_plot_path(args.plot)
+    check_output_folder(args.csv, "--csv")
+    if args.csv is not None and args.csv.suffix.lower() != ".csv":
+        raise InputError(f"--csv: {args.csv} must be a .csv file")
+    allow = check_allow(args.allow)
+    ball = load_ball(args.ball, impact_speed_m_s=args.impact_speed_m_s, allow=allow)
+    if args.moduli is not None:
+        ball = ball.with_moduli(args.moduli)
+    check_compression_input(ball, args.deflection_m, args.rate_m_s, args.steps)
+    options = SolverOptions(element_size_m=args.element_size_m, integration=args.integration,
+                            penalty_scale=args.penalty_scale)
+    use_compilation_cache()
+    result = compress(ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
+                      options=options, progress=_Progress())
+    out = result.to_dict()
+    out["materials"] = ball.to_dict()
+    if args.csv is not None:
+        out["csv"] = write_curve(args.csv, result)
+    if args.plot is not None:
+        out["plot"] = str(plot_curve(result, args.plot))
+    if not args.json:
+        curve = (f"at {args.rate_m_s:g} m/s" if args.rate_m_s is not None
+                 else "long-term (relaxed)")
+        print(f"{result.ball_name} compressed by {args.deflection_m * 1e3:.4g} mm between two "
+              f"platens, {curve}: peak force {result.peak_force_n:.5g} N")
+        print(f"  stiffness at the end {result.end_stiffness_n_m / 1e3:.5g} N/mm, secant "
+              f"{result.secant_stiffness_n_m / 1e3:.5g} N/mm; principal stretches "
+              f"{result.stretch_range[0]:.3f}-{result.stretch_range[1]:.3f}")
+        print(f"  {result.elements} elements, {result.increments} increments, "
+              f"{result.newton_iterations} Newton iterations, {result.wall_time_s:.2f} s wall "
+              f"({result.compile_time_s:.2f} s compiling)")
+    return out
+
+
+def write_curve(path: Path, result) -> str:
+    """The curve as CSV with the header `deflection_m,force_n`."""
+    import numpy as np
+
+    np.savetxt(path, np.column_stack([result.deflection_m, result.force_n]), delimiter=",",
+               header="deflection_m,force_n", comments="", fmt="%.10g")
+    return str(path)
+
+
+def plot_curve(result, path: Path) -> Path:
+    """Force (N) against deflection (mm), one PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, axis = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
+    axis.plot(result.deflection_m * 1e3, result.force_n, "o-", ms=3)
+    axis.set_xlabel("deflection (platen approach), mm")
+    axis.set_ylabel("force, N")
+    curve = (f"{result.rate_m_s:g} m/s" if result.rate_m_s is not None else "long-term")
+    axis.set_title(f"{result.ball_name}: compression between two platens ({curve})")
+    axis.grid(alpha=0.3)
+    figure.savefig(path, dpi=120)
+    plt.close(figure)
+    return Path(path)

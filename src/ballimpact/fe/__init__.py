@@ -9,9 +9,10 @@ from .ball import (
            load_ball,
            universal_parameters,
 )
+from .compression import CompressionResult, compress
 from .progress import RunProgress
 from .solver import FailedRun, FEResult, SolverOptions, estimate_run, simulate, simulate_batch
 
-__all__ = ["PRESETS", "BallModel", "FailedRun", "FEResult", "Layer", "RunProgress", "SolverOptions",
-           "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
+__all__ = ["PRESETS", "BallModel", "CompressionResult", "FailedRun", "FEResult", "Layer",
+           "RunProgress", "SolverOptions", "compress", "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
            "universal_parameters"]

@@ -1,0 +1,55 @@
+"""Cost of one quasi-static compression curve (`fe.compress`): the cricket-universal ball (25 m/s
+constants) and the cricket-3layer ball on the default mesh, 20 increments to 5 mm, long-term
+curve, and the universal ball at a platen speed of 1 m/s. Compilation (first call of the jitted
+forces and tangent probes) and the solve are timed apart; a second call of the same structure
+compiles nothing. Prints one JSON object.
+
+    python benchmarks/bench_compress.py
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import time
+import warnings
+
+import jax
+
+from ballimpact.fe import SolverOptions, compress, load_ball
+
+DEFLECTION_M, STEPS = 5e-3, 20
+
+
+def curve(name: str, rate_m_s=None) -> dict:
+    ball = load_ball(name, impact_speed_m_s=25.0)
+    started = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        first = compress(ball, DEFLECTION_M, steps=STEPS, rate_m_s=rate_m_s,
+                         options=SolverOptions())
+        first_wall = time.perf_counter() - started
+        second = compress(ball, DEFLECTION_M, steps=STEPS, rate_m_s=rate_m_s,
+                          options=SolverOptions())
+    return {"ball": name, "rate_m_s": rate_m_s, "deflection_m": DEFLECTION_M, "steps": STEPS,
+            "elements": second.elements, "jacobian_products": second.jacobian_products,
+            "increments": second.increments, "newton_iterations": second.newton_iterations,
+            "peak_force_n": second.peak_force_n,
+            "end_stiffness_n_m": second.end_stiffness_n_m,
+            "first_call_s": first_wall, "compile_s": first.compile_time_s,
+            "solve_s": second.wall_time_s - second.compile_time_s,
+            "second_call_s": second.wall_time_s}
+
+
+def main() -> None:
+    out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
+                       "cpu_count": os.cpu_count(), "python": platform.python_version(),
+                       "jax": jax.__version__, "backend": jax.default_backend()},
+           "curves": [curve("cricket-universal"), curve("cricket-universal", rate_m_s=1.0),
+                      curve("cricket-3layer")]}
+    print(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()
