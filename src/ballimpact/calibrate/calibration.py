@@ -21,10 +21,17 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from .compression import is_compression, refine_compression
 from .decision import decide
 from .evaluate import compare_run, objective_values
 from .gradient import refine, standard_runs
-from .problem import OBJECTIVES, CalibrationProblem, free_parameter
+from .problem import (
+    OBJECTIVES,
+    CalibrationProblem,
+    check_objectives_apply,
+    default_objectives,
+    free_parameter,
+)
 
 METHODS = ("nsga2", "gradient", "nsga2+gradient")
 
@@ -123,8 +130,13 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
             if verbose:
                 _say(f"  {stage.name}: gradient refinement, misfit evaluation {i}: "
                      f"{misfit:.4g} ({time.perf_counter() - started:.0f} s)")
-        result.refinement = refine(problem, options, start=u, max_evaluations=max_evaluations,
-                                   progress=progress)
+        if all(is_compression(t) for t in problem.tests):
+            result.refinement = refine_compression(problem, options, start=u,
+                                                   max_evaluations=max_evaluations,
+                                                   progress=progress)
+        else:  # `_check` refused a stage that mixes them
+            result.refinement = refine(problem, options, start=u,
+                                       max_evaluations=max_evaluations, progress=progress)
         u = result.refinement.unit
         fe_runs += result.refinement.fe_runs
     runs = result.refinement.runs if result.refinement is not None else \
@@ -166,7 +178,9 @@ def _stage_files(result: StageResult, out: Path) -> None:
 def _check(template, tests, bounds, options, objectives, method, stages, decision, weights,
            max_evaluations, population, generations, allow) -> None:
     """Everything that can be checked before the first FE run (errors name the flag)."""
+    from ..fe import load_ball
     from ..plausibility import check_allow, check_fe_speed
+    from .compression import check_against_ball
     from .problem import sub_ball
     from .search import check_search_options
 
@@ -175,7 +189,7 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
     if "nsga2" in method:
         check_search_options(population, generations)
     allow = check_allow(allow)
-    for flag, chosen in [("--objectives", objectives)] + [
+    for flag, chosen in ([("--objectives", objectives)] if objectives is not None else []) + [
             (f"--stage {s.name}: objectives", s.objectives) for s in stages if s.objectives]:
         if not chosen or any(o not in OBJECTIVES for o in chosen):
             raise InputError(f"{flag}={','.join(chosen)}: allowed any of {', '.join(OBJECTIVES)}")
@@ -188,6 +202,13 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
     for path, (low, high) in bounds.items():
         free_parameter(template, path, low, high, allow)
     for test in tests:
+        if is_compression(test):
+            try:
+                ball = load_ball(sub_ball(template, test.layers), allow=allow)
+            except InputError as error:
+                raise InputError(f"--compression {test.source or test.name}: {error}") from None
+            check_against_ball(test, ball)
+            continue
         try:
             sub_ball(template, test.layers)
             check_fe_speed(test.impact_speed_m_s, allow)
@@ -201,12 +222,28 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
         if names.count(stage.name) > 1:
             raise InputError(f"--stage name={stage.name}: stage names must be unique")
         select_free(stage, bounds)
-        select_tests(stage, tests)
-        n_objectives = len(stage.objectives or objectives)
+        chosen_tests = select_tests(stage, tests)
+        stage_objectives = stage_objectives_of(stage, objectives, chosen_tests)
+        check_objectives_apply(stage_objectives, chosen_tests,
+                               f"--stage {stage.name}" if stage.objectives or len(stages) > 1
+                               else "--objectives")
+        kinds = {is_compression(t) for t in chosen_tests}
+        if "gradient" in method and len(kinds) > 1:
+            raise InputError(f"--stage {stage.name}: --method {method} cannot refine against "
+                             "compression and impact tests in one stage (the compression "
+                             "curve's Jacobian is by finite differences, the impact runs' by "
+                             "JAX); give them separate stages (tests=...)")
+        n_objectives = len(stage_objectives)
         if (weights is not None and "nsga2" in method and decision in ("pseudo-weights", "asf")
                 and len(weights) != n_objectives):
             raise InputError(f"--weights: {len(weights)} given, stage {stage.name} has "
                              f"{n_objectives} objectives")
+
+
+def stage_objectives_of(stage: Stage, objectives, tests) -> tuple[str, ...]:
+    """A stage's objectives: its own, else the calibration's, else those of its tests' kinds
+    (`problem.default_objectives`: nrmse, cor, contact_time and/or compression)."""
+    return tuple(stage.objectives or objectives or default_objectives(tests))
 
 
 def stage_folder(out: Path, stage: Stage) -> Path:
@@ -251,13 +288,15 @@ def select_tests(stage: Stage, tests: list) -> list:
 
 
 def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]], options, *,
-              objectives=("nrmse", "cor", "contact_time"), method: str = "nsga2",
+              objectives=None, method: str = "nsga2",
               stages: list[Stage] | None = None, population: int = 24, generations: int = 8,
               seed: int = 0, decision: str = "knee", weights=None, out: Path | None = None,
               resume: bool = False, max_evaluations: int = 30,
               verbose: bool = True, allow=()) -> dict[str, Any]:
-    """Calibrate `template` (ball specification) against `tests` (`CalibrationTest`s).
-    `bounds`: path -> (low, high) (SI). Returns the result: `chosen` (parameters, objectives,
+    """Calibrate `template` (ball specification) against `tests` (`CalibrationTest`s and/or
+    `compression.CompressionTest`s). `bounds`: path -> (low, high) (SI). `objectives`: None for
+    those of each stage's tests (nrmse, cor, contact_time for impact tests, compression for
+    compression tests). Returns the result: `chosen` (parameters, objectives,
     per-test comparisons), `pareto` (the last stage's front), `evaluations` (FE runs),
     `stages`, `wall_time_s`, `ball` (the calibrated specification), `not_identified` (the
     refined parameters that the tests do not determine) -- JSON-able -- and `stage_results` (the
@@ -278,7 +317,8 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
         problem = CalibrationProblem(current, select_tests(stage, tests),
                                      [free_parameter(current, p, *bounds[p], allow)
                                       for p in paths],
-                                     tuple(stage.objectives or objectives), allow=allow)
+                                     stage_objectives_of(stage, objectives, select_tests(
+                                         stage, tests)), allow=allow)
         folder = stage_folder(out, stage) if out is not None else None
         # a stage the stopped calibration never reached starts afresh
         stage_resume = resume and (folder is None or (folder / MANIFEST_FILE).exists())

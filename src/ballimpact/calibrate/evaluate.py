@@ -26,7 +26,7 @@ from .problem import CalibrationProblem, sub_ball
 SHIFT_FRACTION = 0.05
 #: objective -> key of `universal.compare.compare`, taken in absolute value
 _KEYS = {"nrmse": "force_nrmse", "cor": "cor_error", "contact_time": "contact_time_relative_error",
-         "peak_force": "peak_force_relative_error"}
+         "peak_force": "peak_force_relative_error", "compression": "compression_nrmse"}
 
 
 @dataclass
@@ -97,15 +97,24 @@ def measured_like(test, run):
 def compare_run(test, fe) -> dict:
     """The comparison of an FE run with a test (`universal.compare.compare` keys): the force
     NRMSE of the run's pulse from its first touch, aligned with the test's; contact time, peak
-    and COR of the run measured as the test was (`measured_like`)."""
+    and COR of the run measured as the test was (`measured_like`). A compression test's with
+    its FE curve: `compression.compare_compression`."""
+    from .compression import compare_compression, is_compression
+
+    if is_compression(test):
+        return compare_compression(test, fe)
     simulated = measured_like(test, fe)
     nrmse = aligned_nrmse(test, fe.history["time_s"], fe.history["contact_force_n"])
     return compare(test.features.values, simulated.values, nrmse)
 
 
 def objective_values(comparisons: list[dict], objectives) -> np.ndarray:
-    """Objectives (mean over the tests) from one design's comparisons."""
-    return np.array([np.mean([abs(c[_KEYS[o]]) for c in comparisons]) for o in objectives])
+    """Objectives (mean over the tests they apply to: `compression` over the compression tests,
+    the others over the impact tests) from one design's comparisons."""
+    return np.array([np.mean([abs(c[_KEYS[o]]) for c in comparisons
+                              if _KEYS[o] in c and ("compression_nrmse" in c) == (
+                                  o == "compression")])
+                     for o in objectives])
 
 
 def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluation:
@@ -116,6 +125,7 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
 
     from ..fe import load_ball, simulate_batch
     from ..fe.solver import FailedRun
+    from .compression import is_compression
 
     started = time.perf_counter()
     unit = np.atleast_2d(np.asarray(unit, dtype=np.float64))
@@ -137,6 +147,9 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
     for test, balls in zip(problem.tests, tested):
         if not valid:
             break
+        if is_compression(test):
+            _evaluate_compression(test, balls, valid, options, per_test, failed)
+            continue
         # a search visits many designs: their material-stability warnings would bury the
         # output; the chosen design's runs warn again
         with warnings.catch_warnings():
@@ -160,3 +173,22 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
         else:
             per_test[i] = []
     return Evaluation(unit, objectives, per_test, failed, time.perf_counter() - started)
+
+
+def _evaluate_compression(test, balls, valid, options, per_test, failed) -> None:
+    """One quasi-static compression solve per design (no batching: each is a sequence of
+    Newton solves on the host); a solve that does not converge fails its design."""
+    from ..errors import SimulationError
+    from .compression import compare_compression, compression_run
+
+    for i, ball in zip(valid, balls):
+        if failed[i] is not None:
+            continue
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", InputWarning)
+                curve = compression_run(test, ball, options)
+        except (SimulationError, InputError) as error:
+            failed[i] = f"test {test.name}: {error}"
+            continue
+        per_test[i].append(compare_compression(test, curve))

@@ -213,12 +213,18 @@ def force_history(kernel, params, speed, dt, n_chunks: int):
 
 
 def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:
-    """The FE runs (standard solver) of the design at unit coordinates u, one per test."""
+    """The FE runs (standard solver) of the design at unit coordinates u, one per test: the
+    quasi-static curve (`fe.compress`) of a compression test."""
     from ..fe import load_ball, simulate
+    from .compression import compression_run, is_compression
 
-    return [simulate(load_ball(sub_ball(problem.spec(u), test.layers), allow=problem.allow),
-                     test.impact_speed_m_s, options, allow=problem.allow)
-            for test in problem.tests]
+    spec = problem.spec(u)
+    runs = []
+    for test in problem.tests:
+        ball = load_ball(sub_ball(spec, test.layers), allow=problem.allow)
+        runs.append(compression_run(test, ball, options) if is_compression(test) else
+                    simulate(ball, test.impact_speed_m_s, options, allow=problem.allow))
+    return runs
 
 
 def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[SmoothMisfit]:

@@ -11,7 +11,8 @@ import numpy as np
 from ..plotting import _save, plt
 
 _LABELS = {"nrmse": "force NRMSE (%)", "cor": "|COR error| (x100)",
-           "contact_time": "|contact time error| (%)", "peak_force": "|peak force error| (%)"}
+           "contact_time": "|contact time error| (%)", "peak_force": "|peak force error| (%)",
+           "compression": "compression force NRMSE (%)"}
 
 
 def plot_pareto(result, chosen: int | None, path: str | Path, title: str | None = None) -> Path:
@@ -66,10 +67,22 @@ def plot_convergence(result, path: str | Path, title: str | None = None) -> Path
 
 
 def plot_pulses(tests, runs, path: str | Path, title: str | None = None) -> Path:
-    """Each test's pulse with the calibrated ball's FE pulse."""
+    """Each test's pulse with the calibrated ball's FE pulse (a compression test's
+    force-deflection curve with the FE curve)."""
+    from .compression import is_compression
+
     figure, axes = plt.subplots(1, len(tests), figsize=(4.6 * len(tests), 3.8),
                                 constrained_layout=True, squeeze=False)
     for ax, test, fe in zip(axes[0], tests, runs):
+        if is_compression(test):
+            ax.plot(test.deflection_m * 1e3, test.force_n * 1e-3, "o", ms=3, color="0.3",
+                    label=f"test {test.name}")
+            ax.plot(fe.deflection_m * 1e3, fe.force_n * 1e-3, "--", color="C3",
+                    label="calibrated")
+            rate = "long-term" if test.rate_m_s is None else f"{test.rate_m_s:g} m/s"
+            ax.set(xlabel="deflection (mm)", ylabel="force (kN)", title=f"compression, {rate}")
+            ax.legend(fontsize=8)
+            continue
         t, f = test.pulse
         ax.plot(t * 1e3, f * 1e-3, color="0.3", label=f"test {test.name}")
         h = fe.history

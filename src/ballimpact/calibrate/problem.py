@@ -25,7 +25,54 @@ import numpy as np
 
 from ..errors import InputError, InputWarning
 
-OBJECTIVES = ("nrmse", "cor", "contact_time", "peak_force")
+OBJECTIVES = ("nrmse", "cor", "contact_time", "peak_force", "compression")
+#: the objectives of each kind of test: impact tests (a force pulse) and compression tests (a
+#: force-deflection curve, `compression.CompressionTest`)
+IMPACT_OBJECTIVES = ("nrmse", "cor", "contact_time", "peak_force")
+COMPRESSION_OBJECTIVES = ("compression",)
+#: the default objectives of a stage: those of the kinds of test it has
+DEFAULT_IMPACT_OBJECTIVES = ("nrmse", "cor", "contact_time")
+
+
+def kind_of(test) -> str:
+    """"compression" for a compression test, else "impact"."""
+    from .compression import is_compression
+
+    return "compression" if is_compression(test) else "impact"
+
+
+def applies(objective: str, test) -> bool:
+    """Whether an objective is computed for a test (`compression` for compression tests, the
+    others for impact tests)."""
+    return (objective in COMPRESSION_OBJECTIVES) == (kind_of(test) == "compression")
+
+
+def default_objectives(tests) -> tuple[str, ...]:
+    """The objectives of a stage that names none: nrmse, cor, contact_time for impact tests,
+    compression for compression tests (both where it has both)."""
+    kinds = {kind_of(t) for t in tests}
+    return (DEFAULT_IMPACT_OBJECTIVES if "impact" in kinds else ()) + \
+        (COMPRESSION_OBJECTIVES if "compression" in kinds else ())
+
+
+def check_objectives_apply(objectives, tests, where: str) -> None:
+    """`InputError` (naming `where`, e.g. "--stage core") when an objective applies to none of
+    the tests, or a test has none of the objectives."""
+    for o in objectives:
+        if not any(applies(o, t) for t in tests):
+            kind = "compression" if o in COMPRESSION_OBJECTIVES else "impact"
+            have = ", ".join(f"{t.name} ({kind_of(t)})" for t in tests)
+            raise InputError(f"{where}: objective {o} applies to {kind} tests only, and the "
+                             f"stage has none (tests: {have}); give objectives="
+                             f"{','.join(default_objectives(tests))} or other tests")
+    for t in tests:
+        if not any(applies(o, t) for o in objectives):
+            allowed = COMPRESSION_OBJECTIVES if kind_of(t) == "compression" \
+                else IMPACT_OBJECTIVES
+            raise InputError(f"{where}: objectives {','.join(objectives)} do not apply to the "
+                             f"{kind_of(t)} test {t.name} (its objectives: "
+                             f"{', '.join(allowed)}); add one, or leave the test out of the "
+                             "stage (tests=...)")
 
 
 @dataclass(frozen=True)
@@ -260,9 +307,15 @@ class CalibrationProblem:
         if bad or not self.objectives:
             raise InputError(f"--objectives {','.join(self.objectives)}: allowed any of "
                              f"{', '.join(OBJECTIVES)}")
+        check_objectives_apply(self.objectives, self.tests, "--objectives")
         # the tests' speeds: `calibrate` checks them before any run, and every FE run does
         for test in self.tests:
             ball = load_ball(sub_ball(self.template, test.layers), allow=self.allow)
+            if kind_of(test) == "compression":
+                from .compression import check_against_ball
+
+                check_against_ball(test, ball)
+                continue
             mass = test.features.mass_kg
             if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:
                 warnings.warn(f"test {test.name}: mass_kg = {mass:g} differs from the ball's "

@@ -212,8 +212,23 @@ def _digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()[:16]
 
 
+def _test_keys(test) -> tuple[str, ...]:
+    """The per-test comparison columns of a test's kind."""
+    from .compression import COMPARISON_KEYS, is_compression
+
+    return COMPARISON_KEYS if is_compression(test) else _PER_TEST
+
+
 def _test_digest(test) -> str:
-    """A digest of what the search compares against: the test's pulse and feature values."""
+    """A digest of what the search compares against: the test's pulse and feature values (a
+    compression test's curve, platen rate and increments)."""
+    from .compression import is_compression
+
+    if is_compression(test):
+        setting = json.dumps({"rate_m_s": test.rate_m_s, "steps": test.steps})
+        return _digest(np.ascontiguousarray(test.deflection_m, np.float64).tobytes()
+                       + np.ascontiguousarray(test.force_n, np.float64).tobytes()
+                       + setting.encode())
     t, f = test.pulse
     values = json.dumps(dict(test.features.values), sort_keys=True, default=repr)
     return _digest(np.ascontiguousarray(t, np.float64).tobytes()
@@ -340,7 +355,7 @@ def _columns(problem: CalibrationProblem, rows: dict) -> dict[str, list]:
     for j, name in enumerate(problem.objectives):
         table[name] = objectives[:, j].tolist()
     for k, test in enumerate(problem.tests):
-        for key in _PER_TEST:
+        for key in _test_keys(test):
             table[f"{test.name}:{key}"] = [c[k][key] if c else float("nan")
                                            for c in rows["per_test"]]
     table["failed"] = [reason or "" for reason in rows["failed"]]
@@ -382,7 +397,7 @@ def _load_checkpoint(problem: CalibrationProblem, out: Path) -> dict[bytes, Any]
     names = [f"u:{p.path}" for p in problem.free]
     needed = (["generation", "failed"] + names + [p.path for p in problem.free]
               + list(problem.objectives)
-              + [f"{t.name}:{key}" for t in problem.tests for key in _PER_TEST])
+              + [f"{t.name}:{key}" for t in problem.tests for key in _test_keys(t)])
     missing = [name for name in needed if name not in table]
     if missing:
         raise InputError(f"--resume: {path} is not this search's checkpoint (no column "
@@ -406,7 +421,7 @@ def _load_checkpoint(problem: CalibrationProblem, out: Path) -> dict[bytes, Any]
     cache: dict[bytes, Any] = {}
     for i in range(len(unit)):
         tests = [] if failed[i] else [
-            {key: float(per_test[f"{t.name}:{key}"][i]) for key in _PER_TEST}
+            {key: float(per_test[f"{t.name}:{key}"][i]) for key in _test_keys(t)}
             for t in problem.tests]
         cache[unit[i].tobytes()] = (objectives[i], failed[i], tests)
     return cache

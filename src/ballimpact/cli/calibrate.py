@@ -1,4 +1,5 @@
-"""`ballimpact calibrate`: material constants of a layered FE ball from impact tests."""
+"""`ballimpact calibrate`: material constants of a layered FE ball from impact and compression
+tests."""
 
 from __future__ import annotations
 
@@ -32,22 +33,35 @@ def add_parser(verbs) -> argparse.ArgumentParser:
     p = verbs.add_parser(
         "calibrate", help="calibrate a layered FE ball's material constants against tests",
         description="Multi-objective search (pymoo NSGA-II; NSGA-III for four objectives) of "
-                    "free parameters of a ball specification against impact tests, a decision "
+                    "free parameters of a ball specification against impact tests and/or "
+                    "compression tests (force-deflection curves), a decision "
                     "on the Pareto front, and/or a Levenberg-Marquardt refinement with gradients "
                     "through the explicit FE runs (JAX). Stages calibrate component by "
                     "component, earlier results frozen (thesis 5.2-5.3).")
     p.add_argument("--ball", required=True, help="template: preset or ball specification file")
-    p.add_argument("--test", action="append", required=True, metavar="FILE[:SPEED[:LAYER]]",
+    p.add_argument("--test", action="append", default=[], metavar="FILE[:SPEED[:LAYER]]",
                    help="test record (CSV/WAV), named by its file stem (a repeated stem gets "
                         "-N); SPEED (m/s) overrides the side file's and --impact-speed-m-s; "
                         "LAYER: the outermost layer of the ball tested (e.g. core) if not the "
                         "whole ball. Repeat for several tests")
+    p.add_argument("--compression", action="append", default=[], metavar="FILE.csv[:LAYER]",
+                   help="compression test: a force-deflection CSV (header deflection_m or "
+                        "deflection_mm, force_n or force_kn; '#' comments), named by its file "
+                        "stem; LAYER: the outermost layer of the part tested (e.g. core). "
+                        "Objective: compression. Repeat for several")
+    p.add_argument("--compression-rate-m-s", type=float, metavar="R",
+                   help="platen speed of the compression tests (m/s); default: the long-term, "
+                        "fully relaxed curve")
+    p.add_argument("--compression-steps", type=int, default=20,
+                   help="increments of the FE compression curve up to the largest measured "
+                        "deflection (default 20)")
     p.add_argument("--free", action="append", required=True, metavar="PATH=LOW:HIGH",
                    help="free parameter by its path in the ball specification, with bounds "
                         "(SI), e.g. layers.core.material.c10_pa=3e6:7e6. Repeat")
-    p.add_argument("--objectives", default="nrmse,cor,contact_time",
-                   help=f"comma-separated, any of {', '.join(OBJECTIVES)} "
-                        "(default nrmse,cor,contact_time)")
+    p.add_argument("--objectives",
+                   help=f"comma-separated, any of {', '.join(OBJECTIVES)} (default "
+                        "nrmse,cor,contact_time for impact tests, compression for compression "
+                        "tests)")
     p.add_argument("--method", choices=METHODS, default="nsga2",
                    help="nsga2 (default), gradient (Levenberg-Marquardt from the template's "
                         "values), "
@@ -88,6 +102,36 @@ def parse_test(text: str) -> tuple[Path, float | None, str | None]:
     return Path(path), speed, layer or None
 
 
+def parse_compression(text: str) -> tuple[Path, str | None]:
+    """FILE.csv[:LAYER] of --compression."""
+    path, _, layer = text.partition(":")
+    if not path:
+        raise InputError(f"--compression {text!r}: expected FILE.csv[:LAYER]")
+    return Path(path), layer or None
+
+
+def load_compression_tests(args: argparse.Namespace, taken: set) -> list:
+    """The --compression tests (`calibrate.compression.CompressionTest`), named by file stem
+    (one already taken gets -N)."""
+    from ..calibrate.compression import CompressionTest, read_compression_csv
+
+    rate = args.compression_rate_m_s
+    if rate is not None and not (math.isfinite(rate) and rate > 0):
+        raise InputError(f"--compression-rate-m-s {rate:g}: must be > 0 (m/s), the platen "
+                         "speed; leave it out for the long-term (fully relaxed) curve")
+    steps = args.compression_steps
+    if steps < 1:
+        raise InputError(f"--compression-steps {steps}: must be an integer >= 1")
+    tests = []
+    for text in args.compression:
+        path, layer = parse_compression(text)
+        deflection, force = read_compression_csv(path)
+        name = path.stem if path.stem not in taken else f"{path.stem}-{len(taken)}"
+        taken.add(name)
+        tests.append(CompressionTest(name, deflection, force, layer, rate, steps, str(path)))
+    return tests
+
+
 def load_tests(args: argparse.Namespace) -> list:
     from ..calibrate.problem import CalibrationTest
 
@@ -106,7 +150,7 @@ def load_tests(args: argparse.Namespace) -> list:
         name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
         names.add(name)
         tests.append(CalibrationTest(name, processed.features, layer))
-    return tests
+    return tests + load_compression_tests(args, names)
 
 
 def command_line(args: argparse.Namespace) -> str:
@@ -143,7 +187,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         check_output_folder(args.out, "--out")
     bounds = assignments(args.free, "--free", bounds=True)
     stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
-    objectives = tuple(o.strip() for o in args.objectives.split(",") if o.strip())
+    objectives = None if args.objectives is None else \
+        tuple(o.strip() for o in args.objectives.split(",") if o.strip())
+    if not args.test and not args.compression:
+        raise InputError("--test or --compression: give at least one test (an impact record, "
+                         "or a compression curve)")
     weights = None
     if args.weights:
         try:
@@ -154,7 +202,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if not all(math.isfinite(w) and w >= 0 for w in weights):
             raise InputError(f"--weights {args.weights}: expected finite numbers >= 0")
     tests = load_tests(args)
-    template = load_ball(args.ball, tests[0].impact_speed_m_s, allow=args.allow).to_dict()
+    impacts = [t for t in tests if hasattr(t, "features")]
+    speed = impacts[0].impact_speed_m_s if impacts else args.impact_speed_m_s
+    template = load_ball(args.ball, speed, allow=args.allow).to_dict()
     options = solver_options(args)
     use_compilation_cache()
     if "nsga2" in args.method:  # what Ctrl-C (cli.main) adds to its line

@@ -1,0 +1,130 @@
+"""`ballimpact material fit|check`: outputs, files written, and one-line bad input."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ballimpact.cli import main
+from ballimpact.fe.materials import material_from_dict
+from ballimpact.fe.materials.stability import mooney_rivlin_drucker
+
+DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
+UNI = f"{DATA / 'treloar1944_uniaxial.csv'}:uniaxial"
+BI = f"{DATA / 'treloar1944_biaxial.csv'}:biaxial"
+PLANAR = f"{DATA / 'treloar1944_planar.csv'}:planar"
+THESIS_CORE = {"model": "mooney_rivlin", "c10_pa": 3.09068828e6, "c01_pa": -1.49503368e6}
+
+
+def run_json(capsys, argv):
+    capsys.readouterr()
+    assert main([str(a) for a in argv] + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_fit_json_out_and_plot(tmp_path, capsys):
+    out_file, plot = tmp_path / "core.json", tmp_path / "fit.png"
+    result = run_json(capsys, ["material", "fit", UNI, BI, PLANAR, "--model", "yeoh",
+                               "--out", out_file, "--plot", plot])
+    assert set(result) >= {"material", "r2", "standard_errors", "stable_range", "notes"}
+    written = json.loads(out_file.read_text())
+    assert written == result["material"]
+    assert material_from_dict(written).model == "yeoh"
+    assert plot.stat().st_size > 10_000
+    assert result["r2"]["overall"] > 0.98 and set(result["stable_range"]) == {
+        "uniaxial", "equibiaxial", "planar"}
+    # the same numbers as the library (JSON round trip exact)
+    from ballimpact.material.data import read_test
+    from ballimpact.material.hyperelastic import fit_hyperelastic
+    fit = fit_hyperelastic([read_test(DATA / f"treloar1944_{m}.csv", k) for m, k in
+                            (("uniaxial", "uniaxial"), ("biaxial", "biaxial"),
+                             ("planar", "planar"))], "yeoh")
+    assert written["c20_pa"] == fit.material["c20_pa"]
+
+
+def test_fit_table_when_not_json(capsys):
+    assert main(["material", "fit", UNI, "--model", "neo_hookean"]) == 0
+    out = capsys.readouterr().out
+    assert "c10_pa" in out and "R^2" in out and "Drucker-stable" in out
+
+
+def test_check_material_thesis_set_matches_analytic(tmp_path, capsys):
+    """Thesis table 5-3: the stable range per mode from `check` equals the edges of the analytic
+    Mooney-Rivlin Drucker check (the unstable intervals nearest stretch 1)."""
+    path = tmp_path / "core.json"
+    path.write_text(json.dumps(THESIS_CORE))
+    result = run_json(capsys, ["material", "check", "--material", path])
+    ranges = result["layers"][0]["stable_range"]
+    unstable = mooney_rivlin_drucker(THESIS_CORE["c10_pa"], THESIS_CORE["c01_pa"], 0.05, 20.0)
+    for mode, (low, high) in ranges.items():
+        below = [r["stretch_to"] for r in unstable if r["mode"] == mode and r["stretch_to"] <= 1]
+        above = [r["stretch_from"] for r in unstable if r["mode"] == mode and r["stretch_from"] >= 1]
+        assert low == pytest.approx(max(below, default=0.05), rel=1e-6), mode
+        assert high == pytest.approx(min(above, default=20.0), rel=1e-6), mode
+    # closed form: equibiaxial compression fails where A1 = C10 l^2 + C01 l^-2 changes sign
+    # (det = A1 (A1 + 2 A3) with A3 > 0), l = (-C01 / C10)^(1/4) = 0.834
+    edge = (-THESIS_CORE["c01_pa"] / THESIS_CORE["c10_pa"]) ** 0.25
+    assert ranges["equibiaxial"][0] == pytest.approx(edge, rel=1e-6)
+
+
+def test_bad_input(tmp_path, bad_input):
+    bad = tmp_path / "bad.csv"
+    bad.write_text("stretch,nominal_stress_pa\n1,0\n1.3,5\n1.2,7\n")
+    relax = tmp_path / "relax.csv"
+    relax.write_text("time_s,relaxation_modulus_ratio\n0,1\n1,0.5\n")
+    uni = str(DATA / "treloar1944_uniaxial.csv")
+    bad_input(["material", "fit", f"{bad}:uniaxial", "--model", "yeoh"], str(bad), "line 4",
+              "monotone")
+    bad_input(["material", "fit", uni, "--model", "yeoh"], "FILE:MODE", "uniaxial")
+    bad_input(["material", "fit", f"{uni}:shear", "--model", "yeoh"], "FILE:MODE")
+    bad_input(["material", "fit", UNI, "--model", "foam"], "--model foam", "mooney_rivlin")
+    bad_input(["material", "fit", UNI, "--model", "mooney_rivlin", "--order", "2"], "--order",
+              "only for")
+    bad_input(["material", "fit", UNI, "--model", "ogden", "--order", "4"], "1 to 3")
+    bad_input(["material", "fit", UNI, "--model", "prony", "--terms", "2"], "prony",
+              "stress data")
+    bad_input(["material", "fit", f"{relax}:relaxation", "--model", "yeoh"], "relaxation",
+              "prony")
+    bad_input(["material", "fit", UNI, "--model", "yeoh", "--terms", "2"], "--terms",
+              "--model prony")
+    bad_input(["material", "fit", UNI, "--model", "yeoh", "--error", "log"], "--error")
+    bad_input(["material", "fit", UNI, UNI, "--model", "yeoh"], "given twice")
+    bad_input(["material", "fit", UNI, "--model", "mooney_rivlin", "--out",
+               tmp_path / "mr.json"], "not written", "c10_pa + c01_pa")
+    bad_input(["material", "check", "--material", tmp_path / "none.json"], "cannot read")
+    bad_input(["material", "check", "--material", bad, "--speed-m-s", "20"], "--speed-m-s",
+              "--ball")
+
+
+def test_prony_branch(tmp_path, capsys):
+    viscoelastic = pytest.importorskip("ballimpact.material.viscoelastic")
+    if not hasattr(viscoelastic, "fit_relaxation") or not hasattr(viscoelastic, "merge_prony"):
+        pytest.skip("viscoelastic API not there yet")
+    t = np.geomspace(1e-6, 1e-1, 40)
+    ratio = 1 - 0.3 * (1 - np.exp(-t / 1e-4)) - 0.2 * (1 - np.exp(-t / 1e-2))
+    path = tmp_path / "relax.csv"
+    path.write_text("time_s,relaxation_modulus_ratio\n" + "".join(
+        f"{a:.17g},{b:.17g}\n" for a, b in zip(t, ratio)))
+    base = tmp_path / "core.json"
+    base.write_text(json.dumps({"model": "neo_hookean", "c10_pa": 2e5}))
+    result = run_json(capsys, ["material", "fit", f"{path}:relaxation", "--model", "prony",
+                               "--terms", "2", "--merge", base])
+    prony = sorted(result["material"]["prony"], key=lambda p: p["tau_s"])
+    assert [p["g"] for p in prony] == pytest.approx([0.3, 0.2], rel=1e-4)
+    assert [p["tau_s"] for p in prony] == pytest.approx([1e-4, 1e-2], rel=1e-4)
+    assert all(p["k"] == 0.0 for p in prony)
+    assert material_from_dict(result["material"]).sum_g == pytest.approx(0.5, rel=1e-4)
+
+
+@pytest.mark.slow
+def test_check_ball_at_speed(capsys):
+    """The 3-layer cricket ball at 20 m/s: the stretches of the run lie inside every layer's
+    stable range (docs/fe.md: the thesis' sets fail only outside about 0.6-1.3)."""
+    result = run_json(capsys, ["material", "check", "--ball", "cricket-3layer",
+                               "--speed-m-s", "20"])
+    low, high = result["stretch_range"]
+    assert 0.3 < low < 1.0 < high < 3.0
+    for layer in result["layers"]:
+        for mode, (a, b) in layer["stable_range"].items():
+            assert layer["inside"][mode] == (a <= low and high <= b)
