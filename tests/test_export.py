@@ -378,9 +378,9 @@ def test_import_material_reads_users_blocks(tmp_path, capsys):
     code, _, err = run(capsys, "import-material", user)
     assert code == 2 and "--units" in err
     bad = tmp_path / "bad.inp"
-    bad.write_text("*MATERIAL, NAME=x\n*HYPERELASTIC, OGDEN, N=2\n1, 2, 3, 4, 0, 0\n")
+    bad.write_text("*MATERIAL, NAME=x\n*HYPERELASTIC, ARRUDA-BOYCE\n1, 2, 0\n")
     code, _, err = run(capsys, "import-material", bad, "--units", "si")
-    assert code == 2 and "OGDEN: not supported" in err and "bad.inp" in err
+    assert code == 2 and "ARRUDA-BOYCE: not supported" in err and "bad.inp" in err
     code, _, err = run(capsys, "import-material", tmp_path / "missing.inp")
     assert code == 2 and "missing.inp: cannot read" in err
     code, _, err = run(capsys, "import-material", user, "--units", "furlongs")
@@ -397,3 +397,120 @@ def test_layer_labels_stay_distinct_from_each_other_and_the_decks_own():
         {**layer, "name": "a_b", "outer_radius_m": 0.03},
         {**layer, "name": "2nd", "outer_radius_m": 0.04}]})
     assert layer_labels(ball) == ["PLANE_0", "A_B", "A_B_2", "L_2ND"]
+
+
+# ---- Yeoh and Ogden rubber ---------------------------------------------------------------------
+_RUBBER_PRONY = [{"g": 0.3, "k": 0.0, "tau_s": 1e-4}]
+RUBBER_SPEC = {"name": "rubber", "layers": [
+    {"name": "core", "outer_radius_m": 0.02, "density_kg_m3": 900.0,
+     "material": {"model": "yeoh", "c10_pa": 1.2e6, "c20_pa": -3e4, "c30_pa": 800.0,
+                  "d1_per_pa": 0.0, "prony": _RUBBER_PRONY}},
+    {"name": "cover", "outer_radius_m": 0.036, "density_kg_m3": 1100.0,
+     "material": {"model": "ogden", "d1_per_pa": 5e-8, "moduli": "instantaneous",
+                  "prony": _RUBBER_PRONY,
+                  "terms": [{"mu_pa": 1.5e6, "alpha": 2.5}, {"mu_pa": -2e4, "alpha": -2.0},
+                            {"mu_pa": 3e3, "alpha": 6.0}]}}]}
+
+
+@pytest.mark.parametrize("solver", ["axisymmetric", "3d"])
+def test_yeoh_and_ogden_round_trip_through_abaqus(solver, tmp_path, capsys):
+    ball = load_ball(RUBBER_SPEC)
+    path = tmp_path / "rubber.inp"
+    export_ball(ball, path, "abaqus", solver=solver, setup=ImpactSetup(20.0), divisions=4)
+    text = path.read_text()
+    # MPa: C10, C20, C30, D1 = 0 (ABAQUS's K0 = 20 mu0), D2 = D3 = 0
+    assert "*HYPERELASTIC, YEOH, MODULI=LONG TERM\n1.2, -0.03, 0.0008, 0, 0, 0\n" in text
+    # mu_i (MPa), alpha_i, then D_1 (1/MPa), D_2 = D_3 = 0: eight values a line
+    assert ("*HYPERELASTIC, OGDEN, N=3, MODULI=INSTANTANEOUS\n1.5, 2.5, -0.02, -2, 0.003, 6, "
+            "0.05, 0\n0\n*VISCOELASTIC, TIME=PRONY\n0.3, 0, 0.0001\n") in text
+    assert same_spec(load_ball(read_ball(text)).to_dict(), ball.to_dict())
+    out = tmp_path / "rubber.json"
+    code, _, err = run(capsys, "import-material", path, "--ball", "--out", out, "--json")
+    assert code == 0, err
+    assert same_spec(load_ball(out).to_dict(), ball.to_dict())
+
+
+def test_calculix_rubber_cards_carry_d1_and_refuse_what_ccx_cannot_read(tmp_path):
+    ball = load_ball(RUBBER_SPEC)
+    path = tmp_path / "rubber.inp"
+    written = export_ball(ball, path, "calculix", solver="3d", setup=ImpactSetup(20.0),
+                          divisions=4)
+    text = path.read_text()
+    # each layer's elastic ball in its own convention; D1 = 0 becomes 2 / K with K = 20 x the
+    # instantaneous mu0 (long-term C10 given: mu0 = 2 C10 / (1 - 0.3)), unrelaxed (k = 0)
+    k_core = 20 * 2 * 1.2e6 / 0.7
+    assert f"*HYPERELASTIC, YEOH\n1.2, -0.03, 0.0008, {2 / k_core * 1e6:.12g}, 0, 0\n" in text
+    assert "*HYPERELASTIC, OGDEN, N=3\n1.5, 2.5, -0.02, -2, 0.003, 6, 0.05, 0\n0\n" in text
+    # --moduli long_term: the instantaneous Ogden set times (1 - 0.3), D1 as given (k = 0)
+    export_ball(ball, path, "calculix", solver="3d", ball_only=True, moduli="long_term")
+    assert ("*HYPERELASTIC, OGDEN, N=3\n1.05, 2.5, -0.014, -2, 0.0021, 6, 0.05, 0\n0\n"
+            in path.read_text())
+    assert any("D1 = 0 written as D1 = 2/K" in note for note in written.notes)
+    four = load_ball({**RUBBER_SPEC, "layers": [{**RUBBER_SPEC["layers"][1], "material": {
+        **RUBBER_SPEC["layers"][1]["material"],
+        "terms": RUBBER_SPEC["layers"][1]["material"]["terms"] + [{"mu_pa": 1e3, "alpha": 8.0}]}}]})
+    with pytest.raises(InputError, match="at most 3 terms"):
+        export_ball(four, tmp_path / "four.inp", "calculix", solver="3d", ball_only=True)
+    export_ball(four, tmp_path / "four.inp", "abaqus", solver="3d", ball_only=True)  # ABAQUS: 6
+
+
+def test_lsdyna_writes_yeoh_and_ogden(tmp_path):
+    ball = load_ball(RUBBER_SPEC)
+    path = tmp_path / "rubber.k"
+    export_ball(ball, path, "lsdyna", solver="3d", setup=ImpactSetup(20.0), divisions=4)
+    text = path.read_text()
+    counts = lsdyna.validate(text)
+    assert counts["*MAT_HYPERELASTIC_RUBBER_TITLE"] == 1 and counts["*MAT_OGDEN_RUBBER_TITLE"] == 1
+
+    def fields(line):
+        return [float(line[i:i + 10]) if line[i:i + 10].strip() else 0.0
+                for i in range(0, len(line), 10)]
+
+    yeoh = text.split("*MAT_HYPERELASTIC_RUBBER_TITLE\n")[1].splitlines()
+    # polynomial card C10, C01, C11, C20, C02, C30 (long-term, MPa)
+    assert fields(yeoh[2])[:6] == pytest.approx([1.2, 0.0, 0.0, -0.03, 0.0, 0.0008])
+    ogden = text.split("*MAT_OGDEN_RUBBER_TITLE\n")[1].splitlines()
+    mus, alphas = fields(ogden[2])[:3], fields(ogden[3])[:3]
+    assert alphas == [2.5, -2.0, 6.0]
+    # LS-DYNA's energy sum_j mu_j / a_j (sum_i l_i^a_j - 3) equals ours, the long-term
+    # sum_j 2 mu_j / a_j^2 (...), at isochoric stretches (MPa)
+    lam = np.array([1.7, 0.9, 1 / (1.7 * 0.9)])
+    ours = sum(2 * m * 0.7 / a ** 2 * (np.sum(lam ** a) - 3)
+               for m, a in ((1.5, 2.5), (-0.02, -2.0), (0.003, 6.0)))
+    theirs = sum(m / a * (np.sum(lam ** a) - 3) for m, a in zip(mus, alphas))
+    assert theirs == pytest.approx(ours, rel=1e-6)
+
+
+def test_import_material_reads_yeoh_and_ogden_blocks(tmp_path, capsys):
+    user = tmp_path / "rubber.inp"
+    user.write_text("""*MATERIAL, NAME=tread
+*DENSITY
+1.2e-9
+*HYPERELASTIC, YEOH
+0.6, -0.01, 0.0002, 0.002
+*MATERIAL, NAME=seal
+*DENSITY
+1.0e-9
+*HYPERELASTIC, OGDEN, N=2, MODULI=INSTANTANEOUS
+0.9, 3., -0.05, -1.5, 0.004, 0.
+*VISCOELASTIC, TIME=PRONY
+0.4, 0.2, 1e-3
+""")
+    code, out, err = run(capsys, "import-material", user, "--units", "mm-tonne-s")
+    assert code == 0, err
+    tread, seal = json.loads(out)["materials"]
+    assert tread["material"] == {"model": "yeoh", "c10_pa": 6e5, "c20_pa": -1e4, "c30_pa": 200.0,
+                                 "d1_per_pa": 2e-9, "moduli": "long_term"}
+    assert seal["material"] == {"model": "ogden", "d1_per_pa": 4e-9, "moduli": "instantaneous",
+                                "terms": [{"mu_pa": 9e5, "alpha": 3.0},
+                                          {"mu_pa": -5e4, "alpha": -1.5}],
+                                "prony": [{"g": 0.4, "k": 0.2, "tau_s": 1e-3}]}
+    bad = tmp_path / "bad.inp"
+    for block, message in (("*HYPERELASTIC, YEOH\n0.6, 0, 0, 0.002, 0.001, 0\n", "D2 = 0.001"),
+                           ("*HYPERELASTIC, OGDEN, N=2\n-0.9, 3, 0.05, 1.5, 0, 0\n",
+                            "sum of mu_pa"),
+                           ("*HYPERELASTIC, OGDEN, N=2\n0.9, 3, -0.05, -1.5, 0\n",
+                            "expected 6 values")):
+        bad.write_text("*MATERIAL, NAME=x\n*DENSITY\n1e-9\n" + block)
+        code, _, err = run(capsys, "import-material", bad, "--units", "mm-tonne-s")
+        assert code == 2 and message in err, err

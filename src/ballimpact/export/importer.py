@@ -2,7 +2,9 @@
 specification (SI).
 
 Read: `*MATERIAL, NAME=` with `*DENSITY`, `*HYPERELASTIC, MOONEY-RIVLIN | NEO HOOKE |
-POLYNOMIAL, N=1` (C10, C01, D1), `*HYPERFOAM, N=n` (mu_i, alpha_i, then nu_i), `*ELASTIC` (E, nu),
+POLYNOMIAL, N=1` (C10, C01, D1), `*HYPERELASTIC, YEOH` (C10, C20, C30, D1, D2, D3),
+`*HYPERELASTIC, OGDEN, N=n` (mu_i, alpha_i, then D_i), with D2, D3, ... = 0 (our volumetric
+energy is (J - 1)^2 / D1 alone), `*HYPERFOAM, N=n` (mu_i, alpha_i, then nu_i), `*ELASTIC` (E, nu),
 `*VISCOELASTIC, TIME=PRONY` (g_i, k_i, tau_i) and `MODULI=LONG TERM | INSTANTANEOUS` (ABAQUS's
 default: long term). Other hyperelastic forms, frequency-domain viscoelasticity and
 temperature-dependent rows are refused with the card named; other material options (damping,
@@ -76,6 +78,14 @@ def _floats(rows: list[list[str]], where: str) -> list[float]:
         raise InputError(f"{where}: data must be numbers, got {rows}") from None
 
 
+def _higher_d_zero(values: list[float], where: str) -> None:
+    """D2, D3, ... of a hyperelastic card must be 0: our volumetric energy is (J - 1)^2 / D1."""
+    for i, d in enumerate(values, start=2):
+        if d != 0.0:
+            raise InputError(f"{where}: D{i} = {d:g}: only 0 is supported (the volumetric "
+                             "energy is (J - 1)^2 / D1 alone)")
+
+
 def file_units(text: str, units: str | None) -> UnitSystem:
     """The deck's unit system: `units` if given, else the `** units NAME:` line we write."""
     if units is not None:
@@ -131,9 +141,9 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
                                                      "YEOH", "REDUCED POLYNOMIAL", "MARLOW")),
                         "POLYNOMIAL")
             if kind == "POLYNOMIAL" and params.get("N", "1") != "1" or kind not in (
-                    "MOONEY-RIVLIN", "NEO HOOKE", "POLYNOMIAL"):
+                    "MOONEY-RIVLIN", "NEO HOOKE", "POLYNOMIAL", "YEOH", "OGDEN"):
                 raise InputError(f"{where}, {kind}: not supported (allowed MOONEY-RIVLIN, NEO "
-                                 "HOOKE, POLYNOMIAL N=1)")
+                                 "HOOKE, POLYNOMIAL N=1, YEOH, OGDEN)")
             if "TEST DATA INPUT" in params:
                 raise InputError(f"{where}: TEST DATA INPUT is not supported (give coefficients)")
             if kind == "NEO HOOKE":
@@ -141,6 +151,25 @@ def read_materials(text: str, units: str | None = None) -> list[dict[str, Any]]:
                     raise InputError(f"{where}: expected one row C10, D1 (no temperatures)")
                 current["material"] = {"model": "neo_hookean", "c10_pa": _si(values[0] / s),
                                        "d1_per_pa": _si(values[1] * s)}
+            elif kind == "YEOH":
+                if not 1 <= len(values) <= 6 or len(rows) > 1:
+                    raise InputError(f"{where}: expected one row C10, C20, C30, D1, D2, D3 (no "
+                                     "temperatures)")
+                c10, c20, c30, d1, d2, d3 = values + [0.0] * (6 - len(values))
+                _higher_d_zero([d2, d3], where)
+                current["material"] = {"model": "yeoh", "c10_pa": _si(c10 / s),
+                                       "c20_pa": _si(c20 / s), "c30_pa": _si(c30 / s),
+                                       "d1_per_pa": _si(d1 * s)}
+            elif kind == "OGDEN":
+                n = _order(params, where)
+                if len(values) != 3 * n:
+                    raise InputError(f"{where}, N={n}: expected {3 * n} values (mu_i, alpha_i, "
+                                     f"then D_i; no temperatures), got {len(values)}")
+                _higher_d_zero(values[2 * n + 1:], where)
+                current["material"] = {
+                    "model": "ogden", "d1_per_pa": _si(values[2 * n] * s),
+                    "terms": [{"mu_pa": _si(values[2 * i] / s), "alpha": values[2 * i + 1]}
+                              for i in range(n)]}
             else:
                 if len(values) < 3 or len(rows) > 1:
                     raise InputError(f"{where}: expected one row C10, C01, D1 (no temperatures)")

@@ -10,11 +10,13 @@ from .base import MODULI, Material, PronyTerm, Sym, energy_and_stress, stress_pa
 from .linear_elastic import LinearElastic
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
+from .ogden import Ogden, OgdenTerm
 from .ogden_hyperfoam import HyperfoamTerm, OgdenHyperfoam
 from .viscoelastic import prony_update, relaxation_function
+from .yeoh import Yeoh
 
 MATERIALS: dict[str, type[Material]] = {
-    m.model: m for m in (LinearElastic, NeoHookean, MooneyRivlin, OgdenHyperfoam)}
+    m.model: m for m in (LinearElastic, NeoHookean, MooneyRivlin, Yeoh, Ogden, OgdenHyperfoam)}
 
 
 def material_from_dict(d: dict, where: str = "material") -> Material:
@@ -28,5 +30,6 @@ def material_from_dict(d: dict, where: str = "material") -> Material:
 
 
 __all__ = ["MATERIALS", "MODULI", "HyperfoamTerm", "LinearElastic", "Material", "MooneyRivlin",
-           "NeoHookean", "OgdenHyperfoam", "PronyTerm", "Sym", "energy_and_stress", "material_from_dict",
-           "prony_update", "relaxation_function", "stress_parts"]
+           "NeoHookean", "Ogden", "OgdenHyperfoam", "OgdenTerm", "PronyTerm", "Sym", "Yeoh",
+           "energy_and_stress", "material_from_dict", "prony_update", "relaxation_function",
+           "stress_parts"]

@@ -1,48 +1,70 @@
-"""Drucker stability of incompressible Mooney-Rivlin sets (the check ABAQUS prints for a material).
+"""Drucker stability of the FE materials (the check ABAQUS prints for a hyperelastic material).
 
-For an incompressible material with principal stretches l1, l2, l3 = 1 / (l1 l2) the Cauchy stresses
-are sigma_i = 2 C10 l_i^2 - 2 C01 l_i^-2 - p, and the pressure p drops out of the differences
+Drucker's condition, as ABAQUS states it, asks that the change in Kirchhoff stress tau = J sigma
+following any change in logarithmic strain do positive work on it: d(tau) : d(eps) > 0. For an
+isotropic energy W(e1, e2, e3) of the principal logarithmic strains e_i = ln l_i, coaxial
+increments give tau_i = dW/de_i and d(tau_i) = H_ij de_j with the Hessian H_ij = d2W / de_i de_j,
+so the condition is that H is positive definite. Only these coaxial (principal) perturbations are
+checked, as ABAQUS does.
 
-    t_i = sigma_i - sigma_3 = 2 C10 (l_i^2 - l3^2) - 2 C01 (l_i^-2 - l3^-2),   i = 1, 2.
-
-Drucker's condition d(sigma) : d(eps) > 0 for every isochoric logarithmic strain increment
-d(eps) = diag(de1, de2, -de1 - de2) reads dt1 de1 + dt2 de2 > 0, i.e. the tangent
-D_ij = d t_i / d e_j (e_i = ln l_i) must be positive definite. Differentiating (d l_i^2 / d e_i =
-2 l_i^2, d l3^2 / d e_j = -2 l3^2) with A_i = C10 l_i^2 + C01 l_i^-2:
+Incompressible-type rubber laws (neo_hookean, mooney_rivlin, yeoh, ogden): the volume is held
+(l3 = 1 / (l1 l2), J = 1, tau = sigma), the pressure drops out of the differences
+t_i = sigma_i - sigma_3 = dW/de_i (i = 1, 2, with W the material's own deviatoric energy evaluated
+on C = diag(e^2e1, e^2e2, e^-2(e1+e2))), and the condition reads: the 2x2 tangent
+D_ij = d t_i / d e_j = d2W / de_i de_j is positive definite. Both come from the material's `energy`
+by automatic differentiation (jax, float64), so the check sees exactly the energy the solver uses.
+For Mooney-Rivlin it is, in closed form (with A_i = C10 l_i^2 + C01 l_i^-2),
 
     D11 = 4 (A1 + A3),   D22 = 4 (A2 + A3),   D12 = D21 = 4 A3,
 
-which is symmetric. Positive definite <=> D11 + D22 > 0 and D11 D22 - D12^2 > 0, i.e.
+positive definite <=> A1 + A2 + 2 A3 > 0 and A1 A2 + A2 A3 + A3 A1 > 0 (`mooney_rivlin_tangent`,
+`mooney_rivlin_drucker`: kept as the independent check of the general path). C10 > 0 and C01 >= 0
+make every A_i > 0 (stable for all stretches, neo-Hookean included); a negative C01 makes A_i < 0
+for l_i < (-C01 / C10)^(1/4). A Yeoh set with C20, C30 >= 0 and an Ogden set with every mu_i > 0
+are stable for all stretches (W is then a convex function of the log strains: sums of
+exp(a e_i) with positive weights); a negative C20 or C30, or a term with mu_i, alpha_i < 0, can
+fail.
 
-    A1 + A2 + 2 A3 > 0   and   A1 A2 + A2 A3 + A3 A1 > 0
+Compressible Ogden hyperfoam: W(e1, e2, e3) is the whole energy; the state of each mode has the
+lateral Kirchhoff (and Cauchy) stresses zero, the lateral strain solved per sample (bisection),
+and the 3x3 Hessian must be positive definite. (With Cauchy stress instead of Kirchhoff stress the
+tangent would be H / J - sigma_i, not symmetric, and would flag every one-term hyperfoam in
+moderate uniaxial tension; ABAQUS's criterion is the Kirchhoff one.)
 
-(the determinant is 16 times the second symmetric function of the A_i, so the check does not depend
-on which principal axis is called 3). The modes checked, with stretch = l1:
-uniaxial (l2 = l3 = l1^-1/2), equibiaxial (l2 = l1, l3 = l1^-2) and planar (l2 = 1, l3 = 1 / l1).
-Equibiaxial at l equals uniaxial at l^-2, and planar at l equals planar at 1 / l.
+Modes, with stretch = l1: uniaxial (l2 = l3), equibiaxial (l2 = l1) and planar (l2 = 1); for the
+incompressible laws l2 = l3 = l1^-1/2, l3 = l1^-2 and l3 = 1 / l1 (`mode_stretches`). Equibiaxial
+at l equals uniaxial at l^-2, and planar at l equals planar at 1 / l, for those.
 
-Some properties: C10 > 0 and C01 >= 0 make every A_i > 0, so the set is stable for all stretches
-(neo-Hookean included); a negative C01 makes A_i < 0 for l_i < (-C01 / C10)^(1/4), which fails
-the check at large enough tension or compression.
+A state is stable when the smallest eigenvalue of the tangent is > -1e-9 times the largest (and
+the largest > 0): a set only marginal at an isolated stretch (Mooney-Rivlin C10 = 4.5, C01 = -0.5
+in uniaxial tension at exactly 3, where A2 = A3 = 0) is not reported as an unstable interval of
+zero width; the edges move by ~1e-9 in log stretch.
 
-Which constants: the criterion is homogeneous in (C10, C01), so scaling both by the same positive
-factor does not change it. `drucker_warnings` uses the long-term constants (the given ones scaled by
-(1 - sum g_i) when given as instantaneous); the instantaneous set is the same times 1 / (1 - sum g),
-so the two give identical ranges. Only the coaxial (principal) perturbations above are checked, as
-ABAQUS does; Ogden hyperfoam and linear elastic layers are not checked.
+Which constants: every checked energy is linear in its moduli (C10, C01, C20, C30, mu_i) at fixed
+exponents, so scaling them by one positive factor scales the tangent and leaves the ranges
+unchanged. Messages name the long-term constants (the given ones scaled by (1 - sum g_i) when
+given as instantaneous); the instantaneous ones give identical ranges. Linear elastic layers are
+not checked (`checked` is False).
 """
 
 from __future__ import annotations
 
+import functools
 import numbers
 from typing import TYPE_CHECKING, Any
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from ...errors import InputError
 from ..options import shown
+from .base import Material, Sym
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
+from .ogden import Ogden
+from .ogden_hyperfoam import OgdenHyperfoam
+from .yeoh import Yeoh
 
 if TYPE_CHECKING:
     from ..ball import BallModel
@@ -50,6 +72,12 @@ if TYPE_CHECKING:
 MODES = ("uniaxial", "equibiaxial", "planar")
 _BISECTIONS = 60
 _ROUNDING = 1e-12
+#: incompressible-type laws: checked on isochoric states with their deviatoric energy
+INCOMPRESSIBLE = (NeoHookean, MooneyRivlin, Yeoh, Ogden)
+#: smallest tangent eigenvalue, relative to the largest, still taken as stable (marginal states)
+_MARGINAL = 1e-9
+#: most Newton (or bisection) steps for the lateral log strain of a hyperfoam state
+_LATERAL_ITERATIONS = 100
 
 
 def mode_stretches(mode: str, stretch) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -174,25 +202,266 @@ def long_term_mooney_rivlin(material) -> tuple[float, float] | None:
     return c10 * f, c01 * f
 
 
+# ---- every material: the tangent from its own energy -----------------------------------------
+def checked(material: Any) -> bool:
+    """True for the materials the Drucker check covers: every model but linear_elastic."""
+    return isinstance(material, (*INCOMPRESSIBLE, OgdenHyperfoam))
+
+
+def _require_checked(material: Any) -> None:
+    if not isinstance(material, Material):
+        raise InputError(f"material: expected a Material, got {type(material).__name__}")
+    if not checked(material):
+        names = ", ".join(m.model for m in (*INCOMPRESSIBLE, OgdenHyperfoam))
+        raise InputError(f"{material.model}: not checked for Drucker stability (checked: {names})")
+
+
+def _check_mode(mode: Any) -> None:
+    if mode not in MODES:
+        raise InputError(f"mode = {mode!r}: allowed {', '.join(MODES)}")
+
+
+#: constants of the relaxing energy that are moduli (scaled to long-term); the rest are exponents
+_MODULUS_KEYS = ("c10_pa", "c01_pa", "c20_pa", "c30_pa", "mu_pa")
+
+
+def _long_term_energy_constants(material: Material) -> dict[str, np.ndarray]:
+    """The constants `energy` takes, with the moduli long-term (instantaneous x (1 - sum g))."""
+    out = dict(material.hyperelastic_constants())
+    for key in _MODULUS_KEYS:
+        if key in out:
+            out[key] = out[key] * (1.0 - material.sum_g)
+    return out
+
+
+def _strain_energy(energy, compressible: bool):
+    """W(c, e): the material's relaxing energy at principal logarithmic strains e = (e1, e2) with
+    e3 = -e1 - e2 (isochoric), or e = (e1, e2, e3) (compressible)."""
+    def w(c, e):
+        e3 = e[2] if compressible else -(e[0] + e[1])
+        # xy given as the float 0: principal axes, the direct (non-eigenvalue) path of every law
+        C = Sym(jnp.exp(2.0 * e[0]), jnp.exp(2.0 * e[1]), jnp.exp(2.0 * e3), 0.0)
+        return energy(C, c)[0]
+    return w
+
+
+@functools.lru_cache(maxsize=None)
+def _compiled(energy, compressible: bool):
+    """Jitted e -> (gradient, Hessian) of an energy in the principal log strains, vectorised over
+    samples (one compilation per model)."""
+    w = _strain_energy(energy, compressible)
+
+    def derivatives(c, e):
+        g = jax.grad(w, argnums=1)
+        return g(c, e), jax.jacfwd(g, argnums=1)(c, e)
+
+    return jax.jit(jax.vmap(derivatives, in_axes=(None, 0)))
+
+
+def _mode_strains(mode: str, e1: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Hyperfoam log strains of a mode: uniaxial (e1, s, s), equibiaxial (e1, e1, s), planar
+    (e1, 0, s); s the lateral strain."""
+    e2 = {"uniaxial": s, "equibiaxial": e1, "planar": np.zeros_like(e1)}[mode]
+    return np.stack([e1, e2, s], axis=-1)
+
+
+def _lateral_strains(derivatives, constants: dict, mode: str, e1: np.ndarray) -> np.ndarray:
+    """Log strains of a hyperfoam mode with the lateral stress zero. The lateral strain s solves
+    tau_lat(s) = 0 (tau_2 in uniaxial, = tau_3; else tau_3) by Newton steps kept inside a bracket
+    that starts at [-(2|e1| + 1), 2|e1| + 1] (one term: s = -nu e1, |nu| < 1) and shrinks by
+    bisection where a step leaves it; NaN where the root is not bracketed."""
+    lat = 1 if mode == "uniaxial" else 2
+
+    def residual(s):
+        g, h = _padded_call(derivatives, constants, _mode_strains(mode, e1, s))
+        slope = h[:, lat, 1] + h[:, lat, 2] if mode == "uniaxial" else h[:, lat, 2]
+        return g[:, lat], slope
+
+    bound = 2.0 * np.abs(e1) + 1.0
+    lo, hi = -bound, bound.copy()
+    bracketed = (residual(lo)[0] < 0.0) & (residual(hi)[0] > 0.0)
+    s = np.zeros_like(e1)
+    for _ in range(_LATERAL_ITERATIONS):
+        r, slope = residual(s)
+        lo, hi = np.where(r < 0.0, s, lo), np.where(r < 0.0, hi, s)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = s - r / slope
+        inside = np.isfinite(step) & (step > lo) & (step < hi)
+        new = np.where(inside, step, 0.5 * (lo + hi))
+        if np.all(np.abs(new - s) <= 1e-15 * (1.0 + np.abs(s))):
+            s = new
+            break
+        s = new
+    return np.where(bracketed[:, None], _mode_strains(mode, e1, s), np.nan)
+
+
+#: samples per call are padded to a multiple of this (the default grid fits in one)
+_PAD = 512
+
+
+def _padded_call(fn, constants: dict, x: np.ndarray, *args):
+    """fn(constants, x, *args) on the rows of x, padded to a multiple of `_PAD` rows (so that
+    the grid and the edge bisections share one compilation); outputs as float64 arrays."""
+    n = x.shape[0]
+    size = _PAD * max(1, -(-n // _PAD))
+    padded = np.zeros((size, *x.shape[1:]))
+    padded[:n] = x
+    with jax.enable_x64(True):
+        c = {k: jnp.asarray(v) for k, v in constants.items()}
+        out = fn(c, jnp.asarray(padded), *args)
+        return jax.tree_util.tree_map(lambda a: np.array(a, dtype=np.float64)[:n], out)
+
+
+def tangent(material: Material, mode: str, stretch) -> tuple[np.ndarray, np.ndarray]:
+    """(t, D) of a checked material along a mode, at the long-term constants (Pa), for each
+    stretch l1 (1-D). Incompressible-type laws: t = (sigma_1 - sigma_3, sigma_2 - sigma_3),
+    shape (n, 2), and D = dt_i / de_j, (n, 2, 2). Hyperfoam: t = the Kirchhoff principal stresses
+    tau_i (lateral ones zero), (n, 3), and D = dtau_i / de_j, (n, 3, 3); NaN where no stress-free
+    lateral strain was found."""
+    _require_checked(material)
+    _check_mode(mode)
+    lam = np.atleast_1d(np.asarray(stretch, dtype=np.float64))
+    compressible = isinstance(material, OgdenHyperfoam)
+    derivatives = _compiled(type(material).energy, compressible)
+    c = _long_term_energy_constants(material)
+    if compressible:
+        e = _lateral_strains(derivatives, c, mode, np.log(lam))
+    else:
+        l1, l2, _ = mode_stretches(mode, lam)
+        e = np.stack([np.log(l1), np.log(l2)], axis=-1)
+    ok = np.all(np.isfinite(e), axis=-1)
+    e_safe = np.where(ok[:, None], e, 0.0)
+    t, d = _padded_call(derivatives, c, e_safe)
+    t[~ok] = np.nan
+    d[~ok] = np.nan
+    return t, d
+
+
+def _stable_states(material: Material, mode: str, stretch) -> np.ndarray:
+    """Drucker-stable samples: the tangent's smallest eigenvalue > -1e-9 x its largest > 0."""
+    _, d = tangent(material, mode, stretch)
+    ok = np.all(np.isfinite(d), axis=(-2, -1))
+    d = np.where(ok[:, None, None], d, 0.0)
+    eig = np.linalg.eigvalsh(0.5 * (d + np.swapaxes(d, -1, -2)))
+    return ok & (eig[:, -1] > 0.0) & (eig[:, 0] >= -_MARGINAL * eig[:, -1])
+
+
+def _edges(material: Material, mode: str, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Stretches between lo and hi (arrays) at which stability changes (bisection in log
+    stretch, all edges at once)."""
+    s_lo = _stable_states(material, mode, lo)
+    a, b = np.log(lo), np.log(hi)
+    for _ in range(_BISECTIONS):
+        m = 0.5 * (a + b)
+        same = _stable_states(material, mode, np.exp(m)) == s_lo
+        a, b = np.where(same, m, a), np.where(same, b, m)
+    return np.exp(0.5 * (a + b))
+
+
+def drucker_unstable(material: Material, stretch_min: float, stretch_max: float,
+                     n: int = 400) -> list[dict[str, Any]]:
+    """Unstable stretch intervals of a material (neo_hookean, mooney_rivlin, yeoh, ogden,
+    ogden_hyperfoam; empty list: stable), from its own energy at the long-term constants (the
+    instantaneous ones give identical ranges).
+
+    Each mode's principal stretch l1 is sampled at `n` log-spaced points over [stretch_min,
+    stretch_max]; each run of unstable samples is one interval, its inner edges refined by
+    bisection (to ~1e-9 relative, the marginal tolerance). An interval narrower than the sampling
+    may be missed. Returns dicts {"mode", "stretch_from", "stretch_to"} in mode order, then by
+    stretch. A linear_elastic material raises `InputError` (not checked)."""
+    _check_range(stretch_min, stretch_max, n)
+    _require_checked(material)
+    grid = np.geomspace(stretch_min, stretch_max, n)
+    grid[0], grid[-1] = stretch_min, stretch_max
+    out = []
+    for mode in MODES:
+        stable = _stable_states(material, mode, grid)
+        runs = []
+        i = 0
+        while i < n:
+            if stable[i]:
+                i += 1
+                continue
+            j = i
+            while j + 1 < n and not stable[j + 1]:
+                j += 1
+            runs.append((i, j))
+            i = j + 1
+        inner = [(grid[i - 1], grid[i]) for i, _ in runs if i > 0] + \
+                [(grid[j], grid[j + 1]) for _, j in runs if j < n - 1]
+        edges = iter(_edges(material, mode, *map(np.array, zip(*inner))) if inner else [])
+        starts = [grid[0] if i == 0 else next(edges) for i, _ in runs]
+        ends = [grid[-1] if j == n - 1 else next(edges) for _, j in runs]
+        out += [{"mode": mode, "stretch_from": float(a), "stretch_to": float(b)}
+                for a, b in zip(starts, ends)]
+    return out
+
+
+def stable_range(material: Material, mode: str, stretch_min: float = 0.05,
+                 stretch_max: float = 20.0, n: int = 400) -> tuple[float, float]:
+    """(low, high): the widest Drucker-stable stretch interval of `mode` that contains 1, within
+    [stretch_min, stretch_max] (a limit is returned as it is when stable up to it). Sampled at
+    `n` log-spaced stretches on each side of 1, the edges bisected as in `drucker_unstable`."""
+    _check_range(stretch_min, stretch_max, n)
+    if not stretch_min <= 1.0 <= stretch_max:
+        raise InputError(f"stretch_min = {stretch_min:g}, stretch_max = {stretch_max:g}: the "
+                         "range must contain 1")
+    _require_checked(material)
+    _check_mode(mode)
+    if not _stable_states(material, mode, np.array([1.0]))[0]:
+        return 1.0, 1.0
+    out = []
+    for limit in (stretch_min, stretch_max):
+        side = np.geomspace(1.0, limit, n) if limit != 1.0 else np.array([1.0])
+        side[-1] = limit
+        bad = np.flatnonzero(~_stable_states(material, mode, side))
+        if bad.size == 0:
+            out.append(float(limit))
+        else:
+            k = bad[0]
+            out.append(float(_edges(material, mode, side[k - 1:k], side[k:k + 1])[0]))
+    return out[0], out[1]
+
+
+def long_term_constants(material: Material) -> str:
+    """The long-term constants of a checked material as text ("C10 = 4.248e+06 Pa, ...")."""
+    f = material.deviatoric_factor() * (1.0 - material.sum_g)  # given -> long-term
+    if isinstance(material, (MooneyRivlin, NeoHookean)):
+        c10, c01 = long_term_mooney_rivlin(material)
+        return f"C10 = {c10:.4g} Pa, C01 = {c01:.4g} Pa"
+    if isinstance(material, Yeoh):
+        return ", ".join(f"{name} = {value * f:.4g} Pa" for name, value in (
+            ("C10", material.c10_pa), ("C20", material.c20_pa), ("C30", material.c30_pa)))
+    if isinstance(material, Ogden):
+        return ", ".join(f"mu_{i} = {t.mu_pa * f:.4g} Pa, alpha_{i} = {t.alpha:g}"
+                         for i, t in enumerate(material.terms, start=1))
+    if isinstance(material, OgdenHyperfoam):
+        return ", ".join(f"mu_{i} = {t.mu_pa * f:.4g} Pa, alpha_{i} = {t.alpha:g}, "
+                         f"nu_{i} = {t.nu:g}" for i, t in enumerate(material.terms, start=1))
+    _require_checked(material)
+    raise AssertionError(material.model)  # (a checked model without its text)
+
+
 def drucker_warnings(ball: BallModel, stretch_min: float, stretch_max: float,
                      n: int = 400) -> list[str]:
-    """One message per unstable (layer, mode, stretch range) of the Mooney-Rivlin / neo-Hookean
-    layers, using their long-term constants (identical ranges for the instantaneous ones)."""
+    """One message per unstable (layer, mode, stretch range) of every checked layer (all but
+    linear_elastic), naming its long-term constants (identical ranges for the instantaneous
+    ones)."""
     _check_range(stretch_min, stretch_max, n)
     messages = []
     for i, layer in enumerate(ball.layers):
-        constants = long_term_mooney_rivlin(layer.material)
-        if constants is None:
+        material = layer.material
+        if not checked(material):
             continue
-        c10, c01 = constants
-        for r in mooney_rivlin_drucker(c10, c01, stretch_min, stretch_max, n):
+        for r in drucker_unstable(material, stretch_min, stretch_max, n):
             messages.append(
-                f"{ball.name}: layer {i} '{layer.name}' ({layer.material.model}, long-term "
-                f"C10 = {c10:.4g} Pa, C01 = {c01:.4g} Pa) is Drucker-unstable in {r['mode']} "
+                f"{ball.name}: layer {i} '{layer.name}' ({material.model}, long-term "
+                f"{long_term_constants(material)}) is Drucker-unstable in {r['mode']} "
                 f"deformation for stretches {r['stretch_from']:.4g} to {r['stretch_to']:.4g} "
                 f"(checked {stretch_min:g} to {stretch_max:g})")
     return messages
 
-
-__all__ = ["MODES", "drucker_warnings", "long_term_mooney_rivlin", "mode_stretches",
-           "mooney_rivlin_drucker", "mooney_rivlin_stress_differences", "mooney_rivlin_tangent"]
+__all__ = ["INCOMPRESSIBLE", "MODES", "checked", "drucker_unstable", "drucker_warnings",
+           "long_term_constants", "long_term_mooney_rivlin", "mode_stretches",
+           "mooney_rivlin_drucker", "mooney_rivlin_stress_differences", "mooney_rivlin_tangent",
+           "stable_range", "tangent"]
