@@ -12,7 +12,7 @@ from ballimpact.fe.materials import material_from_dict
 from ballimpact.fe.materials.stability import mooney_rivlin_drucker
 from ballimpact.material.data import MaterialTest, read_test
 from ballimpact.material.hyperelastic import fit_hyperelastic
-from ballimpact.material.modes import deformation_stress, free_stretch, material_stress
+from ballimpact.material.modes import free_stretch, material_stress
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
 LAM = np.linspace(0.45, 3.5, 23)

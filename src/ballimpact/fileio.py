@@ -1,5 +1,6 @@
-"""Files written so that an interrupt never leaves half of one, and NPZ files read without
-unpickling anything.
+"""Files written so that an interrupt never leaves half of one, NPZ files read without
+unpickling anything, and the CSV tables with a unit header that the test readers share
+(`read_table`).
 
 `replacing(path)` yields a temporary path beside `path` (`STEM.tmp.SUFFIX`: the same folder, so
 the rename is atomic on POSIX, and the same suffix, which some writers need: `np.savez` appends
@@ -10,6 +11,7 @@ the next write replaces; the old `path`, or none, stays whole.
 
 from __future__ import annotations
 
+import math
 import os
 import zipfile
 import zlib
@@ -84,3 +86,50 @@ def _array(data, key: str, where: str, what: str) -> np.ndarray:
             raise
         raise InputError(f"{where}: not {what}: array {key} holds Python objects (a pickle), "
                          "refused unread") from None
+
+
+def read_table(path: Path, what: str = "rows", header=None) -> tuple[int, list[str], list[int],
+                                                                    np.ndarray]:
+    """A CSV test file as (header line number, column names lower-cased, the line number of each
+    row, the values (rows, columns)): lines starting with `#` and blank lines are skipped, the
+    first other line is the header. `header(names, line)`, when given, checks the names (on
+    line number `line`) before any
+    value is read and returns the indices of the columns to read (None: all); the others are
+    left NaN. `InputError` naming the file, and the line and column of a value: a file that
+    cannot be read or holds no header (`what` names its rows in that message), a row with
+    another number of values than the header, a value that is not a finite number. The callers
+    check the number of rows and the values' ranges."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder; give a CSV file")
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(f"{path}: cannot read ({error})") from None
+    lines = [(number, line.strip()) for number, line in enumerate(text.splitlines(), start=1)]
+    lines = [(number, line) for number, line in lines if line and not line.startswith("#")]
+    if not lines:
+        raise InputError(f"{path}: the file is empty (no header, no {what})")
+    header_line, text_header = lines[0]
+    names = [name.strip().lower() for name in text_header.split(",")]
+    read = header(names, header_line) if header is not None else None
+    read = range(len(names)) if read is None else read
+    values = np.full((len(lines) - 1, len(names)), np.nan)
+    for row, (number, line) in enumerate(lines[1:]):
+        cells = line.split(",")
+        if len(cells) != len(names):
+            raise InputError(f"{path}: line {number} has {len(cells)} values, the header "
+                             f"{len(names)}")
+        for col in read:
+            try:
+                value = float(cells[col])
+            except ValueError:
+                raise InputError(f"{path}: line {number}, column {names[col]}: "
+                                 f"{cells[col].strip()!r} is not a number") from None
+            if not math.isfinite(value):
+                raise InputError(f"{path}: line {number}, column {names[col]}: "
+                                 f"{cells[col].strip()!r} is not a finite number")
+            values[row, col] = value
+    return header_line, names, [number for number, _ in lines[1:]], values

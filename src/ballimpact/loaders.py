@@ -32,6 +32,7 @@ import numpy as np
 from scipy.io import wavfile
 
 from .errors import InputError
+from .fileio import read_table
 from .records import ImpactRecord, check_positive
 
 #: CSV column name -> (record field, factor to SI).
@@ -87,45 +88,29 @@ def read_csv(path: str | Path) -> dict[str, np.ndarray]:
     """Columns of an impact CSV as SI arrays keyed by record field (an FE history's also holds
     `fe_lead_samples`: how many zero-force samples were put back before first contact)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read ({error})") from None
-    lines = [(number, line.strip()) for number, line in enumerate(text.splitlines(), start=1)]
-    lines = [(number, line) for number, line in lines if line and not line.startswith("#")]
-    if not lines:
-        raise InputError(f"{path}: the file is empty (no header, no samples)")
-    header_line, header = lines[0]
-    names = [name.strip().lower() for name in header.split(",")]
-    _check_header(path, header, names)
-    fe_history = any(name in FE_FORCE_COLUMNS for name in names)
-    # an FE history's other columns (energies, centre motion) are not part of a record
-    used = [(col, name) for col, name in enumerate(names)
-            if not (fe_history and name not in CSV_COLUMNS)]
-    columns = [_column(path, name, names) for _, name in used]
-    fields = [field for field, _ in columns]
-    for required in ("time_s", "force_n"):
-        if required not in fields:
-            quantity = _QUANTITY[required]
-            raise InputError(f"{path}: no {quantity} column; add one of {_UNITS_OF[quantity]}")
-    if len(lines) < 2:
+
+    def record_columns(names: list[str]) -> tuple[list[tuple[int, str]], list, bool]:
+        """The columns a record takes: (index, name) pairs, (field, factor) each, FE history?"""
+        _check_header(path, ",".join(names), names)
+        fe_history = any(name in FE_FORCE_COLUMNS for name in names)
+        # an FE history's other columns (energies, centre motion) are not part of a record
+        used = [(col, name) for col, name in enumerate(names)
+                if not (fe_history and name not in CSV_COLUMNS)]
+        columns = [_column(path, name, names) for _, name in used]
+        fields = [field for field, _ in columns]
+        for required in ("time_s", "force_n"):
+            if required not in fields:
+                quantity = _QUANTITY[required]
+                raise InputError(f"{path}: no {quantity} column; add one of "
+                                 f"{_UNITS_OF[quantity]}")
+        return used, columns, fe_history
+
+    _, names, rows, table = read_table(
+        path, "samples", lambda names, _: [col for col, _ in record_columns(names)[0]])
+    if not rows:
         raise InputError(f"{path}: the header has no samples below it")
-    values = np.empty((len(lines) - 1, len(used)))
-    for row, (number, line) in enumerate(lines[1:]):
-        cells = line.split(",")
-        if len(cells) != len(names):
-            raise InputError(f"{path}: line {number} has {len(cells)} values, the header "
-                             f"{len(names)}")
-        for k, (col, name) in enumerate(used):
-            try:
-                value = float(cells[col])
-            except ValueError:
-                raise InputError(f"{path}: line {number}, column {name}: "
-                                 f"{cells[col].strip()!r} is not a number") from None
-            if not math.isfinite(value):
-                raise InputError(f"{path}: line {number}, column {name}: "
-                                 f"{cells[col].strip()!r} is not a finite number")
-            values[row, k] = value
+    used, columns, fe_history = record_columns(names)
+    values = table[:, [col for col, _ in used]]
     out = {field: values[:, k] * factor for k, (field, factor) in enumerate(columns)}
     return _with_contact_start(out) if fe_history else out
 

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
+from ..fileio import read_table
 from .gradient import Refinement, levenberg_marquardt
 
 #: unit headers of a compression CSV: column -> (quantity, factor to SI)
@@ -76,65 +77,45 @@ def read_compression_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     least 3 rows of finite numbers, deflections >= 0 and increasing. `InputError` naming the file
     and the line."""
     path = Path(path)
-    if path.is_dir():
-        raise InputError(f"{path}: is a folder; give a compression CSV (deflection, force)")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read ({error})") from None
-    lines = [(number, line.strip()) for number, line in enumerate(text.splitlines(), start=1)]
-    lines = [(number, line) for number, line in lines if line and not line.startswith("#")]
-    if not lines:
-        raise InputError(f"{path}: the file is empty (no header, no rows)")
-    header_line, header = lines[0]
-    names = [name.strip().lower() for name in header.split(",")]
+    header_line, names, rows, table = read_table(
+        path, "rows",
+        lambda names, line: [col for col, _, _ in _compression_columns(path, names, line)])
+    if len(rows) < 3:
+        raise InputError(f"{path}: {len(rows)} rows; a compression curve needs at least 3 "
+                         "(deflection, force) points")
+    columns = _compression_columns(path, names, header_line)
+    values = np.column_stack([table[:, col] * factor for col, factor, _ in columns])
+    for row, number in enumerate(rows):
+        for k, (quantity, (col, _, name)) in enumerate(zip(("deflection", "force"), columns)):
+            if values[row, k] < 0.0:
+                raise InputError(f"{path}: line {number}, column {name}: {table[row, col]:g} is "
+                                 f"negative (the {quantity} of a compression is >= 0)")
+        if row > 0 and values[row, 0] <= values[row - 1, 0]:
+            col, _, name = columns[0]
+            raise InputError(f"{path}: line {number}, column {name}: {table[row, col]:g} does not "
+                             "increase (the deflections must increase from row to row)")
+    if not np.max(values[:, 1]) > 0.0:
+        raise InputError(f"{path}: every force is 0; nothing to calibrate against")
+    return values[:, 0], values[:, 1]
+
+
+def _compression_columns(path: Path, names: list[str], line: int) -> list[tuple[int, float, str]]:
+    """(index, factor to SI, name) of the deflection and the force column of the header on line
+    `line`."""
     found: dict[str, tuple[int, float, str]] = {}
     for col, name in enumerate(names):
         if name not in COLUMNS:
-            raise InputError(f"{path}: line {header_line}: unknown column {name!r}; a compression "
-                             f"curve has deflection_m or deflection_mm, and force_n or force_kn")
+            raise InputError(f"{path}: line {line}: unknown column {name!r}; a compression "
+                             "curve has deflection_m or deflection_mm, and force_n or force_kn")
         quantity, factor = COLUMNS[name]
         if quantity in found:
-            raise InputError(f"{path}: line {header_line}: the header names the {quantity} twice")
+            raise InputError(f"{path}: line {line}: the header names the {quantity} twice")
         found[quantity] = (col, factor, name)
     for quantity, allowed in (("deflection", "deflection_m or deflection_mm"),
                               ("force", "force_n or force_kn")):
         if quantity not in found:
-            raise InputError(f"{path}: line {header_line}: no {quantity} column; add one of "
-                             f"{allowed}")
-    rows = lines[1:]
-    if len(rows) < 3:
-        raise InputError(f"{path}: {len(rows)} rows; a compression curve needs at least 3 "
-                         "(deflection, force) points")
-    values = np.empty((len(rows), 2))
-    for row, (number, line) in enumerate(rows):
-        cells = line.split(",")
-        if len(cells) != len(names):
-            raise InputError(f"{path}: line {number} has {len(cells)} values, the header "
-                             f"{len(names)}")
-        for k, quantity in enumerate(("deflection", "force")):
-            col, factor, name = found[quantity]
-            try:
-                value = float(cells[col])
-            except ValueError:
-                raise InputError(f"{path}: line {number}, column {name}: "
-                                 f"{cells[col].strip()!r} is not a number") from None
-            if not math.isfinite(value):
-                raise InputError(f"{path}: line {number}, column {name}: "
-                                 f"{cells[col].strip()!r} is not a finite number")
-            if value < 0.0:
-                raise InputError(f"{path}: line {number}, column {name}: {value:g} is negative "
-                                 f"(the {quantity} of a compression is >= 0)")
-            values[row, k] = value * factor
-        if row > 0 and values[row, 0] <= values[row - 1, 0]:
-            raise InputError(f"{path}: line {number}, column {found['deflection'][2]}: "
-                             f"{cells[found['deflection'][0]].strip()} does not increase (the "
-                             "deflections must increase from row to row)")
-    if not np.max(values[:, 1]) > 0.0:
-        raise InputError(f"{path}: every force is 0; nothing to calibrate against")
-    return values[:, 0], values[:, 1]
+            raise InputError(f"{path}: line {line}: no {quantity} column; add one of {allowed}")
+    return [found["deflection"], found["force"]]
 
 
 def check_against_ball(test: CompressionTest, ball) -> None:

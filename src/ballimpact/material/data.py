@@ -22,13 +22,13 @@ Every error names the file and, for a value, its 1-based line and its column.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError
+from ..fileio import read_table
 
 #: test modes and the file's quantities (SI names); alternatives separated by '|'
 MODES = ("uniaxial", "biaxial", "planar", "volumetric", "relaxation", "creep", "dma")
@@ -133,33 +133,10 @@ def read_test(path: str | Path, mode: str) -> MaterialTest:
     path = Path(path)
     if mode not in MODES:
         raise InputError(f"{path}: mode {mode!r}; allowed {', '.join(MODES)}")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read ({error})") from None
-    rows = [(n, line.strip()) for n, line in enumerate(text.splitlines(), start=1)]
-    rows = [(n, line) for n, line in rows if line and not line.startswith("#")]
-    if not rows:
-        raise InputError(f"{path}: the file is empty (no header, no values)")
-    names = [name.strip().lower() for name in rows[0][1].split(",")]
+    # the header is checked before any value is read
+    _, names, lines, values = read_table(path, "values",
+                                         lambda names, _: _header(path, mode, names) and None)
     quantities = _header(path, mode, names)
-    lines = [n for n, _ in rows[1:]]
-    values = np.empty((len(lines), len(names)))
-    for row, (number, line) in enumerate(rows[1:]):
-        cells = line.split(",")
-        if len(cells) != len(names):
-            raise InputError(f"{path}: line {number} has {len(cells)} values, the header "
-                             f"{len(names)}")
-        for col, (name, cell) in enumerate(zip(names, cells)):
-            try:
-                value = float(cell)
-            except ValueError:
-                raise InputError(f"{path}: line {number}, column {name}: {cell.strip()!r} is "
-                                 "not a number") from None
-            if not math.isfinite(value):
-                raise InputError(f"{path}: line {number}, column {name}: {cell.strip()!r} is "
-                                 "not a finite number")
-            values[row, col] = value
     if len(lines) < 2:
         raise InputError(f"{path}: {len(lines)} row(s) of values; a test needs at least 2")
     columns, column_of = {}, {}
