@@ -26,7 +26,7 @@ def add_parser(verbs) -> None:
                     "with the impact solver's mesh and materials: the force against the platens' "
                     "approach (the diameter change), its peak and the stiffness at the end. "
                     "Without --rate-m-s the long-term (fully relaxed) curve; with it, the Prony "
-                    "terms relax over the time the platen takes (docs/fe.md, Compression).")
+                    "terms relax over the time the platen takes (docs/materials.md).")
     compress.add_argument("--ball", required=True,
                           help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
     compress.add_argument("--deflection-m", type=float, required=True,

@@ -1,5 +1,5 @@
 """`ballimpact material fit|check`: material tests to the constants of a ball's layer, and the
-Drucker-stable stretch ranges of a ball's materials (docs: "Material tests and fits")."""
+Drucker-stable stretch ranges of a ball's materials (docs/materials.md)."""
 
 from __future__ import annotations
 
