@@ -42,13 +42,11 @@ from scipy.optimize import least_squares, nnls
 
 from ..errors import InputError, InputWarning
 from ..identifiability import identification_notes, standard_errors
+from .data import RATIO_SLACK
 
 MAX_TERMS = 10
 GRID_PER_DECADE = 2
 WIDEN_DECADES = 1.0  # relaxation times searched this far beyond the data's span, each side
-#: measured ratios are normalised by a measured instantaneous value, so noise can put early points
-#: a little past 1: accepted up to this slack (beyond it the data are not normalised)
-RATIO_SLACK = 0.05
 #: sum g is kept at or below this: a long-term modulus of at least 0.1% of the instantaneous one
 #: (the solver's `long_term` factor 1 / (1 - sum g) at most 1000)
 SUM_G_MAX = 0.999
