@@ -129,7 +129,7 @@ def plot_curve(result, path: Path) -> Path:
     axis.set_xlabel("deflection (platen approach), mm")
     axis.set_ylabel("force, N")
     curve = (f"{result.rate_m_s:g} m/s" if result.rate_m_s is not None else "long-term")
-    axis.set_title(f"{result.ball_name}: compression between two platens ({curve})")
+    axis.set_title(f"{result.ball_name} between two platens\n({curve})", fontsize=10)
     axis.grid(alpha=0.3)
     figure.savefig(path, dpi=120)
     plt.close(figure)
