@@ -2,7 +2,9 @@
 constants) and the cricket-3layer ball on the default mesh, 20 increments to 5 mm, long-term
 curve, and the universal ball at a platen speed of 1 m/s. Compilation (first call of the jitted
 forces and tangent probes) and the solve are timed apart; a second call of the same structure
-compiles nothing. Prints one JSON object.
+compiles nothing. The reference measured in the same run: one explicit impact of the same ball at
+25 m/s (`fe.simulate`, default options, second call), and the ratio of a curve's solve to it.
+Prints one JSON object.
 
     python benchmarks/bench_compress.py
 """
@@ -17,7 +19,7 @@ import warnings
 
 import jax
 
-from ballimpact.fe import SolverOptions, compress, load_ball
+from ballimpact.fe import SolverOptions, compress, load_ball, simulate
 
 DEFLECTION_M, STEPS = 5e-3, 20
 
@@ -42,12 +44,26 @@ def curve(name: str, rate_m_s=None) -> dict:
             "second_call_s": second.wall_time_s}
 
 
+def impact_s(name: str) -> float:
+    """Wall time (s) of one impact of the ball at 25 m/s, compiled (second call)."""
+    ball = load_ball(name, impact_speed_m_s=25.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        simulate(ball, 25.0)
+        started = time.perf_counter()
+        simulate(ball, 25.0)
+    return time.perf_counter() - started
+
+
 def main() -> None:
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpu_count": os.cpu_count(), "python": platform.python_version(),
                        "jax": jax.__version__, "backend": jax.default_backend()},
            "curves": [curve("cricket-universal"), curve("cricket-universal", rate_m_s=1.0),
                       curve("cricket-3layer")]}
+    for c in out["curves"]:
+        c["impact_25_m_s_s"] = impact_s(c["ball"])
+        c["curve_to_impact_ratio"] = c["solve_s"] / c["impact_25_m_s_s"]
     print(json.dumps(out, indent=2))
 
 
