@@ -133,3 +133,12 @@ def read_table(path: Path, what: str = "rows", header=None) -> tuple[int, list[s
                                  f"{cells[col].strip()!r} is not a finite number")
             values[row, col] = value
     return header_line, names, [number for number, _ in lines[1:]], values
+
+
+def is_number(text: str) -> bool:
+    """Whether `text` reads as a float (a header cell that is a number: the header is missing)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True

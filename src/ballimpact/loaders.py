@@ -32,7 +32,7 @@ import numpy as np
 from scipy.io import wavfile
 
 from .errors import InputError
-from .fileio import read_table
+from .fileio import is_number, read_table
 from .records import ImpactRecord, check_positive
 
 #: CSV column name -> (record field, factor to SI).
@@ -152,20 +152,12 @@ def _column(path: Path, name: str, names: list[str]) -> tuple[str, float]:
         if sum(CSV_COLUMNS.get(other, ("",))[0] == field for other in names) > 1:
             raise InputError(f"{path}: header names {_QUANTITY[field]} twice")
         return CSV_COLUMNS[name]
-    if _is_number(name):
+    if is_number(name):
         raise InputError(f"{path}: first line is not a header; name the columns with units "
                          f"(e.g. time_s,force_n)")
     if name in _UNITS_OF:
         raise InputError(f"{path}: column {name!r} has no unit; use one of {_UNITS_OF[name]}")
     raise InputError(f"{path}: unknown column {name!r}; allowed: {', '.join(CSV_COLUMNS)}")
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def read_wav(

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
 from ..fileio import read_table
-from .gradient import Refinement, levenberg_marquardt
+from .gradient import Refinement, levenberg_marquardt, parameter_errors
 
 #: unit headers of a compression CSV: column -> (quantity, factor to SI)
 COLUMNS = {"deflection_m": ("deflection", 1.0), "deflection_mm": ("deflection", 1e-3),
@@ -230,14 +230,7 @@ def refine_compression(problem, options, start: np.ndarray | None = None,
     runs = curves(u)
     sigma = standard_errors(jac, r)
     values = problem.values(u)
-    error, interval = {}, {}
-    for p, s, x in zip(problem.free, sigma, u):
-        value = values[p.path]
-        slope = value * math.log(p.high / p.low) if p.scale == "log" else p.high - p.low
-        error[p.path] = float(abs(slope) * s)
-        with np.errstate(invalid="ignore", over="ignore"):
-            interval[p.path] = (float(p.from_unit(x - 1.96 * s)),
-                                float(p.from_unit(x + 1.96 * s)))
+    error, interval = parameter_errors(problem, u, sigma)
     m, n = jac.shape
     notes = identification_notes(values, error, "the tests do not determine it" if m > n else
                                  f"{m} measured points for {n} parameters leave none to "

@@ -348,6 +348,24 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
             break
     sigma_u = standard_errors(jac, r)[:len(u)]  # the time shifts are in the covariance
     values = problem.values(u)
+    error, interval = parameter_errors(problem, u, sigma_u)
+    m, n_unknowns = jac.shape
+    notes = identification_notes(values, error, "the tests do not determine it"
+                                 if m > n_unknowns else f"{m} residuals for {n_unknowns} "
+                                 "unknowns (parameters and time shifts) leave none to estimate "
+                                 "the noise from")
+    for note in notes.values():  # the calibration's result has no other place for the note
+        warnings.warn(note, InputWarning, stacklevel=2)
+    return Refinement(u, values, float(r @ r), start_misfit, error, interval, counts["value"],
+                      counts["jacobian"], time.perf_counter() - started, history, message, runs,
+                      passes, list(notes))
+
+
+def parameter_errors(problem: CalibrationProblem, u: np.ndarray, sigma_u: np.ndarray
+                     ) -> tuple[dict[str, float], dict[str, tuple[float, float]]]:
+    """Standard errors (SI) and 95% intervals of the parameters from the standard errors
+    `sigma_u` of their unit coordinates `u`."""
+    values = problem.values(u)
     error, interval = {}, {}
     for p, s, x in zip(problem.free, sigma_u, u):
         value = values[p.path]
@@ -359,16 +377,7 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
         with np.errstate(invalid="ignore", over="ignore"):
             interval[p.path] = (float(p.from_unit(x - 1.96 * s)),
                                 float(p.from_unit(x + 1.96 * s)))
-    m, n_unknowns = jac.shape
-    notes = identification_notes(values, error, "the tests do not determine it"
-                                 if m > n_unknowns else f"{m} residuals for {n_unknowns} "
-                                 "unknowns (parameters and time shifts) leave none to estimate "
-                                 "the noise from")
-    for note in notes.values():  # the calibration's result has no other place for the note
-        warnings.warn(note, InputWarning, stacklevel=2)
-    return Refinement(u, values, float(r @ r), start_misfit, error, interval, counts["value"],
-                      counts["jacobian"], time.perf_counter() - started, history, message, runs,
-                      passes, list(notes))
+    return error, interval
 
 
 def levenberg_marquardt(residuals, jacobian, u0: np.ndarray, max_evaluations: int,

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from ..fileio import read_table
+from ..fileio import is_number, read_table
 
 #: test modes and the file's quantities (SI names); alternatives separated by '|'
 MODES = ("uniaxial", "biaxial", "planar", "volumetric", "relaxation", "creep", "dma")
@@ -159,7 +159,7 @@ def _header(path: Path, mode: str, names: list[str]) -> tuple[str, ...]:
     seen: dict[str, str] = {}
     for name in names:
         if name not in allowed:
-            if _is_number(name):
+            if is_number(name):
                 raise InputError(f"{path}: the first line is not a header; name the columns "
                                  f"with units (e.g. {','.join(REQUIRED[mode][0])})")
             raise InputError(f"{path}: unknown column {name!r} for a {mode} test; allowed: "
@@ -181,14 +181,6 @@ def _header(path: Path, mode: str, names: list[str]) -> tuple[str, ...]:
     accepted = ", ".join(n for n, spec in allowed.items() if spec[0] == missing)
     raise InputError(f"{path}: no {missing} column (accepted: {accepted}); a {mode} test needs "
                      f"{wanted}")
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 # ---- checks per mode ----------------------------------------------------------------------------

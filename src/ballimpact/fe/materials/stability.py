@@ -174,20 +174,19 @@ def mooney_rivlin_drucker(c10_pa: float, c01_pa: float, stretch_min: float, stre
     grid[0], grid[-1] = stretch_min, stretch_max
     out = []
     for mode in MODES:
-        stable = _stable(c10_pa, c01_pa, mode, grid)
-        i = 0
-        while i < n:
-            if stable[i]:
-                i += 1
-                continue
-            j = i
-            while j + 1 < n and not stable[j + 1]:
-                j += 1
+        for i, j in unstable_runs(_stable(c10_pa, c01_pa, mode, grid)):
             start = grid[0] if i == 0 else _edge(c10_pa, c01_pa, mode, grid[i - 1], grid[i])
             end = grid[-1] if j == n - 1 else _edge(c10_pa, c01_pa, mode, grid[j], grid[j + 1])
             out.append({"mode": mode, "stretch_from": float(start), "stretch_to": float(end)})
-            i = j + 1
     return out
+
+
+def unstable_runs(stable: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) index of each run of False in a boolean array (the unstable samples)."""
+    bad = np.concatenate([[False], ~np.asarray(stable, bool), [False]]).astype(np.int8)
+    starts = np.flatnonzero(np.diff(bad) == 1)
+    ends = np.flatnonzero(np.diff(bad) == -1) - 1
+    return list(zip(starts.tolist(), ends.tolist()))
 
 
 def long_term_mooney_rivlin(material) -> tuple[float, float] | None:
@@ -375,18 +374,7 @@ def drucker_unstable(material: Material, stretch_min: float, stretch_max: float,
     grid[0], grid[-1] = stretch_min, stretch_max
     out = []
     for mode in MODES:
-        stable = _stable_states(material, mode, grid)
-        runs = []
-        i = 0
-        while i < n:
-            if stable[i]:
-                i += 1
-                continue
-            j = i
-            while j + 1 < n and not stable[j + 1]:
-                j += 1
-            runs.append((i, j))
-            i = j + 1
+        runs = unstable_runs(_stable_states(material, mode, grid))
         inner = [(grid[i - 1], grid[i]) for i, _ in runs if i > 0] + \
                 [(grid[j], grid[j + 1]) for _, j in runs if j < n - 1]
         edges = iter(_edges(material, mode, *map(np.array, zip(*inner))) if inner else [])
