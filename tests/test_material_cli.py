@@ -173,3 +173,37 @@ def _numbers(tree, prefix=""):
         return {k: v for i, item in enumerate(tree) for k, v in _numbers(item, f"{prefix}{i}.")
                 .items()}
     return {prefix[:-1]: tree} if isinstance(tree, (int, float)) else {}
+
+
+def test_relaxation_modulus_from_after_the_ramp(tmp_path, capsys):
+    """A relaxation modulus in Pa whose first point comes after the loading ramp (t0 = 0.1 s):
+    normalised by that first value the ratio is G(t)/G(t0), and the fit compares it so (g 0.5,
+    tau 1 s come back; taken as G(t)/G(0) they read g 0.478, tau 1.195 s)."""
+    t = np.geomspace(0.1, 100.0, 40)
+    modulus = 2e6 * (1.0 - 0.5 * (1.0 - np.exp(-t / 1.0)))
+    path = tmp_path / "relax.csv"
+    path.write_text("time_s,relaxation_modulus_pa\n"
+                    + "\n".join(f"{a:.10g},{b:.10g}" for a, b in zip(t, modulus)))
+    result = run_json(capsys, ["material", "fit", f"{path}:relaxation", "--model", "prony",
+                               "--terms", "1"])
+    (term,) = result["prony"]
+    assert term["g"] == pytest.approx(0.5, rel=1e-4)
+    assert term["tau_s"] == pytest.approx(1.0, rel=1e-4)
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("stretch,nominal_stress_pa\n1,0\n1.5,0.4\n2,0.7\n", "MPa given as Pa"),
+    ("strain,nominal_stress_mpa\n0,0\n50,0.4\n100,0.7\n", "percent given as a fraction"),
+])
+def test_unit_slips_warn(text, fragment, tmp_path, capsys):
+    path = tmp_path / "slip.csv"
+    path.write_text(text)
+    result = run_json(capsys, ["material", "fit", f"{path}:uniaxial", "--model", "neo_hookean"])
+    assert any(fragment in w for w in result["warnings"]), result["warnings"]
+
+
+def test_prony_out_needs_a_material(tmp_path, bad_input):
+    path = tmp_path / "relax.csv"
+    path.write_text("time_s,relaxation_modulus_ratio\n0,1\n0.1,0.8\n1,0.6\n10,0.5\n100,0.5\n")
+    bad_input(["material", "fit", f"{path}:relaxation", "--model", "prony", "--terms", "1",
+               "--out", tmp_path / "x.json"], "--out", "not a material", "--merge")

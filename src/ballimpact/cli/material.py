@@ -97,6 +97,9 @@ def _checked_fit_flags(args: argparse.Namespace) -> None:
             raise InputError("--model prony needs --terms N (the number of Prony terms)")
         if args.shift is not None and args.shift not in SHIFTS:
             raise InputError(f"--shift {args.shift}: allowed {', '.join(SHIFTS)}")
+        if args.out is not None and args.merge is None:
+            raise InputError("--out: a Prony series alone is not a material; give --merge "
+                             "MATERIAL_JSON (the hyperelastic material it belongs to)")
     check_plot_path(args.plot)
     check_output_folder(args.out, "--out")
 
@@ -157,18 +160,26 @@ def _fit_prony(args: argparse.Namespace, tests) -> dict[str, Any]:
     if test.mode != "dma" and (args.shift is not None or args.reference_temperature_c is not None):
         raise InputError(f"--shift / --reference-temperature-c: only for a dma test, {test.path} "
                          f"is {test.mode}")
-    if test.mode == "relaxation":
-        fit = viscoelastic.fit_relaxation(c["time_s"], c["relaxation_modulus_ratio"], args.terms,
-                                          seed=args.seed)
-    elif test.mode == "creep":
-        fit = viscoelastic.fit_creep(c["time_s"], c["creep_compliance_ratio"], args.terms,
-                                     seed=args.seed)
-    else:
-        fit = viscoelastic.fit_dma(c["frequency_hz"], c["storage_modulus_pa"],
-                                   c["loss_modulus_pa"], args.terms,
-                                   temperature_c=c.get("temperature_c"),
-                                   shift=args.shift or "wlf",
-                                   reference_c=args.reference_temperature_c, seed=args.seed)
+    # a modulus (compliance) column was normalised by its first value: the ratio is to the
+    # value at the first time, which is the instantaneous one only when that time is 0
+    normalised = "relaxation_modulus_pa" in c or "creep_compliance_per_pa" in c
+    reference = float(c["time_s"][0]) if normalised and test.mode != "dma" else 0.0
+    try:
+        if test.mode == "relaxation":
+            fit = viscoelastic.fit_relaxation(c["time_s"], c["relaxation_modulus_ratio"],
+                                              args.terms, seed=args.seed,
+                                              reference_time_s=reference)
+        elif test.mode == "creep":
+            fit = viscoelastic.fit_creep(c["time_s"], c["creep_compliance_ratio"], args.terms,
+                                         seed=args.seed, reference_time_s=reference)
+        else:
+            fit = viscoelastic.fit_dma(c["frequency_hz"], c["storage_modulus_pa"],
+                                       c["loss_modulus_pa"], args.terms,
+                                       temperature_c=c.get("temperature_c"),
+                                       shift=args.shift or "wlf",
+                                       reference_c=args.reference_temperature_c, seed=args.seed)
+    except InputError as error:  # the fit's messages name the column: add the file
+        raise InputError(f"{test.path}: {error}") from None
     result = fit.to_dict()
     # k_i = 0 by default: a shear (or tension) relaxation test says nothing about the bulk
     prony = [{**term, "k": term["g"] if args.bulk_relaxation else 0.0}
@@ -180,7 +191,7 @@ def _fit_prony(args: argparse.Namespace, tests) -> dict[str, Any]:
                                                    bulk=args.bulk_relaxation,
                                                    where=str(args.merge))
     if args.out is not None:
-        _write_material(args.out, out.get("material", {"prony": prony}))
+        _write_material(args.out, out["material"])
         out["out"] = str(args.out)
     if not args.json:
         print(f"Prony series ({len(prony)} terms) fitted to {test.path} ({test.mode}), "

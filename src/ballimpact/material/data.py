@@ -22,12 +22,13 @@ Every error names the file and, for a value, its 1-based line and its column.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..fileio import is_number, read_table
 
 #: test modes and the file's quantities (SI names); alternatives separated by '|'
@@ -150,7 +151,38 @@ def read_test(path: str | Path, mode: str) -> MaterialTest:
             column_of[quantity] = name
     test = MaterialTest(path=path, mode=mode, columns=columns, lines=tuple(lines))
     _CHECKS[mode](test, column_of)
+    _warn_unit_slips(test, column_of)
     return test
+
+
+#: below this largest stress or modulus (Pa) no rubber or foam test reads: MPa given as Pa
+SMALLEST_PLAUSIBLE_PA = 1e3
+#: above this stretch from an engineering-strain column, percent was given as a fraction
+LARGEST_PLAUSIBLE_STRETCH = 10.0
+
+
+def _warn_unit_slips(test: MaterialTest, column_of: dict[str, str]) -> None:
+    """Warnings (the data may be right) for the two slips that fit silently: stresses in MPa
+    under a `_pa` header, and percent under a `strain` header."""
+    for quantity in ("nominal_stress_pa", "nominal_stress_1_pa", "nominal_stress_2_pa",
+                     "pressure_pa", "storage_modulus_pa"):
+        name = column_of.get(quantity, "")
+        if not name.endswith("_pa") or quantity not in test.columns:
+            continue
+        largest = float(np.max(np.abs(test.columns[quantity])))
+        if 0.0 < largest < SMALLEST_PLAUSIBLE_PA:
+            warnings.warn(f"{test.path}: column {name}: the largest value is {largest:g} Pa, "
+                          f"below {SMALLEST_PLAUSIBLE_PA:g} Pa, less than any rubber or foam test "
+                          f"reads: MPa given as Pa? (then name it {name[:-3]}_mpa)",
+                          InputWarning, stacklevel=3)
+    for quantity in ("stretch", "stretch_1", "stretch_2"):
+        name = column_of.get(quantity, "")
+        if name.startswith("strain") and not name.endswith("_pct"):
+            largest = float(np.max(test.columns[quantity]))
+            if largest > LARGEST_PLAUSIBLE_STRETCH:
+                warnings.warn(f"{test.path}: column {name}: stretches up to {largest:g} (strain "
+                              f"{largest - 1.0:g}): percent given as a fraction? (then name the "
+                              f"column {name}_pct)", InputWarning, stacklevel=3)
 
 
 def _header(path: Path, mode: str, names: list[str]) -> tuple[str, ...]:

@@ -429,7 +429,8 @@ def _r2(residual: np.ndarray, data: np.ndarray) -> float:
     return 1.0 - float(residual @ residual) / total if total > 0 else math.nan
 
 
-def _time_fit(t: np.ndarray, r: np.ndarray, n: int, seed: int, creep: bool) -> PronyFit:
+def _time_fit(t: np.ndarray, r: np.ndarray, n: int, seed: int, creep: bool,
+              reference_time_s: float = 0.0) -> PronyFit:
     positive = t[t > 0]
     t_low, t_high = positive.min(), positive.max()
     if creep:
@@ -454,8 +455,16 @@ def _time_fit(t: np.ndarray, r: np.ndarray, n: int, seed: int, creep: bool) -> P
     high = t_high * 10.0 ** WIDEN_DECADES
     tau0 = np.clip(tau0, low * 1.0001, high / 1.0001)
 
+    def model(g, tau):
+        """The ratio the data give: to the instantaneous value, or to that at the reference
+        time (a modulus normalised by its first measured value)."""
+        values = forward_fn(g, tau, t)
+        if reference_time_s > 0.0:
+            values = values / forward_fn(g, tau, np.array([reference_time_s]))[0]
+        return values
+
     def residual_p(p):
-        return forward_fn(p[:n], np.exp(p[n:]), t) - r
+        return model(p[:n], np.exp(p[n:])) - r
 
     def residual_x(x):
         return residual_p(np.concatenate([_stick(x[:n]), x[n:]]))
@@ -482,22 +491,34 @@ def _time_fit(t: np.ndarray, r: np.ndarray, n: int, seed: int, creep: bool) -> P
 
 # ---- public fits ---------------------------------------------------------------------------------
 
-def fit_relaxation(time_s, ratio, terms: int, *, seed: int = 0) -> PronyFit:
+def fit_relaxation(time_s, ratio, terms: int, *, seed: int = 0,
+                   reference_time_s: float = 0.0) -> PronyFit:
     """Prony terms of a stress-relaxation test: `time_s` (s, >= 0) and `ratio` = G(t)/G(0) in
     (0, 1] (up to 1.05 accepted as noise around the instantaneous value), `terms` in 1..10, more
-    points than 2 x terms. Seeded and deterministic."""
+    points than 2 x terms. `reference_time_s` > 0: the ratio is G(t)/G(t_ref) instead, as a
+    modulus normalised by its first measured value (a test whose first point comes after its
+    loading ramp) gives it; the fit then compares g_R(t)/g_R(t_ref). Seeded and deterministic."""
     t, r, n = _time_data(time_s, ratio, terms, creep=False)
-    return _time_fit(t, r, n, seed, creep=False)
+    return _time_fit(t, r, n, seed, creep=False, reference_time_s=_reference(reference_time_s))
 
 
-def fit_creep(time_s, ratio, terms: int, *, seed: int = 0) -> PronyFit:
+def fit_creep(time_s, ratio, terms: int, *, seed: int = 0,
+              reference_time_s: float = 0.0) -> PronyFit:
     """Relaxation Prony terms of a creep test: `time_s` (s, >= 0) and `ratio` = J(t)/J(0) >= 1
-    (down to 0.95 accepted as noise), the creep compliance over its instantaneous value. The
+    (down to 0.95 accepted as noise), the creep compliance over its instantaneous value
+    (`reference_time_s` > 0: over its value at that time, as for `fit_relaxation`). The
     terms' exact creep compliance (`creep_ratio`) is fitted to the data. Relaxation times may lie
     up to J(inf)/J(0) times below the data's span (a creep test sees retardation times, which
     are the longer ones)."""
     t, r, n = _time_data(time_s, ratio, terms, creep=True)
-    return _time_fit(t, r, n, seed, creep=True)
+    return _time_fit(t, r, n, seed, creep=True, reference_time_s=_reference(reference_time_s))
+
+
+def _reference(value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or not math.isfinite(value) or value < 0.0:
+        raise InputError(f"reference_time_s = {value!r}: expected a finite time >= 0 (s)")
+    return float(value)
 
 
 def _shift_function(shift: str, temperature: np.ndarray, reference: float
