@@ -190,6 +190,13 @@ def fit_hyperelastic(tests: list[MaterialTest], model: str, order: int | None = 
     usable = _usable(material, notes)
     residuals = {str(b.test.path): predictions[id(b)] - b.y for b in blocks}
     r2 = _r_squared(blocks, predictions)
+    for name, value in r2.items():
+        if name != "overall" and value < 0.0:
+            message = (f"{name}: R^2 = {value:.3g} < 0, the fit does not describe this test "
+                       "(worse than its mean); with tests of very different stress levels (a "
+                       "volumetric test's pressures against shear stresses) try --error relative")
+            notes.append(message)
+            warnings.warn(message, InputWarning, stacklevel=2)
     ranges, unstable = _stability(material, tests) if usable else ({}, [])
     for r in unstable:
         warnings.warn(f"fitted {model} is Drucker-unstable in {r['mode']} deformation for "
