@@ -22,11 +22,11 @@ def test_thesis_core_path(tmp_path):
     # the elastic constants of a slow test miss the impact's energy loss (thesis figure 5-8)
     assert result["elastic_prediction"]["cor"] > 0.95
     assert result["measured_impact"]["cor"] == pytest.approx(0.75, abs=0.02)
+    # the standard errors carry the residuals' correlation (the explicit run's ringing contact
+    # force sampled at other instants than the test's): measured g 0.04 and 0.01, tau 0.83 and
+    # 0.88 standard errors (2.2 and 2.3 were the errors as if the residuals were independent)
     for run in (result["prony_calibration"], result["prony_calibration_from_true_constants"]):
-        g = run["layers.core.material.prony.0.g"]
-        tau = run["layers.core.material.prony.0.tau_s"]
-        assert g["error_in_standard_errors"] <= 1.0           # measured 0.11 and 0.04
-        # tau: 6% high in both, 2.2-2.3 standard errors: the systematic misfit of the explicit
-        # run's ringing contact force is not in the standard errors (the example's docstring)
-        assert tau["calibrated"] == pytest.approx(tau["truth"], rel=0.1)
-        assert tau["error_in_standard_errors"] <= 3.0
+        for name in ("layers.core.material.prony.0.g", "layers.core.material.prony.0.tau_s"):
+            assert run[name]["error_in_standard_errors"] <= 1.0, name
+        assert run["layers.core.material.prony.0.tau_s"]["calibrated"] == pytest.approx(
+            7e-5, rel=0.1)

@@ -172,7 +172,7 @@ def refine_compression(problem, options, start: np.ndarray | None = None,
     in the unit coordinates (one-sided, second order, on a bound). Standard errors as the impact
     refinement's (`identifiability.standard_errors`)."""
     from ..fe import load_ball
-    from ..identifiability import identification_notes, standard_errors
+    from ..identifiability import correlation_factor, identification_notes, standard_errors
     from .problem import sub_ball
 
     started = time.perf_counter()
@@ -228,7 +228,9 @@ def refine_compression(problem, options, start: np.ndarray | None = None,
 
     u, r, jac, message = levenberg_marquardt(residuals, jacobian, u0, max_evaluations)
     runs = curves(u)
-    sigma = standard_errors(jac, r)
+    ends = np.cumsum([len(test.force_n) for test in problem.tests])[:-1]
+    correlation = correlation_factor(np.split(r, ends))  # each curve's residuals in order
+    sigma = standard_errors(jac, r, correlation=correlation)
     values = problem.values(u)
     error, interval = parameter_errors(problem, u, sigma)
     m, n = jac.shape
@@ -240,7 +242,8 @@ def refine_compression(problem, options, start: np.ndarray | None = None,
     return CompressionRefinement(
         u, values, float(r @ r), history[0], error, interval, counts["value"],
         counts["jacobian"], time.perf_counter() - started, history, message, runs, 1,
-        list(notes), jacobian_method="central differences", solves=counts["solves"])
+        list(notes), residual_correlation=correlation, jacobian_method="central differences",
+        solves=counts["solves"])
 
 
 @dataclass

@@ -45,7 +45,7 @@ import numpy as np
 from jax.flatten_util import ravel_pytree
 
 from ..errors import InputError, InputWarning, SimulationError
-from ..identifiability import identification_notes, standard_errors
+from ..identifiability import correlation_factor, identification_notes, standard_errors
 from .evaluate import max_shift_s
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
@@ -272,6 +272,8 @@ class Refinement:
     passes: int = 1
     #: parameters with an infinite standard error or one larger than their value
     not_identified: list[str] = field(default_factory=list)
+    #: the factor on the variances for correlated residuals (`identifiability.correlation_factor`)
+    residual_correlation: float = 1.0
 
     @property
     def fe_runs(self) -> int:
@@ -289,7 +291,8 @@ class Refinement:
                 "jacobian_evaluations": self.jacobian_evaluations,
                 "fe_runs": self.fe_runs, "passes": self.passes,
                 "wall_time_s": self.wall_time_s,
-                "misfit_history": self.history, "message": self.message}
+                "misfit_history": self.history, "message": self.message,
+                "residual_correlation": self.residual_correlation}
 
 
 def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None,
@@ -346,7 +349,9 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
         if all(m.increment_s <= 0.95 * fe.final_time_increment_s
                for m, fe in zip(misfits, runs)) or counts["value"] >= max_evaluations:
             break
-    sigma_u = standard_errors(jac, r)[:len(u)]  # the time shifts are in the covariance
+    correlation = correlation_factor(force_residuals(misfits, r))
+    # the time shifts are in the covariance
+    sigma_u = standard_errors(jac, r, correlation=correlation)[:len(u)]
     values = problem.values(u)
     error, interval = parameter_errors(problem, u, sigma_u)
     m, n_unknowns = jac.shape
@@ -358,7 +363,18 @@ def refine(problem: CalibrationProblem, options, start: np.ndarray | None = None
         warnings.warn(note, InputWarning, stacklevel=2)
     return Refinement(u, values, float(r @ r), start_misfit, error, interval, counts["value"],
                       counts["jacobian"], time.perf_counter() - started, history, message, runs,
-                      passes, list(notes))
+                      passes, list(notes), residual_correlation=correlation)
+
+
+def force_residuals(misfits: list, r: np.ndarray) -> list[np.ndarray]:
+    """Each test's force residuals (its pulse's samples in time) out of the concatenated
+    residuals of `misfits` (each: its force residuals if it uses them, then its COR one)."""
+    blocks, start = [], 0
+    for m in misfits:
+        n_force = len(m.times_s) if m.use_force else 0
+        blocks.append(r[start:start + n_force])
+        start += n_force + int(m.use_cor)
+    return [b for b in blocks if b.size]
 
 
 def parameter_errors(problem: CalibrationProblem, u: np.ndarray, sigma_u: np.ndarray
