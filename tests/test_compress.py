@@ -104,7 +104,7 @@ def test_impact_approach_from_quasi_static_work():
 #: and the hourglass springs x0.2: they follow the instantaneous shear modulus, so at the
 #: default 0.05 they kept a slowly loaded g = 0.5 ball 3% stiffer than its long-term limit
 VISCO_OPTIONS = SolverOptions(element_size_m=3e-3, penalty_scale=100.0, hourglass_scale=0.01)
-TAU_S, G = 1e-3, 0.5
+TAU_S, G = 1.0, 0.5  # a 1 s relaxation: the three rates are lab rates (2e-7 to 20 m/s)
 VISCO_DEFLECTION_M = 2e-3
 
 
@@ -179,6 +179,7 @@ def test_cli_json_csv_plot(tmp_path, capsys):
     (["--deflection-m", "0.05"], ["deflection_m", "above the ball's radius"]),
     (["--deflection-m", "0.08"], ["deflection_m", "diameter"]),
     (["--deflection-m", "0.002", "--rate-m-s", "0"], ["rate_m_s", "> 0"]),
+    (["--deflection-m", "0.002", "--rate-m-s", "500"], ["rate_m_s = 500", "mm/s given as m/s"]),
     (["--deflection-m", "0.002", "--steps", "0"], ["steps", ">= 1"]),
     (["--deflection-m", "0.002", "--csv", "/nonexistent/x.csv"], ["--csv", "does not exist"]),
 ])

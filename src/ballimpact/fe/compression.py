@@ -126,6 +126,11 @@ class CompressionResult:
         return {**self.summary(), **self.record()}
 
 
+#: fastest platen (m/s): the top of the impact speeds the FE solver is checked for
+#: (`plausibility.speed-range`); a faster one is no quasi-static test (and mostly mm/s as m/s)
+MAX_RATE_M_S = 80.0
+
+
 def check_compression_input(ball, deflection_m, rate_m_s=None, steps=20) -> None:
     """InputError (one line naming the argument and its range) for a deflection outside
     (0, radius] (a deflection above the radius is most likely millimetres given as metres), a rate
@@ -154,6 +159,11 @@ def check_compression_input(ball, deflection_m, rate_m_s=None, steps=20) -> None
         if not (math.isfinite(r) and r > 0.0):
             raise InputError(f"rate_m_s = {shown(rate_m_s)}: must be > 0 (m/s), the platen "
                              "speed; leave it out for the long-term (fully relaxed) curve")
+        if r > MAX_RATE_M_S:
+            raise InputError(f"rate_m_s = {r:g} m/s: above {MAX_RATE_M_S:g} m/s, faster than the "
+                             "impacts the solvers are checked for, where no inertia-free solve "
+                             f"holds; allowed (0, {MAX_RATE_M_S:g}] m/s (mm/s given as m/s? "
+                             f"{r:g} mm/s is {r * 1e-3:g} m/s)")
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise InputError(f"steps = {shown(steps)}: must be an integer >= 1")
 
