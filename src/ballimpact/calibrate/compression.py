@@ -121,7 +121,8 @@ def _compression_columns(path: Path, names: list[str], line: int) -> list[tuple[
 def check_against_ball(test: CompressionTest, ball) -> None:
     """`InputError` naming the file for a curve the tested ball cannot be compressed to: a
     deflection at or above its diameter (likely millimetres given as metres), or above its radius
-    (`fe.compress` squeezes a ball to half its diameter at most)."""
+    (`fe.compress` squeezes a ball to half its diameter at most); then `compress`'s own checks
+    (`check_compression_input`: the platen rate, the increments)."""
     d = test.max_deflection_m
     diameter, radius = 2.0 * ball.outer_radius_m, ball.outer_radius_m
     where = test.source or test.name
@@ -135,6 +136,12 @@ def check_against_ball(test: CompressionTest, ball) -> None:
         raise InputError(f"{where}: a deflection of {d:g} m is above the radius {radius:g} m of "
                          f"{part}; the FE compression goes to half the diameter at most "
                          f"(allowed (0, {radius:g}] m)")
+    from ..fe.compression import check_compression_input
+
+    try:  # the rest (platen rate, increments) as `compress` checks it
+        check_compression_input(ball, d, test.rate_m_s, test.steps)
+    except InputError as error:
+        raise InputError(f"{where}: {error}") from None
 
 
 def compression_run(test: CompressionTest, ball, options, progress=None):
