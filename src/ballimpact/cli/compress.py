@@ -72,7 +72,6 @@ class _Progress:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import SolverOptions, compress, load_ball
-    from ..fe.compression import check_compression_input
 
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
@@ -82,7 +81,6 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     ball = load_ball(args.ball, impact_speed_m_s=args.impact_speed_m_s, allow=allow)
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
-    check_compression_input(ball, args.deflection_m, args.rate_m_s, args.steps)
     options = SolverOptions(element_size_m=args.element_size_m, integration=args.integration,
                             penalty_scale=args.penalty_scale)
     use_compilation_cache()

@@ -66,6 +66,9 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
+    from .common import use_compilation_cache
+
+    use_compilation_cache()  # the fits' stresses and `check --speed-m-s`'s run are compiled
     return {"fit": _fit, "check": _check}[args.step](args)
 
 
@@ -125,11 +128,7 @@ def _fit(args: argparse.Namespace) -> dict[str, Any]:
 
     fit = fit_hyperelastic(tests, args.model, order=args.order, error=args.error, seed=args.seed,
                            starts=args.starts or DEFAULT_STARTS)
-    out = {"material": fit.material, "r2": fit.r2, "constants": fit.constants,
-           "standard_errors": fit.standard_errors,
-           "stable_range": {m: list(r) for m, r in fit.stable_range.items()},
-           "unstable_in_data": fit.unstable, "usable": fit.usable, "notes": fit.notes,
-           "error": fit.error, "model": fit.model}
+    out = fit.to_dict()
     if args.out is not None:
         if not fit.usable:
             raise InputError(f"--out {args.out}: not written, the fitted set is not a valid ball "
@@ -195,7 +194,7 @@ def _fit_prony(args: argparse.Namespace, tests) -> dict[str, Any]:
         out["out"] = str(args.out)
     if not args.json:
         print(f"Prony series ({len(prony)} terms) fitted to {test.path} ({test.mode}), "
-              f"R^2 = {out.get('r2', float('nan')):.5f}")
+              f"R^2 = {fit.r2:.5f}")
         for term in prony:
             print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
     return out

@@ -39,7 +39,9 @@ from ..fe.materials import material_from_dict
 from ..identifiability import standard_errors
 from .data import MaterialTest
 from .modes import COMPRESSIBLE, deformation_stress, term_stresses
-from .stability import STABILITY_MODES, stable_ranges, unstable_within
+from ..fe.materials.stability import MODES as STABLE_MODES
+from .stability import stable_ranges, unstable_within
+from .viscoelastic import r_squared
 
 LINEAR_KEYS = {"neo_hookean": ("c10_pa",), "mooney_rivlin": ("c10_pa", "c01_pa"),
                "yeoh": ("c10_pa", "c20_pa", "c30_pa")}
@@ -418,15 +420,11 @@ def _standard_errors(blocks, flat, jacobian) -> list[float]:
 
 
 def _r_squared(blocks, predictions) -> dict[str, float]:
-    out = {}
-    res_all, y_all = [], []
-    for b in blocks:
-        res = predictions[id(b)] - b.y
-        out[str(b.test.path)] = float(1.0 - res @ res / np.sum((b.y - b.y.mean()) ** 2))
-        res_all.append(res)
-        y_all.append(b.y)
-    res, y = np.concatenate(res_all), np.concatenate(y_all)
-    out["overall"] = float(1.0 - res @ res / np.sum((y - y.mean()) ** 2))
+    """R^2 per test and pooled (`viscoelastic.r_squared`: NaN for a test of constant stress)."""
+    res = {str(b.test.path): predictions[id(b)] - b.y for b in blocks}
+    out = {str(b.test.path): r_squared(res[str(b.test.path)], b.y) for b in blocks}
+    out["overall"] = r_squared(np.concatenate(list(res.values())),
+                               np.concatenate([b.y for b in blocks]))
     return out
 
 
@@ -436,7 +434,7 @@ def _stability(material: dict, tests: list[MaterialTest]):
     ranges = stable_ranges(built)
     data: dict[str, tuple[float, float]] = {}
     for t in tests:
-        if t.deformation in STABILITY_MODES:
+        if t.deformation in STABLE_MODES:
             lo, hi = t.stretch_range()
             old = data.get(t.deformation, (lo, hi))
             data[t.deformation] = (min(lo, old[0]), max(hi, old[1]))

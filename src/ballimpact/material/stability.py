@@ -9,17 +9,13 @@ from typing import Any
 from ..fe.materials import Material
 from ..fe.materials.stability import MODES, checked, drucker_unstable, stable_range
 
-STABILITY_MODES = MODES  # uniaxial, equibiaxial, planar
-#: the stretches searched for the stable range (those of `stable_range`)
-SEARCH = (0.05, 20.0)
-
 
 def stable_ranges(material: Material) -> dict[str, tuple[float, float]]:
     """mode -> (low, high), the Drucker-stable interval containing stretch 1 within 0.05..20;
     empty for a material that is not checked (linear elastic)."""
     if not checked(material):
         return {}
-    return {mode: stable_range(material, mode, *SEARCH) for mode in STABILITY_MODES}
+    return {mode: stable_range(material, mode) for mode in MODES}
 
 
 def unstable_within(material: Material, ranges: dict[str, tuple[float, float]]
@@ -32,10 +28,9 @@ def unstable_within(material: Material, ranges: dict[str, tuple[float, float]]
     for mode, (lo, hi) in ranges.items():
         if not hi > lo:
             continue
-        for r in drucker_unstable(material, lo, hi):
-            if r["mode"] == mode:
-                out.append({**r, "data_from": lo, "data_to": hi})
+        out += [{**r, "data_from": lo, "data_to": hi}
+                for r in drucker_unstable(material, lo, hi, modes=(mode,))]
     return out
 
 
-__all__ = ["SEARCH", "STABILITY_MODES", "stable_ranges", "unstable_within"]
+__all__ = ["stable_ranges", "unstable_within"]

@@ -424,7 +424,8 @@ def _errors(model: Callable[[np.ndarray], np.ndarray], p: np.ndarray, n: int,
     return dict(zip(names, (float(e) for e in err))), err
 
 
-def _r2(residual: np.ndarray, data: np.ndarray) -> float:
+def r_squared(residual: np.ndarray, data: np.ndarray) -> float:
+    """1 - SS_res / SS_tot; NaN when the data do not vary (SS_tot = 0)."""
     total = float(np.sum((data - data.mean()) ** 2))
     return 1.0 - float(residual @ residual) / total if total > 0 else math.nan
 
@@ -481,7 +482,7 @@ def _time_fit(t: np.ndarray, r: np.ndarray, n: int, seed: int, creep: bool,
     res = residual_p(p)
     values = dict(zip(names, np.concatenate([g, tau])))
     notes = identification_notes(values, errors, _WHY_INFINITE)
-    return PronyFit(terms=_terms(g, tau), r2=_r2(res, r),
+    return PronyFit(terms=_terms(g, tau), r2=r_squared(res, r),
                     standard_errors={"g": tuple(float(e) for e in err[:n]),
                                      "tau_s": tuple(float(e) for e in err[n:2 * n])},
                     test="creep" if creep else "relaxation",

@@ -358,7 +358,7 @@ def _edges(material: Material, mode: str, lo: np.ndarray, hi: np.ndarray) -> np.
 
 
 def drucker_unstable(material: Material, stretch_min: float, stretch_max: float,
-                     n: int = 400) -> list[dict[str, Any]]:
+                     n: int = 400, modes: tuple[str, ...] = MODES) -> list[dict[str, Any]]:
     """Unstable stretch intervals of a material (neo_hookean, mooney_rivlin, yeoh, ogden,
     ogden_hyperfoam; empty list: stable), from its own energy at the long-term constants (the
     instantaneous ones give identical ranges).
@@ -367,13 +367,14 @@ def drucker_unstable(material: Material, stretch_min: float, stretch_max: float,
     stretch_max]; each run of unstable samples is one interval, its inner edges refined by
     bisection (to ~1e-9 relative, the marginal tolerance). An interval narrower than the sampling
     may be missed. Returns dicts {"mode", "stretch_from", "stretch_to"} in mode order, then by
-    stretch. A linear_elastic material raises `InputError` (not checked)."""
+    stretch. `modes`: the modes checked (default all). A linear_elastic material raises
+    `InputError` (not checked)."""
     _check_range(stretch_min, stretch_max, n)
     _require_checked(material)
     grid = np.geomspace(stretch_min, stretch_max, n)
     grid[0], grid[-1] = stretch_min, stretch_max
     out = []
-    for mode in MODES:
+    for mode in modes:
         runs = unstable_runs(_stable_states(material, mode, grid))
         inner = [(grid[i - 1], grid[i]) for i, _ in runs if i > 0] + \
                 [(grid[j], grid[j + 1]) for _, j in runs if j < n - 1]
@@ -441,13 +442,41 @@ def drucker_warnings(ball: BallModel, stretch_min: float, stretch_max: float,
         material = layer.material
         if not checked(material):
             continue
-        for r in drucker_unstable(material, stretch_min, stretch_max, n):
+        for r in _unstable_after_run(material, stretch_min, stretch_max, n):
             messages.append(
                 f"{ball.name}: layer {i} '{layer.name}' ({material.model}, long-term "
                 f"{long_term_constants(material)}) is Drucker-unstable in {r['mode']} "
                 f"deformation for stretches {r['stretch_from']:.4g} to {r['stretch_to']:.4g} "
                 f"(checked {stretch_min:g} to {stretch_max:g})")
     return messages
+
+def _unstable_after_run(material: Material, stretch_min: float, stretch_max: float,
+                        n: int) -> list[dict[str, Any]]:
+    """`drucker_unstable` as every FE run asks it (after each run of a batch, a search, a
+    study): the closed form for Mooney-Rivlin and neo-Hookean (milliseconds, no compilation),
+    else the energy's check over the widest range once per material (cached) and clipped to the
+    run's stretches."""
+    constants = long_term_mooney_rivlin(material)
+    if constants is not None:
+        return mooney_rivlin_drucker(*constants, stretch_min, stretch_max, n)
+    try:
+        wide = _unstable_everywhere(material)
+    except TypeError:  # a material that cannot be hashed: checked as it is
+        return drucker_unstable(material, stretch_min, stretch_max, n)
+    return [{"mode": r["mode"], "stretch_from": max(r["stretch_from"], stretch_min),
+             "stretch_to": min(r["stretch_to"], stretch_max)} for r in wide
+            if r["stretch_to"] > stretch_min and r["stretch_from"] < stretch_max]
+
+
+#: the range and sampling of the cached check (`_unstable_after_run`): 0.05..20 at 2000 points
+#: (0.3% apart in stretch)
+WIDE_RANGE, WIDE_SAMPLES = (0.05, 20.0), 2000
+
+
+@functools.lru_cache(maxsize=64)
+def _unstable_everywhere(material: Material) -> tuple[dict[str, Any], ...]:
+    return tuple(drucker_unstable(material, *WIDE_RANGE, WIDE_SAMPLES))
+
 
 __all__ = ["INCOMPRESSIBLE", "MODES", "checked", "drucker_unstable", "drucker_warnings",
            "long_term_constants", "long_term_mooney_rivlin", "mode_stretches",
