@@ -229,6 +229,14 @@ def test_objectives_apply_to_their_tests():
                                                     "compression")
 
 
+def test_problem_defaults_to_its_tests_objectives(files):
+    """A library `CalibrationProblem` of compression tests alone, without objectives given,
+    takes theirs (it took the impact objectives and was refused)."""
+    spec = ball_spec()
+    problem = CalibrationProblem(spec, [core_test(files)], [free_parameter(spec, C10, *BOUNDS)])
+    assert problem.objectives == ("compression",)
+
+
 def test_mixed_gradient_stage_refused(files, tmp_path):
     """A gradient stage over a compression and an impact test is refused before any run."""
     from calibrate_cases import half_sine_record

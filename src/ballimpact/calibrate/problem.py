@@ -284,7 +284,8 @@ class CalibrationProblem:
     template: dict
     tests: list[CalibrationTest]
     free: list[FreeParameter]
-    objectives: tuple[str, ...] = ("nrmse", "cor", "contact_time")
+    #: None: those of the tests' kinds (`default_objectives`)
+    objectives: tuple[str, ...] | None = None
     start: dict[str, float] = field(default_factory=dict)  # path -> value; default template
     #: plausibility checks turned into warnings (`plausibility.CHECKS`; e.g. "speed-range" for
     #: tests outside the FE solver's checked speeds)
@@ -303,6 +304,8 @@ class CalibrationProblem:
         paths = [p.path for p in self.free]
         if len(set(paths)) != len(paths):
             raise InputError(f"--free: a parameter is listed twice ({paths})")
+        if self.objectives is None:
+            self.objectives = default_objectives(self.tests)
         bad = [o for o in self.objectives if o not in OBJECTIVES]
         if bad or not self.objectives:
             raise InputError(f"--objectives {','.join(self.objectives)}: allowed any of "
