@@ -99,7 +99,7 @@ def test_objective_is_the_force_nrmse(files, truth_curve):
     expected = 0.03 * math.sqrt(np.mean(test.force_n ** 2)) / test.force_n.max()
     got = comp.compare_compression(test, Scaled())
     assert got["compression_nrmse"] == pytest.approx(expected, rel=1e-12)
-    assert got["peak_force_relative_error"] == pytest.approx(0.03, rel=1e-12)
+    assert got["end_force_relative_error"] == pytest.approx(0.03, rel=1e-12)
 
 
 # ---- the calibration recovers C10 --------------------------------------------------------------

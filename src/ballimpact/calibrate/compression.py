@@ -40,7 +40,7 @@ DEFAULT_STEPS = 20
 #: central-difference step of the refinement's Jacobian (unit coordinates: 1e-4 of the span)
 FD_STEP = 1e-4
 #: the comparison keys of a compression test (per-test columns of a search's evaluations)
-COMPARISON_KEYS = ("compression_nrmse", "peak_force_relative_error")
+COMPARISON_KEYS = ("compression_nrmse", "end_force_relative_error")
 
 
 @dataclass(frozen=True)
@@ -166,7 +166,7 @@ def compare_compression(test: CompressionTest, result) -> dict[str, float]:
     r = force_residuals(test, result)
     model_end = float(result.force_at(test.max_deflection_m))
     return {"compression_nrmse": float(math.sqrt(r @ r)),
-            "peak_force_relative_error": model_end / float(test.force_n[-1]) - 1.0
+            "end_force_relative_error": model_end / float(test.force_n[-1]) - 1.0
             if test.force_n[-1] > 0 else math.nan}
 
 
