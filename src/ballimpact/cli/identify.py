@@ -55,6 +55,11 @@ def add_parser(verbs) -> None:
                           help="write the identified ball for `simulate --ball`: with several "
                                "files (one per speed), a ball holding the speed table, "
                                "interpolated at the impact speed as the cricket-universal preset")
+    identify.add_argument("--ball-diameter-m", type=float, metavar="D",
+                          help="the tested ball's diameter (m); default: the model's ball's "
+                               "(0.072 m for the built-in model), with a note when the test's "
+                               "mass is not that ball's. Any homogeneous ball maps onto the "
+                               "model's by similarity (docs/universal.md)")
     add_record_options(identify)
     add_processing(identify)
 
@@ -63,6 +68,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..plausibility import check_allow
     from ..universal.identify import check_speed, identify
     from ..universal.model import load_model
+    from ..universal.similarity import check_size
 
     started = time.perf_counter()
     check_arguments(args)
@@ -76,11 +82,12 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     processed = [process_record(record, args) for record in records]
     if args.verify:
         use_compilation_cache()
-    options = model.solver_options()
     results = []
     for path, pr in zip(args.files, processed):
-        found = identify(pr, model, verify=args.verify, refine=args.refine, options=options,
-                         allow=allow, max_nrmse=args.max_nrmse)
+        size = None if args.ball_diameter_m is None else check_size(
+            args.ball_diameter_m, pr.features.mass_kg, allow)
+        found = identify(pr, model, verify=args.verify, refine=args.refine, allow=allow,
+                         max_nrmse=args.max_nrmse, size=size)
         results.append((path, pr, found))
         if not args.json:
             _print(path, found)
@@ -118,6 +125,10 @@ def check_arguments(args: argparse.Namespace) -> None:
     from ..universal.identify import check_max_nrmse
 
     check_plot_path(args.plot)
+    if args.ball_diameter_m is not None:  # before anything is loaded (the mass comes later)
+        from ..universal.similarity import check_diameter
+
+        check_diameter(args.ball_diameter_m)
     if args.max_nrmse is not None:
         check_max_nrmse(args.max_nrmse)
         if not args.verify:
@@ -176,13 +187,15 @@ def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> No
 
 
 def speed_table_ball(found: list, model) -> dict[str, Any]:
-    """A ball file holding the identified parameters against impact speed."""
+    """A ball file holding the identified parameters against impact speed (the tests' ball:
+    its size and mass are those of the first identification)."""
     template = model.metadata["template"]
+    layer = found[0].ball["layers"][0]
     rows = sorted(({"speed_m_s": f.impact_speed_m_s, **{k: f.params[k] for k in
                    ("c10_pa", "c01_pa", "g1", "tau1_s")}} for f in found),
                   key=lambda r: r["speed_m_s"])
     return {"name": "identified-universal", "speed_table": {
-        "outer_radius_m": template["radius_m"], "density_kg_m3": template["density_kg_m3"],
+        "outer_radius_m": layer["outer_radius_m"], "density_kg_m3": layer["density_kg_m3"],
         "moduli": template["moduli"], "rows": rows}}
 
 

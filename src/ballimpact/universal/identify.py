@@ -22,6 +22,7 @@ from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
 from . import space
 from .compare import compare, features_pulse, pulse_nrmse
+from .similarity import BallSize, groups, map_features, map_params
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 
 REFINE = ("none", "surrogate")
@@ -48,9 +49,14 @@ class Identification:
     training_range: dict[str, list[float]] = field(default_factory=dict)
     at_training_bound: list[str] = field(default_factory=list)          # estimates on a bound
     clipped_to_training_range: list[str] = field(default_factory=list)  # intervals cut by one
+    ball_size: dict[str, Any] = field(default_factory=dict)  # diameter_m, mass_kg, their source
+    groups: dict[str, float] = field(default_factory=dict)   # `similarity.GROUPS` of the estimate
+    group_range: dict[str, list[float]] = field(default_factory=dict)  # the model's, this speed
 
     def to_dict(self) -> dict[str, Any]:
         return {"params": self.params, "params_interval_90": self.interval_90,
+                "ball_size": self.ball_size, "groups": self.groups,
+                "group_range": self.group_range,
                 "training_range": self.training_range,
                 "at_training_bound": self.at_training_bound,
                 "clipped_to_training_range": self.clipped_to_training_range,
@@ -175,6 +181,9 @@ def warn_bounds(found: Identification, where: str = "") -> None:
     ranges = found.training_range
     if found.at_training_bound:
         words = ", ".join(_bound_words(k, found.params[k], ranges) for k in found.at_training_bound)
+        words += "; in dimensionless terms " + ", ".join(
+            f"{g} = {found.groups[g]:.4g} (range {lo:.4g}..{hi:.4g} at this speed)"
+            for g, (lo, hi) in found.group_range.items() if g in found.groups)
         warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
                       f"{words}; the test lies outside what the model was trained on, the "
                       "identified ball is the nearest one inside the range, not an estimate of "
@@ -194,10 +203,38 @@ def _clipped_end(found: Identification, name: str) -> float:
     return lo if abs(lo - low) <= abs(hi - high) else hi
 
 
+def reference_size(model: UniversalModel) -> BallSize:
+    """The ball of the model's study (its template): every test is mapped onto it."""
+    template = model.metadata["template"]
+    return BallSize(template["radius_m"], template["mass_kg"])
+
+
+def group_ranges(model: UniversalModel, speed_m_s: float) -> dict[str, list[float]]:
+    """The range of each dimensionless group (`similarity.GROUPS`) that the model's study covers
+    at `speed_m_s` (m/s): its ranges of C10, C01, g1 and tau1 on the reference ball at that
+    speed (the same for every ball size: the groups are what a test maps by)."""
+    r = model.ranges
+    (c10_lo, c10_hi), (c01_lo, c01_hi) = r["c10_pa"], r["c01_pa"]
+    ref = reference_size(model)
+    mu_lo, mu_hi = 2 * (c10_lo + c01_lo), 2 * (c10_hi + c01_hi)
+    inertia = ref.density_kg_m3 * speed_m_s ** 2
+    ratios = [a / b for a in (c01_lo, c01_hi) for b in (c10_lo, c10_hi)]
+    return {"rho_v2_over_mu0": [inertia / mu_hi, inertia / mu_lo],
+            "c01_over_c10": [min(ratios), max(ratios)], "g1": list(r["g1"]),
+            "tau1_v_over_r": [t * speed_m_s / ref.radius_m for t in r["tau1_s"]]}
+
+
 def identify(processed, model: UniversalModel, *, verify: bool = True,
              refine: str = "none", options=None, allow: Collection[str] = (),
-             max_nrmse: float | None = None) -> Identification:
+             max_nrmse: float | None = None, size: BallSize | None = None) -> Identification:
     """Identify the universal ball from a processed test (`pipeline.process`).
+
+    `size`: the tested ball's radius and mass (`similarity.BallSize`; default the model's ball's
+    radius with the test's mass). The test is mapped onto the model's reference ball at the same
+    speed (`similarity.map_features`: exact for homogeneous balls), identified there, and the
+    constants mapped back (`similarity.map_params`), so the ball written is of the tested size
+    and mass; its FE check runs on the study's mesh scaled to the ball (`options`, default
+    `scaled_options`).
 
     The impact speed must lie within the model's training speeds (`check_speed`; `allow`
     holding "speed-range" makes that a warning, and lets the FE check run outside the FE range
@@ -206,6 +243,7 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     force; default `NRMSE_LIMIT`); a miss is a warning, unless the caller gave `max_nrmse`,
     which then handles it (`verification["passed"]`)."""
     from ..fe import load_ball
+    from ..fe.ball import universal_spec
 
     started = time.perf_counter()
     allow = check_allow(allow)
@@ -214,26 +252,46 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     values = processed.features.values
     source = processed.raw.metadata.get("file") if hasattr(processed, "raw") else None
     where = f"{source}: " if source else ""
-    check_speed(model, float(values["P15"]), allow, where)
-    check_range(model, values, where)
+    speed = float(values["P15"])
+    check_speed(model, speed, allow, where)
     warn_failed_model(model)
+    reference = reference_size(model)
+    if size is None:
+        size = BallSize(reference.radius_m, processed.features.mass_kg or reference.mass_kg)
+        given = "the model's ball (no diameter given)"
+        if abs(size.mass_kg / reference.mass_kg - 1) > 0.02:
+            warnings.warn(f"{where}no ball diameter given: the model's ball's "
+                          f"{2 * reference.radius_m:g} m is assumed for this {size.mass_kg:g} kg "
+                          "ball (--ball-diameter-m, or size= in Python, to give it)",
+                          InputWarning, stacklevel=2)
+    else:
+        given = "given"
+    mapped = map_features(values, size, reference)
+    check_range(model, mapped, where)
     template = model.metadata["template"]
-    mass = processed.features.mass_kg
-    if mass and abs(mass / template["mass_kg"] - 1) > 0.02:
-        warnings.warn(f"{where}mass_kg = {mass:g} differs from the model's ball ({template['mass_kg']:g} "
-                      "kg) by more than 2%: the identified ball keeps the model's mass",
-                      InputWarning, stacklevel=2)
     # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
     # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin
-    # material reads back as its initial shear modulus (`given_moduli_pa`)
-    params, interval = estimate(model, values, refine)
-    spec = space.universal_ball_spec(params, template, "identified-universal")
+    # material reads back as its initial shear modulus (`given_moduli_pa`); the mapping scales
+    # C10, C01 and mu0 by one factor, so that stays true on the tested ball
+    ref_params, ref_interval = estimate(model, mapped, refine)
+    params = map_params(ref_params, reference, size)
+    interval = {k: [map_params({k: v}, reference, size)[k] for v in ref_interval[k]]
+                for k in ref_interval}
+    spec = universal_spec(params, size.radius_m, size.density_kg_m3, template["moduli"],
+                          "identified-universal")
     load_ball(spec)  # checked as `simulate --ball` will check it
-    result = Identification(params, interval, spec, float(values["P15"]), refine)
-    result.training_range, result.at_training_bound, result.clipped_to_training_range = \
-        training_bounds(model, params, interval)
+    result = Identification(params, interval, spec, speed, refine)
+    ranges, result.at_training_bound, result.clipped_to_training_range = \
+        training_bounds(model, ref_params, ref_interval)
+    result.training_range = {k: [map_params({k: v}, reference, size)[k] for v in ranges[k]]
+                             for k in ranges}
+    result.ball_size = {"diameter_m": 2 * size.radius_m, "mass_kg": size.mass_kg,
+                        "density_kg_m3": size.density_kg_m3, "diameter_source": given}
+    result.groups = groups(params, size, speed)
+    result.group_range = group_ranges(model, speed)
     warn_bounds(result, where)
     if verify:
+        options = options or scaled_options(model, size)
         result.simulated, result.verification = verify_run(spec, processed.features, options,
                                                            allow)
         limit = NRMSE_LIMIT if max_nrmse is None else max_nrmse
@@ -246,6 +304,16 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
                           "makes a miss exit 3)", InputWarning, stacklevel=2)
     result.wall_time_s = time.perf_counter() - started
     return result
+
+
+def scaled_options(model: UniversalModel, size: BallSize):
+    """The model's FE settings (`solver_options`) with the element size scaled to the ball: the
+    study's mesh, similar on a ball of another size."""
+    from dataclasses import replace
+
+    options = model.solver_options()
+    return replace(options, element_size_m=options.element_size_m * size.radius_m
+                   / reference_size(model).radius_m)
 
 
 def warn_failed_model(model: UniversalModel) -> None:
