@@ -119,9 +119,10 @@ def test_table_over_a_test_record(bad_input, sample, twin):
     bad_input(["identify", sample, twin, "--table", twin], "--table", "overwrite")
 
 
-def test_two_tests_at_one_speed_in_a_speed_table_ball(bad_input, sample, twin, tmp_path):
-    bad_input(["identify", sample, twin, "--ball-out", tmp_path / "ball.json"], "--ball-out",
-              "both at 20.8 m/s", "one test per speed")
+def test_repeats_of_mixed_masses(bad_input, sample, twin):
+    side = twin.with_suffix(".json")
+    side.write_text(side.read_text().replace('"mass_kg": 0.16', '"mass_kg": 0.145'))
+    bad_input(["identify", sample, twin, "--no-verify"], "mixed masses", "twin.csv", "0.145")
 
 
 def test_same_file_twice(bad_input, sample):

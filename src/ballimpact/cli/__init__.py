@@ -21,8 +21,8 @@ import warnings
 from .. import __version__
 from ..errors import CheckFailed, InputError, SimulationError
 from ..progress import line_open
-from . import (calibrate, compress, export, features, fit, identify, material, report, simulate,
-               universal, video)
+from . import (calibrate, compare, compress, export, features, fit, identify, material, report,
+               simulate, standard, universal, video)
 from .common import Parser, json_safe
 from .simulate import SolverDefaults
 
@@ -34,7 +34,8 @@ RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_model
            "demo": simulate.run_demo, "universal": universal.run, "identify": identify.run,
            "calibrate": calibrate.run, "export": export.run_export,
            "import-material": export.run_import, "video": video.run,
-           "report": report.run, "material": material.run, "compress": compress.run}
+           "report": report.run, "material": material.run, "compress": compress.run,
+           "standard": standard.run, "compare": compare.run}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -42,7 +43,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
     for module in (features, fit, simulate, universal, identify, calibrate, export, video,
-                   report, material, compress):
+                   report, material, compress, standard, compare):
         module.add_parser(verbs)
     return parser
 

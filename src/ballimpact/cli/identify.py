@@ -78,8 +78,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     for path, record in zip(args.files, records):  # before any processing or FE run
         if record.impact_speed_m_s is not None:
             check_speed(model, record.impact_speed_m_s, allow, f"{path}: ")
-    check_speeds(args, [r.impact_speed_m_s for r in records])
     processed = [process_record(record, args) for record in records]
+    groups = speed_groups(args, processed)
     if args.verify:
         use_compilation_cache()
     results = []
@@ -94,8 +94,13 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     out: dict[str, Any] = {**results[0][2].to_dict(), "file": str(results[0][0])} \
         if len(results) == 1 else {"identifications": [
             {**f.to_dict(), "file": str(p)} for p, _, f in results]}
+    repeated = repeats(results, groups, model, allow, args.ball_diameter_m)
+    if repeated:
+        out["repeats"] = repeated
+        if not args.json:
+            _print_repeats(repeated)
     if len(results) > 1:
-        rows = speed_table_ball([f for _, _, f in results], model)["speed_table"]["rows"]
+        rows = speed_table_ball([f for _, _, f in results], model, groups)["speed_table"]["rows"]
         out["table"] = rows
         if args.table is not None:
             lines = [",".join(rows[0])] + [",".join(f"{v:.6g}" for v in r.values()) for r in rows]
@@ -107,7 +112,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                 print(",".join(f"{v:.6g}" for v in r.values()))
     if args.ball_out is not None:
         ball = results[0][2].ball if len(results) == 1 else speed_table_ball(
-            [f for _, _, f in results], model)
+            [f for _, _, f in results], model, groups)
         args.ball_out.write_text(json.dumps(ball, indent=2))
         out["ball_file"] = str(args.ball_out)
     if args.plot is not None:
@@ -153,22 +158,84 @@ def check_arguments(args: argparse.Namespace) -> None:
                          "--ball-out")
 
 
-def check_speeds(args: argparse.Namespace, speeds: list[float | None]) -> None:
-    """Several tests at one speed: a speed-table ball (--ball-out) cannot hold both (error); the
-    table keeps a row for each (a note)."""
-    first: dict[float, Path] = {}
-    for path, speed in zip(args.files, speeds):
-        if speed is None:  # no speed to compare: processing the record refuses it, naming it
+def speed_groups(args: argparse.Namespace, processed: list) -> list[float]:
+    """The speed group of each test (`repeats.group_by_speed`: speeds within
+    `repeats.DEFAULT_SPEED_TOLERANCE` of each other are repeats at one speed); repeats at one
+    speed must be of one ball (masses within 1%: `repeats.check_masses`)."""
+    from ..repeats import check_masses, group_by_speed
+
+    speeds = [p.features.values["P15"] for p in processed]
+    groups = [float(g) for g in group_by_speed(speeds, files=args.files)]
+    check_masses([p.features.mass_kg for p in processed], args.files, groups)
+    return groups
+
+
+def repeats(results: list, groups: list[float], model, allow, diameter_m: float | None
+            ) -> list[dict[str, Any]]:
+    """Per speed group of two or more tests: the mean and standard deviation (ddof = 1) of the
+    identified parameters and groups over the repeats (their scatter), and the identification
+    of the group's mean pulse (aligned at contact start, `repeats.pulse_band`) with its 90%
+    intervals."""
+    from ..repeats import mean_sd
+
+    out = []
+    for label in sorted(set(groups)):
+        members = [r for r, g in zip(results, groups) if g == label]
+        if len(members) < 2:
             continue
-        if speed not in first:
-            first[speed] = path
-            continue
-        if args.ball_out is not None:
-            raise InputError(f"--ball-out: {first[speed]} and {path} are both at {speed:g} m/s; "
-                             "a speed-table ball needs one test per speed: identify them "
-                             "separately (one --ball-out each) or drop one")
-        warnings.warn(f"{first[speed]} and {path} are both at {speed:g} m/s: the table keeps a "
-                      "row for each", InputWarning, stacklevel=2)
+        params_mean, params_sd = mean_sd([f.params for _, _, f in members])
+        groups_mean, groups_sd = mean_sd([f.groups for _, _, f in members])
+        mean_pulse = _identify_mean_pulse([pr for _, pr, _ in members], model, allow,
+                                          diameter_m)
+        out.append({"speed_m_s": label, "count": len(members),
+                    "files": [str(p) for p, _, _ in members],
+                    "params_mean": params_mean, "params_sd": params_sd,
+                    "groups_mean": groups_mean, "groups_sd": groups_sd,
+                    "mean_pulse": {"params": mean_pulse.params,
+                                   "params_interval_90": mean_pulse.interval_90}})
+    return out
+
+
+def _identify_mean_pulse(processed: list, model, allow, diameter_m: float | None):
+    """The universal ball of the mean pulse of repeats: the band's mean force from contact
+    start, after a baseline of zeros, at the repeats' mean mass and speeds, processed unfiltered
+    (averaging has smoothed it) and identified without an FE check."""
+    import numpy as np
+
+    from ..pipeline import process
+    from ..records import ImpactRecord
+    from ..repeats import pulse_band
+    from ..universal.identify import identify
+    from ..universal.similarity import check_size
+
+    features = [p.features for p in processed]
+    band = pulse_band(features)
+    step = band.time_s[1] - band.time_s[0]
+    lead = np.arange(-50, 0) * step
+    mean = {key: float(np.mean([f.values[key] for f in features])) for key in ("P15", "P16")}
+    mass = float(np.mean([f.mass_kg for f in features]))
+    record = ImpactRecord(np.concatenate([lead, band.time_s]),
+                          np.concatenate([np.zeros(lead.size), band.mean_n]), mass_kg=mass,
+                          impact_speed_m_s=mean["P15"], rebound_speed_m_s=mean["P16"])
+    size = None if diameter_m is None else check_size(diameter_m, mass, allow)
+    with warnings.catch_warnings():  # the repeats' own identifications said what applies
+        warnings.simplefilter("ignore", InputWarning)
+        return identify(process(record, filter="none", warn_noisy=False), model, verify=False,
+                        allow=allow, size=size)
+
+
+def _print_repeats(repeated: list[dict[str, Any]]) -> None:
+    from ..universal.model import TARGET_UNITS
+
+    for group in repeated:
+        print(f"repeats at {group['speed_m_s']:.4g} m/s ({group['count']} tests): mean +/- SD "
+              "of their identifications; the mean pulse's estimate [90% interval]")
+        pulse = group["mean_pulse"]
+        for name, mean in group["params_mean"].items():
+            unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""
+            low, high = pulse["params_interval_90"][name]
+            print(f"  {name:<8} {mean:11.5g} +/- {group['params_sd'][name]:.3g} {unit:<3} "
+                  f"mean pulse {pulse['params'][name]:.5g} [{low:.4g} .. {high:.4g}]")
 
 
 def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> None:
@@ -186,14 +253,20 @@ def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> No
                           "does not reproduce the test (see --plot)", out)
 
 
-def speed_table_ball(found: list, model) -> dict[str, Any]:
+def speed_table_ball(found: list, model, groups: list[float]) -> dict[str, Any]:
     """A ball file holding the identified parameters against impact speed (the tests' ball:
-    its size and mass are those of the first identification)."""
+    its size and mass are those of the first identification): a row per speed group, the mean
+    of its repeats (speed and parameters)."""
+    import numpy as np
+
     template = model.metadata["template"]
     layer = found[0].ball["layers"][0]
-    rows = sorted(({"speed_m_s": f.impact_speed_m_s, **{k: f.params[k] for k in
-                   ("c10_pa", "c01_pa", "g1", "tau1_s")}} for f in found),
-                  key=lambda r: r["speed_m_s"])
+    keys = ("c10_pa", "c01_pa", "g1", "tau1_s")
+    rows = []
+    for label in sorted(set(groups)):
+        members = [f for f, g in zip(found, groups) if g == label]
+        rows.append({"speed_m_s": float(np.mean([f.impact_speed_m_s for f in members])),
+                     **{k: float(np.mean([f.params[k] for f in members])) for k in keys}})
     return {"name": "identified-universal", "speed_table": {
         "outer_radius_m": layer["outer_radius_m"], "density_kg_m3": layer["density_kg_m3"],
         "moduli": template["moduli"], "rows": rows}}

@@ -1,0 +1,120 @@
+"""The size-free model's closed loop on balls of other sports: synthetic tests of homogeneous
+balls of a family's size and mass, measured at 100 kHz with noise, identified with a universal
+model and re-simulated.
+
+The test balls' constants are drawn (seeded Sobol) inside the model's ranges as they map onto the
+family's ball (`similarity.map_params`), over the inner `INNER` fraction of each range on the
+parameter's own axis (tau1: log), at speeds across the model's training speeds: every test lies
+inside the model's dimensionless ranges by construction, as a real ball of that family would be
+only if its material is (docs/universal.md, "Any solid ball").
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from importlib import resources
+from typing import Any
+
+import numpy as np
+
+from . import space
+from .compare import compare, pulse_nrmse
+from .evaluate import PERCENTILE
+from .identify import identify, reference_size, scaled_options
+from .model import UniversalModel
+from .similarity import BallSize, map_params
+
+#: the centre fraction of each range the test balls are drawn from (unit scale)
+INNER = 0.8
+#: the families of the issue's check (sizes: `data/sports_balls.json`, the rules' middles)
+FAMILIES = ("baseball", "softball-12in", "lacrosse", "golf-core")
+
+
+def sports_balls() -> dict[str, Any]:
+    """The sports balls' sizes and masses from their rules (`data/sports_balls.json`)."""
+    text = resources.files("ballimpact").joinpath("data/sports_balls.json").read_text()
+    return json.loads(text)["balls"]
+
+
+def nominal_size(name: str) -> BallSize:
+    """The middle of a sports ball's diameter and mass limits."""
+    ball = sports_balls()[name]
+    return BallSize(0.25 * sum(ball["diameter_m"]), 0.5 * sum(ball["mass_kg"]))
+
+
+def family_tests(model: UniversalModel, size: BallSize, runs: int, seed: int
+                 ) -> tuple[list[dict], np.ndarray]:
+    """`runs` constants (c10_pa, c01_pa, g1, tau1_s) of balls of `size` inside the model's ranges
+    (mapped), and their impact speeds (m/s)."""
+    from scipy.stats import qmc
+
+    unit = 0.5 + INNER * (qmc.Sobol(len(space.PARAMETERS), scramble=True, seed=seed)
+                          .random(runs) - 0.5)
+    points = space.from_unit(unit, model.ranges)
+    reference = reference_size(model)
+    params = [map_params(dict(zip(space.MATERIAL_PARAMETERS, p[:4])), reference, size)
+              for p in points]
+    return params, points[:, -1]
+
+
+def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
+                       noise: float = 0.01, seed: int = 0, label: str = "") -> dict[str, Any]:
+    """Synthetic tests of balls of `size` (FE runs of the model's mesh scaled to the ball, pulses
+    at 100 kHz with white noise of `noise` times the peak force, processed as measured tests),
+    each identified with `model` (`identify(..., size=size)`) and its identified ball compared
+    with the clean test: force NRMSE, COR error, contact time and peak force errors per run, and
+    their median, 90th percentile and maximum."""
+    from ..fe import FailedRun, load_ball, simulate_batch
+    from ..features import extract_features
+    from ..pipeline import process
+    from .dataset import PULSE_RATE_HZ
+    from .measurement import noisy_record
+    from .study import pulse_100khz
+
+    params, speeds = family_tests(model, size, runs, seed)
+    options = scaled_options(model, size)
+    spec = [_spec(p, size, model, f"{label}-test-{i}") for i, p in enumerate(params)]
+    truths = simulate_batch([load_ball(s) for s in spec], speeds, options)
+    rng = np.random.default_rng(seed)
+    found = []
+    for i, (truth, speed) in enumerate(zip(truths, speeds)):
+        record = noisy_record(pulse_100khz(truth), float(speed), truth.cor, size.mass_kg, noise,
+                              rng)
+        found.append(identify(process(record, warn_noisy=False), model, verify=False,
+                              size=size))
+        print(f"\r{label}: identified {i + 1}/{runs}", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    results = simulate_batch([load_ball(f.ball) for f in found], speeds, options,
+                             on_failure="return")
+    t = np.arange(pulse_100khz(truths[0]).size) / PULSE_RATE_HZ
+    rows = []
+    for p, speed, truth, f, result in zip(params, speeds, truths, found, results):
+        row = {"impact_speed_m_s": float(speed), "true": p, "identified": f.params,
+               "groups": f.groups}
+        if isinstance(result, FailedRun):
+            rows.append({**row, "failed": result.reason})
+            continue
+        h = result.history
+        nrmse = pulse_nrmse(t, pulse_100khz(truth), h["time_s"], h["contact_force_n"])
+        rows.append({**row, **compare(extract_features(truth.record()).values,
+                                      extract_features(result.record()).values, nrmse)})
+    ok = [r for r in rows if "failed" not in r]
+    summary: dict[str, Any] = {"family": label, "diameter_m": 2 * size.radius_m,
+                               "mass_kg": size.mass_kg, "runs": len(rows),
+                               "failed": len(rows) - len(ok), "noise_of_peak": noise,
+                               "speeds_m_s": [float(min(speeds)), float(max(speeds))]}
+    for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
+                "peak_force_relative_error"):
+        v = np.abs([r[key] for r in ok])
+        summary[key] = {"median": float(np.median(v)),
+                        f"p{PERCENTILE}": float(np.percentile(v, PERCENTILE)),
+                        "max": float(v.max())}
+    return {"summary": summary, "rows": rows}
+
+
+def _spec(params: dict, size: BallSize, model: UniversalModel, name: str) -> dict:
+    from ..fe.ball import universal_spec
+
+    return universal_spec(params, size.radius_m, size.density_kg_m3,
+                          model.metadata["template"]["moduli"], name)
