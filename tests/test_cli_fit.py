@@ -112,6 +112,12 @@ def test_fit_repeats_at_one_speed_keep_a_row_each(capsys, tmp_path):
     table = SpeedTable.from_dict(result["table"])
     assert table.params["k"][0] != table.params["k"][1]  # two fits, not one averaged
     assert table.params_at(20.0)["k"] == pytest.approx(np.mean(table.params["k"]), rel=1e-12)
+    (repeats,) = result["repeats"]  # their scatter, carried into the parameters
+    assert repeats["count"] == 2 and repeats["speed_m_s"] == 20.0
+    for name in ("k", "lambda"):
+        assert repeats["params_mean"][name] == pytest.approx(np.mean(table.params[name]), rel=1e-12)
+        assert repeats["params_sd"][name] == pytest.approx(np.std(table.params[name], ddof=1),
+                                                           rel=1e-12)
 
 
 def test_fit_repeated_and_distinct_speeds(capsys, tmp_path):

@@ -99,6 +99,9 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         _warn_not_identified(f, Path(file))
     result = {"model": model.name, "units": model.units, "table": table.to_dict(),
               "fits": [{**f.to_dict(), "file": file} for f, file in zip(fits, table.labels)]}
+    repeated = parameter_scatter(table)
+    if repeated:
+        result["repeats"] = repeated
     if args.table is not None:
         args.table.write_text(table.to_csv())
         result["table_csv"] = str(args.table)
@@ -106,6 +109,10 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         for f, file in zip(fits, table.labels):
             _print_fit(f, Path(file))
         print(table.to_csv(), end="")
+        for group in repeated:
+            spread = ", ".join(f"{k} {group['params_mean'][k]:.5g} +/- {group['params_sd'][k]:.3g}"
+                               for k in group["params_mean"])
+            print(f"repeats at {group['speed_m_s']:g} m/s ({group['count']} tests): {spread}")
     if args.plot:
         from ..plotting import plot_speed_fits
 
@@ -120,6 +127,23 @@ def _warn_not_identified(fitted, path: Path) -> None:
     than the value), naming the file: its value is one of many that fit as well."""
     for note in fitted.notes.values():
         warnings.warn(f"{path.name}: {note}", InputWarning, stacklevel=2)
+
+
+def parameter_scatter(table) -> list[dict[str, Any]]:
+    """Per speed with two or more tests: the mean and standard deviation (ddof = 1) of each
+    fitted parameter over the repeats (`repeats.mean_sd`): the scatter of the tests carried into
+    the parameters."""
+    from ..repeats import mean_sd
+
+    rows = [dict(zip(table.params, values)) for values in zip(*table.params.values())]
+    out = []
+    for speed in sorted(set(table.speeds_m_s)):
+        members = [row for row, s in zip(rows, table.speeds_m_s) if s == speed]
+        if len(members) > 1:
+            mean, sd = mean_sd(members)
+            out.append({"speed_m_s": float(speed), "count": len(members),
+                        "params_mean": mean, "params_sd": sd})
+    return out
 
 
 def _note_repeats(table) -> None:

@@ -25,6 +25,7 @@ from .tables import (
     comparison_table,
     cost_table,
     parameter_tables,
+    repeats_table,
     tests_table,
 )
 
@@ -136,6 +137,9 @@ def _tables(tests: list[ReportTest], runs: list[ModelRun], timed: dict[str, floa
         "cost": cost_table(runs, timed),
     }
     tables.update({f"parameters:{model}": t for model, t in parameter_tables(runs).items()})
+    repeated = repeats_table(runs)
+    if repeated is not None:
+        tables["repeats"] = repeated
     return tables
 
 
@@ -196,6 +200,8 @@ def _page(tests, runs, tables, failures, note) -> str:
                                     "open markers without a bar: not identified (standard "
                                     "error inf or larger than the value).")
         for key, t in tables.items() if key.startswith("parameters:"))
+    if "repeats" in tables:
+        parameters += table_html(tables["repeats"])
     if parameters:
         sections.append(("Parameters against impact speed (thesis tables 7-1 to 7-3)",
                          parameters))

@@ -140,6 +140,30 @@ def parameter_tables(runs: list[ModelRun]) -> dict[str, Table]:
     return tables
 
 
+def repeats_table(runs: list[ModelRun]) -> Table | None:
+    """Per fitted or identified model and speed group of two or more tests (repeats: speeds
+    within `repeats.DEFAULT_SPEED_TOLERANCE` of each other), the mean and standard deviation
+    (ddof = 1) of each parameter over the repeats; None without repeats."""
+    from ..repeats import group_by_speed, mean_sd
+
+    rows: list[list[Any]] = []
+    for model in dict.fromkeys(r.model for r in runs if r.parameters):
+        mine = [r for r in runs if r.model == model and r.parameters]
+        groups = group_by_speed([r.impact_speed_m_s for r in mine])
+        for label in sorted(set(groups.tolist())):
+            members = [r for r, g in zip(mine, groups) if g == label]
+            if len(members) < 2:
+                continue
+            mean, sd = mean_sd([r.parameters for r in members])
+            rows += [[model, label, len(members), f"{name} [{members[0].units.get(name, '')}]",
+                      mean[name], sd[name]] for name in mean]
+    if not rows:
+        return None
+    return Table("repeats", "Parameters over repeated tests at one speed: mean and standard "
+                 "deviation (ddof = 1) of the per-test fits or identifications",
+                 ["model", "speed_m_s", "tests", "parameter", "mean", "sd"], rows)
+
+
 def _value(run: ModelRun, name: str) -> Any:
     value = run.parameters[name]
     return f"{value:.5g} (not identified)" if name in run.not_identified else value
