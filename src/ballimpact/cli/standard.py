@@ -1,0 +1,191 @@
+"""`ballimpact standard METHOD`: a published ball test method (ASTM F1887 COR, F2845 dynamic
+stiffness, F1888 compression) on a lab's records (per ball mean, SD, count; over the balls) or on
+a ball model (`--ball`: the quantities and the model's cost). docs/standards.md."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..fileio import write_atomic
+from ..plausibility import check_allow
+from ..standards import METHODS, describe_methods, from_records, get_method, on_model
+from .common import add_filtering, check_output_folder, use_compilation_cache
+from .simulate import SolverDefaults
+
+
+def add_parser(verbs) -> None:
+    listed = "; ".join(f"{name} ({m.designation}): {m.description}"
+                       for name, m in METHODS.items())
+    standard = verbs.add_parser(
+        "standard", help="a published ball test method (COR, dynamic stiffness, compression) on "
+                         "a lab's records or a ball model",
+        description="Run a published ball test method on a lab's records (files or folders: "
+                    "per ball mean +- SD (n) of the method's quantities and the mean and SD of "
+                    "the ball means) or on a ball model (--ball: the quantities and the model's "
+                    f"cost). Methods: {listed}. The ball id of a record is its file name up to "
+                    "the last '_' or '-' (ballA_01.csv -> ballA) unless --ball-id-pattern says "
+                    "otherwise (docs/standards.md).")
+    standard.add_argument("method", nargs="?", metavar="METHOD",
+                          help=f"one of {', '.join(METHODS)} (or the designation, e.g. F1887)")
+    standard.add_argument("paths", nargs="*", type=Path, metavar="FILES_OR_DIRS",
+                          help="a lab's records: impact records (CSV/WAV with JSON side files) "
+                               "or compression curves (CSV), or folders of them")
+    standard.add_argument("--list", action="store_true",
+                          help="list the methods with a one-line description each")
+    standard.add_argument("--ball",
+                          help="run the method on this ball model: a preset (see `ballimpact "
+                               "balls`) or a ball specification JSON/TOML")
+    standard.add_argument("--mass-kg", type=float,
+                          help="ball mass (kg) of every impact record, over its side file's")
+    standard.add_argument("--ball-id-pattern", metavar="REGEX",
+                          help="regular expression searched in each file name (without suffix): "
+                               "its group 'ball', else its first group, else the match is the "
+                               "ball id (default: the name up to its last '_' or '-')")
+    standard.add_argument("--impact-speed-m-s", type=float,
+                          help="run or judge the impact methods at this inbound speed (m/s) "
+                               "instead of the method's 26.82 m/s (60 mph); reported as such")
+    standard.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
+                          help=f"--ball: element length on the outer surface (m; default "
+                               f"{SolverDefaults.element_size_m:g})")
+    standard.add_argument("--table", type=Path,
+                          help="write a CSV: a row per shot, per ball and over all balls")
+    standard.add_argument("--json", action="store_true", help="print one JSON object")
+    add_filtering(standard)
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    if args.list:
+        if args.method is not None or args.paths or args.ball is not None:
+            raise InputError("--list: give it alone (it lists the methods)")
+        methods = describe_methods()
+        if not args.json:
+            for entry in methods:
+                print(f"{entry['method']:<18} {entry['designation']:<11} {entry['description']}")
+        return {"methods": methods}
+    if args.method is None:
+        raise InputError(f"METHOD: missing; one of {', '.join(METHODS)} (or --list)")
+    method = get_method(args.method)
+    if args.paths and args.ball is not None:
+        raise InputError("give either FILES_OR_DIRS (a lab's records) or --ball (a model), not "
+                         "both")
+    if not args.paths and args.ball is None:
+        raise InputError(f"{method.name}: give FILES_OR_DIRS (a lab's records) or --ball (a "
+                         "ball model)")
+    check_output_folder(args.table, "--table")
+    if args.table is not None and args.table.suffix.lower() != ".csv":
+        raise InputError(f"--table: {args.table} must be a .csv file")
+    allow = check_allow(args.allow)
+    if args.ball is not None:
+        if args.mass_kg is not None:
+            raise InputError("--mass-kg: a ball model has its own mass; leave it out with --ball")
+        if args.ball_id_pattern is not None:
+            raise InputError("--ball-id-pattern: names the balls of records; leave it out with "
+                             "--ball")
+        from ..fe import SolverOptions
+
+        use_compilation_cache()
+        result = on_model(method, args.ball, nominal=args.impact_speed_m_s, allow=allow,
+                          options=SolverOptions(element_size_m=args.element_size_m))
+        if not args.json:
+            print_model(result)
+    else:
+        options = {"filter": args.filter, "window_s": args.filter_window_s,
+                   "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
+                   "pulse": args.pulse, "allow": allow}
+        result = from_records(method, args.paths, mass_kg=args.mass_kg,
+                              ball_of=args.ball_id_pattern, nominal=args.impact_speed_m_s,
+                              process_options=options)
+        if not args.json:
+            print_records(result)
+    if args.table is not None:
+        write_atomic(args.table, table_text(result))
+        result["table"] = str(args.table)
+    return result
+
+
+def _value(number: float, unit: str) -> str:
+    return f"{number:.5g}" + (f" {unit}" if unit else "")
+
+
+def _stats(stats: dict[str, float], unit: str) -> str:
+    sd = "n/a" if math.isnan(stats["sd"]) else f"{stats['sd']:.3g}"
+    return f"{stats['mean']:.5g} +- {sd}" + (f" {unit}" if unit else "")
+
+
+def print_records(result: dict[str, Any]) -> None:
+    """Per ball mean +- SD (n) of each quantity, then the line over the balls."""
+    quantities = result["quantities"]
+    print(f"{result['designation']} {result['method']}: {result['overall']['shots']} records, "
+          f"{result['overall']['balls']} balls" + (f" ({result['nominal_speed_note']})"
+                                                   if "nominal_speed_note" in result else ""))
+    for entry in result["balls"]:
+        parts = [_stats(entry[key], unit) for key, unit in quantities.items()]
+        if "impact_speed_m_s" in entry:
+            parts.append(f"inbound {_stats(entry['impact_speed_m_s'], 'm/s')}")
+        print(f"  {entry['ball']:<16} " + "; ".join(parts) + f" (n={entry['count']})")
+    overall = result["overall"]
+    parts = [_stats(overall[key], unit) for key, unit in quantities.items()]
+    print(f"  {'all balls':<16} " + "; ".join(parts)
+          + f" (mean and SD of {overall['balls']} ball means)")
+
+
+def print_model(result: dict[str, Any]) -> None:
+    """The method's quantities on the model, then its cost."""
+    values, cost = result["result"], result["cost"]
+    parts = [_value(values[key], unit) for key, unit in result["quantities"].items()]
+    where = (f"at {values['impact_speed_m_s']:.4g} m/s" if "impact_speed_m_s" in values
+             else f"at {values['deflection_m'] * 1e3:.3g} mm")
+    print(f"{result['designation']} {result['method']} of {result['ball']} (model) {where}: "
+          + "; ".join(parts))
+    steps = (f"{cost['steps']} steps" if "steps" in cost
+             else f"{cost['increments']} increments, {cost['newton_iterations']} Newton "
+                  "iterations")
+    print(f"  cost: {cost['wall_time_s']:.2f} s wall, {steps}, {cost['elements']} elements "
+          f"({cost['element_size_m']:g} m)")
+
+
+def table_text(result: dict[str, Any]) -> str:
+    """CSV: `kind` shot|ball|all, ball, file, count, then each quantity (value or mean) and its
+    SD (`_sd`); impact methods add the inbound speed."""
+    keys = list(result["quantities"])
+    if result["kind"] == "impact":
+        keys.append("impact_speed_m_s")
+    header = ["kind", "ball", "file", "count"] + [c for k in keys for c in (k, f"{k}_sd")]
+    rows = [header]
+
+    def cells(values: dict[str, Any]) -> list[str]:
+        out = []
+        for key in keys:
+            value = values.get(key)
+            if isinstance(value, dict):
+                out += [_number(value["mean"]), _number(value["sd"])]
+            else:
+                out += [_number(value), ""]
+        return out
+
+    if result["source"] == "model":
+        rows.append(["model", result["ball"], "", "1"] + cells(result["result"]))
+    else:
+        for shot in result["shots"]:
+            rows.append(["shot", shot["ball"], shot["file"], "1"] + cells(shot))
+        for entry in result["balls"]:
+            rows.append(["ball", entry["ball"], "", str(entry["count"])] + cells(entry))
+        overall = result["overall"]
+        rows.append(["all", "", "", str(overall["balls"])] + cells(overall))
+    return "".join(",".join(_csv(cell) for cell in row) + "\n" for row in rows)
+
+
+def _number(value: Any) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return ""
+    return f"{value:.12g}"
+
+
+def _csv(cell: str) -> str:
+    if "," in cell or '"' in cell:  # CSV quoting (RFC 4180): a file name with a comma
+        return '"' + cell.replace('"', '""') + '"'
+    return cell
