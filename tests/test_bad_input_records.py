@@ -55,7 +55,9 @@ def test_careless_csv_files(bad_input, tmp_path, text, fragments):
 
 def test_missing_file_and_folder_and_json(bad_input, tmp_path, test_csv):
     bad_input(["features", tmp_path / "nope.csv", *SPEEDS], "nope.csv: no such file")
-    bad_input(["features", tmp_path, *SPEEDS], "is a folder", ".csv")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    bad_input(["features", empty, *SPEEDS], "holds no test records", ".csv")
     side = write(tmp_path / "kv.json", json.dumps({"mass_kg": 0.16}))
     bad_input(["features", side, *SPEEDS], "kv.json", "side file", "not a test record")
 

@@ -1,42 +1,205 @@
-"""`ballimpact features`: the 19 characteristic values of a measured impact."""
+"""`ballimpact features`: the 19 characteristic values of a measured impact, or of many
+(repeated tests): a table, per-speed means and standard deviations, and the mean pulse's band."""
 
 from __future__ import annotations
 
 import argparse
+import csv
+import io
+import math
 import time
 from pathlib import Path
 from typing import Any
 
+from .. import repeats
+from ..errors import InputError
 from ..features import FEATURE_NAMES
 from ..pipeline import ProcessedImpact
-from .common import add_processing, add_record_options, check_plot_path, load, process_record
+from .common import (
+    add_processing,
+    add_record_options,
+    check_output_folder,
+    check_plot_path,
+    load,
+    process_record,
+)
 
 
 def add_parser(verbs) -> None:
     features = verbs.add_parser(
-        "features", help="characteristic values of a measured impact (CSV or WAV)",
+        "features", help="characteristic values of measured impacts (CSV or WAV)",
         description="Load an impact test, remove the load-cell offset, filter, and print the 19 "
                     "characteristic values (thesis table 6-1) with COR, impulse check, "
-                    "compression, energy lost and dynamic stiffness.")
-    features.add_argument("file", type=Path, help="test record: CSV with unit headers or WAV")
+                    "compression, energy lost and dynamic stiffness. With several records (files "
+                    "or folders of them): a row per record, the records grouped by impact speed "
+                    "(to --speeds, or clustered) with the mean and standard deviation of every "
+                    "feature per group, and the mean pulse with its scatter band (--plot).")
+    features.add_argument("files", nargs="+", type=Path, metavar="FILE_OR_DIR",
+                          help="test records: CSV with unit headers or WAV, or folders of them "
+                               "(their *.csv and *.wav files)")
     add_record_options(features)
     add_processing(features)
+    features.add_argument("--table", type=Path,
+                          help="write a CSV table, a row per record (file, speed group, every "
+                               "feature; units in the column names)")
+    features.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
+                          help="nominal impact speeds (m/s) to group the records to, e.g. "
+                               "5,10,20; default: cluster the measured speeds")
+    features.add_argument("--speed-tolerance", type=float,
+                          default=repeats.DEFAULT_SPEED_TOLERANCE,
+                          help="relative speed tolerance of the grouping: a record within this "
+                               "fraction of a nominal speed; without --speeds, a step larger than "
+                               "this fraction between sorted speeds starts a new group "
+                               f"(default {repeats.DEFAULT_SPEED_TOLERANCE})")
+
+
+def speed_list(text: str) -> list[float]:
+    """argparse type of --speeds: speeds in m/s separated by commas."""
+    try:
+        speeds = [float(item) for item in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected speeds in m/s separated by commas (e.g. 5,10,20), got {text!r}") from None
+    if not all(math.isfinite(v) and v > 0 for v in speeds):
+        raise argparse.ArgumentTypeError(f"speeds must be finite and > 0 m/s, got {text!r}")
+    return speeds
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     check_plot_path(args.plot)
+    check_table_path(args.table)
+    repeats.check_tolerance(args.speed_tolerance)
+    if args.speeds is not None:
+        repeats.check_nominal(args.speeds)
+    files = record_files(args.files, args.table)
+    if len(files) > 1:
+        return run_repeats(files, args)
     started = time.perf_counter()
-    processed = process_record(load(args.file, args), args)
+    processed = process_record(load(files[0], args), args)
+    group = [processed.features.values["P15"]]
+    if args.speeds is not None:  # a single record must still lie near a nominal speed
+        group = repeats.group_by_speed(group, args.speeds, args.speed_tolerance,
+                                       files=[str(files[0])])
     result = summary(processed, time.perf_counter() - started)
+    if args.table is not None:
+        write_table(args.table, repeats.speed_table([processed], [str(files[0])], group))
+        result["table_csv"] = str(args.table)
     if not args.json:
         print_table(processed)
     if args.plot:
         from ..plotting import plot_impact  # matplotlib only when a plot is asked for
 
         plot_impact(processed.raw, processed.filtered, processed.features, args.plot,
-                    title=str(args.file.name))
+                    title=str(files[0].name))
         result["plot"] = str(args.plot)
     return result
+
+
+def check_table_path(path: Path | None) -> None:
+    if path is None:
+        return
+    if path.suffix.lower() != ".csv":
+        raise InputError(f"--table: {path} must be a .csv file")
+    check_output_folder(path, "--table")
+
+
+def record_files(given: list[Path], table: Path | None) -> list[Path]:
+    """The records of FILE_OR_DIR (`repeats.expand_records`), less the --table output when a
+    folder holds it (the table of an earlier run); a record given by name is never overwritten."""
+    if table is None:
+        return repeats.expand_records(given)
+    target = table.resolve()
+    named = next((p for p in given if not p.is_dir() and p.resolve() == target), None)
+    if named is not None:
+        raise InputError(f"--table: {table} is one of the records given ({named}); write the "
+                         "table to another file")
+    files = [p for p in repeats.expand_records(given) if p.resolve() != target]
+    if not files:
+        raise InputError(f"{table.parent}: the folder holds no test records besides the "
+                         f"--table output {table.name}")
+    return files
+
+
+def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
+    """Several records: a row each, grouped by speed, with per-group means and SDs."""
+    started = time.perf_counter()
+    processed = [process_record(load(path, args), args) for path in files]
+    names = [str(path) for path in files]
+    speeds = [p.features.values["P15"] for p in processed]
+    groups = repeats.group_by_speed(speeds, args.speeds, args.speed_tolerance, files=names)
+    repeats.check_masses([p.features.mass_kg for p in processed], names, groups)
+    if args.speeds is not None:
+        repeats.warn_empty_nominal(args.speeds, groups)
+    rows = repeats.speed_table(processed, names, groups)
+    summaries = repeats.group_summaries(rows, nominal=args.speeds is not None)
+    result: dict[str, Any] = {
+        "grouping": {"rule": "nominal" if args.speeds is not None else "clustered",
+                     "nominal_speeds_m_s": (sorted(args.speeds) if args.speeds is not None
+                                            else None),
+                     "speed_tolerance": args.speed_tolerance},
+        "groups": summaries,
+        "records": rows,
+        "wall_time_s": time.perf_counter() - started,
+    }
+    if args.table is not None:
+        write_table(args.table, rows)
+        result["table_csv"] = str(args.table)
+    if args.plot:
+        from ..plotting import plt  # matplotlib (Agg) only when a plot is asked for
+
+        figure, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
+        repeats.plot_pulse_bands(ax, repeats.pulse_bands(processed, groups))
+        figure.savefig(args.plot, dpi=120)
+        plt.close(figure)
+        result["plot"] = str(args.plot)
+    if not args.json:
+        print_groups(result)
+    return result
+
+
+def table_csv(rows: list[dict[str, Any]]) -> str:
+    """The table as CSV text (`repeats.TABLE_COLUMNS`); numbers round-trip exactly (repr),
+    a non-finite one is left empty."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(repeats.TABLE_COLUMNS)
+    for row in rows:
+        writer.writerow([_cell(row[name]) for name in repeats.TABLE_COLUMNS])
+    return out.getvalue()
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, float):
+        return repr(value) if math.isfinite(value) else ""
+    return value
+
+
+def write_table(path: Path, rows: list[dict[str, Any]]) -> None:
+    path.write_text(table_csv(rows))
+
+
+def print_groups(result: dict[str, Any]) -> None:
+    grouping = result["grouping"]
+    rule = ("to the nominal speeds" if grouping["rule"] == "nominal"
+            else "clustered: a step over the tolerance between sorted speeds splits them")
+    print(f"{len(result['records'])} records in {len(result['groups'])} speed groups ({rule}; "
+          f"tolerance {grouping['speed_tolerance']:.0%}); mean ± SD (ddof 1)")
+    header = ["speed (m/s)", "n", "impact speed (m/s)", "COR", "peak force (N)",
+              "contact time (ms)", "dyn. stiffness (N/m)"]
+    scales = {"contact_time_s": 1e3}
+    lines = [header]
+    for group in result["groups"]:
+        cells = [f"{group['speed_m_s']:.4g}", str(group["count"])]
+        for name in repeats.MAIN_COLUMNS:
+            scale = scales.get(name, 1.0)
+            mean, sd = group["mean"][name] * scale, group["sd"][name] * scale
+            cells.append(f"{mean:.5g} ± {sd:.2g}" if math.isfinite(sd) else f"{mean:.5g}")
+        lines.append(cells)
+    widths = [max(len(line[k]) for line in lines) for k in range(len(header))]
+    for line in lines:
+        print("  " + "  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip())
+    if "table_csv" in result:
+        print(f"table (a row per record): {result['table_csv']}")
 
 
 def summary(processed: ProcessedImpact, wall_time_s: float) -> dict[str, Any]:

@@ -197,26 +197,20 @@ def repeats(results: list, groups: list[float], model, allow, diameter_m: float 
 
 
 def _identify_mean_pulse(processed: list, model, allow, diameter_m: float | None):
-    """The universal ball of the mean pulse of repeats: the band's mean force from contact
-    start, after a baseline of zeros, at the repeats' mean mass and speeds, processed unfiltered
-    (averaging has smoothed it) and identified without an FE check."""
+    """The universal ball of the mean pulse of repeats (`repeats.PulseBand.record`, at the
+    repeats' mean mass and speeds), processed unfiltered (averaging has smoothed it) and
+    identified without an FE check."""
     import numpy as np
 
     from ..pipeline import process
-    from ..records import ImpactRecord
     from ..repeats import pulse_band
     from ..universal.identify import identify
     from ..universal.similarity import check_size
 
     features = [p.features for p in processed]
-    band = pulse_band(features)
-    step = band.time_s[1] - band.time_s[0]
-    lead = np.arange(-50, 0) * step
     mean = {key: float(np.mean([f.values[key] for f in features])) for key in ("P15", "P16")}
     mass = float(np.mean([f.mass_kg for f in features]))
-    record = ImpactRecord(np.concatenate([lead, band.time_s]),
-                          np.concatenate([np.zeros(lead.size), band.mean_n]), mass_kg=mass,
-                          impact_speed_m_s=mean["P15"], rebound_speed_m_s=mean["P16"])
+    record = pulse_band(features).record(mass, mean["P15"], mean["P16"])
     size = None if diameter_m is None else check_size(diameter_m, mass, allow)
     with warnings.catch_warnings():  # the repeats' own identifications said what applies
         warnings.simplefilter("ignore", InputWarning)
