@@ -15,6 +15,13 @@ Presets (usable wherever a ball file is; `describe_presets()` lists them):
   25 m/s) interpolated linearly in impact speed. Outside 5.5-25 m/s the end row is held and an
   `InputWarning` is emitted. The thesis does not say whether its constants are long-term or
   instantaneous; `long_term` is the default here (`BallModel.with_moduli` switches).
+- Balls of other sports (`SPORTS_PRESETS`: `baseball`, `softball-12in`, `field-hockey`,
+  `lacrosse`, `cricket-men`, `cricket-women`, `cricket-junior`): ball files in
+  `data/presets/`, written once by `examples/make_sports_presets.py`. Each is a homogeneous
+  universal ball at the middle of its rule's size and mass limits (`data/sports_balls.json`),
+  its constants identified by the universal model from a stated COR and dynamic stiffness at
+  26.8 m/s (`universal.targets.constants_for`; stated values, not measured here); the file's
+  `description` and `source` say which, and what the FE check of the written ball gave.
 """
 
 from __future__ import annotations
@@ -232,7 +239,31 @@ class BallModel:
 
 
 # ---- presets ---------------------------------------------------------------------------------
-PRESETS: tuple[str, ...] = ("cricket-3layer", "cricket-universal")
+_PRESET_FOLDER = "data/presets"
+
+
+def _sports_preset_files() -> dict[str, Any]:
+    """The preset ball files shipped in `data/presets/` (name -> resource), by name."""
+    from importlib import resources
+
+    folder = resources.files("ballimpact").joinpath(_PRESET_FOLDER)
+    if not folder.is_dir():
+        return {}
+    files = [f for f in folder.iterdir() if f.name.endswith(".json")]
+    return {f.name[:-len(".json")]: f for f in sorted(files, key=lambda f: f.name)}
+
+
+_SPORTS_FILES = _sports_preset_files()
+#: balls of other sports, each a ball file in `data/presets/` (see the module docstring)
+SPORTS_PRESETS: tuple[str, ...] = tuple(_SPORTS_FILES)
+PRESETS: tuple[str, ...] = ("cricket-3layer", "cricket-universal", *SPORTS_PRESETS)
+
+
+def _sports_preset_data(name: str) -> dict[str, Any]:
+    data = json.loads(_SPORTS_FILES[name].read_text(encoding="utf-8"))
+    if data.get("name") != name:  # a renamed file would load under another name
+        raise InputError(f"preset {name}: its file names the ball {data.get('name')!r}")
+    return data
 
 _MPA = 1e6
 _T_PER_MM3 = 1e12  # kg/m^3
@@ -375,6 +406,8 @@ _UNIVERSAL_AT = re.compile(r"^cricket-universal@(.+?)(?:m/s)?$")
 
 
 def _preset(name: str, impact_speed_m_s: float | None) -> BallModel:
+    if name in SPORTS_PRESETS:
+        return BallModel.from_dict(_sports_preset_data(name), where=name)
     if name == "cricket-3layer":
         return BallModel.from_dict(CRICKET_3LAYER_SPEC, where="cricket-3layer")
     match = _UNIVERSAL_AT.match(name)
@@ -496,12 +529,23 @@ def describe_presets() -> list[dict[str, Any]]:
         "speed_table": {"outer_radius_m": UNIVERSAL_RADIUS_M,
                         "density_kg_m3": UNIVERSAL_DENSITY_KG_M3, "moduli": "long_term",
                         "rows": [dict(row) for row in TABLE_7_3]}})
+    for name in SPORTS_PRESETS:  # written as `balls --json` writes a layered ball: checks added
+        ball = _preset(name, None)
+        out.append({
+            "name": name, "description": ball.description, "source": ball.source,
+            "needs_impact_speed": False, "outer_radius_m": ball.outer_radius_m,
+            "mass_kg": ball.mass_kg, "moduli": ball.moduli[0],
+            "layers": [{"name": layer.name, "outer_radius_m": layer.outer_radius_m,
+                        "density_kg_m3": layer.density_kg_m3, "mass_kg": m,
+                        "model": layer.material.model, "material": layer.material.to_dict()}
+                       for layer, m in zip(ball.layers, ball.layer_masses_kg)]})
     return out
 
 
 __all__ = [
     "CRICKET_3LAYER_SPEC",
     "PRESETS",
+    "SPORTS_PRESETS",
     "TABLE_7_3",
     "UNIVERSAL_DENSITY_KG_M3",
     "BallModel",
