@@ -95,25 +95,6 @@ def check_against(result, key, per_shot):
 # --------------------------------------------------------------------------- the CLI verb
 
 
-@pytest.fixture(autouse=True)
-def standard_verb(monkeypatch):
-    """Run `standard` through `cli.main`, registered here if the lead has not yet done so."""
-    if "standard" in cli.RUNNERS:
-        return
-    from ballimpact.cli import standard
-
-    build = cli.build_parser
-
-    def with_standard():
-        parser = build()
-        verbs = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
-        standard.add_parser(verbs)
-        return parser
-
-    monkeypatch.setattr(cli, "build_parser", with_standard)
-    monkeypatch.setitem(cli.RUNNERS, "standard", standard.run)
-
-
 def run_json(capsys, *argv):
     capsys.readouterr()
     code = cli.main(["standard", *map(str, argv), "--json"])

@@ -54,7 +54,9 @@ def add_parser(verbs) -> None:
                     "available is refused unless --allow large-run (docs/fe.md).")
     simulate.add_argument("--ball", required=True,
                           help="preset (see `ballimpact balls`) or ball specification JSON/TOML")
-    simulate.add_argument("--speed-m-s", type=float, required=True, help="impact speed (m/s)")
+    simulate.add_argument("--speed-m-s", type=speed_list, required=True,
+                          help="impact speed (m/s), or several separated by commas (5,10,20,30: "
+                               "a speed sweep, one batched run, axisymmetric solver only)")
     simulate.add_argument("--angle-deg", type=float, default=0.0,
                           help="angle of the incoming velocity from the surface normal (deg; "
                                "3d solver)")
@@ -100,7 +102,11 @@ def add_parser(verbs) -> None:
     simulate.add_argument("--json", action="store_true", help="print one JSON object")
     simulate.add_argument("--csv", type=Path, help="write the histories (one row per step)")
     simulate.add_argument("--plot", type=Path,
-                          help="PNG: force-time curve and deformed shape at peak force")
+                          help="PNG: force-time curve and deformed shape at peak force (a sweep: "
+                               "COR, peak force and contact time against speed)")
+    simulate.add_argument("--table", type=Path,
+                          help="CSV: a row per speed (COR, peak force, contact time, deflection, "
+                               "rebound speed, dynamic stiffness; SI)")
 
     balls = verbs.add_parser("balls", help="list the built-in ball presets",
                              description="The built-in ball presets usable with --ball.")
@@ -132,6 +138,33 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
                         help="arithmetic of the explicit steps (default float64)")
     parser.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
                         help="contact penalty scale (default 1)")
+
+
+def speed_list(text: str) -> float | tuple[float, ...]:
+    """argparse type of `--speed-m-s`: one impact speed (m/s; a float, as the flag was before the
+    sweeps) or a comma-separated list of several (a tuple), each a finite number, none empty or
+    given twice (`sweep.parse_speeds`)."""
+    from ..sweep import parse_speeds
+
+    try:
+        speeds = parse_speeds(text)
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return speeds[0] if len(speeds) == 1 else speeds
+
+
+def given_speeds(args: argparse.Namespace) -> tuple[float, ...]:
+    """The `--speed-m-s` values (m/s), ascending: one number, or a tuple from `speed_list`."""
+    speeds = args.speed_m_s
+    return tuple(sorted(speeds)) if isinstance(speeds, (tuple, list)) else (float(speeds),)
+
+
+def check_sweep_speeds(speeds, allow: frozenset[str]) -> None:
+    """Each speed of a sweep (m/s) against the FE speed range before anything is loaded (a
+    non-positive speed is left to `load_ball`, which names the field)."""
+    for speed in speeds:
+        if math.isfinite(speed) and speed > 0:
+            check_fe_speed(speed, allow)
 
 
 def solver_options(args: argparse.Namespace):
@@ -254,12 +287,25 @@ def _refuse_other_solver_flags(args: argparse.Namespace) -> None:
 
 
 def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
+    speeds = given_speeds(args)
+    if len(speeds) > 1:
+        return _run_sweep(args, speeds)
+    if isinstance(args.speed_m_s, (tuple, list)):  # a caller's namespace holding [v]
+        args = argparse.Namespace(**{**vars(args), "speed_m_s": speeds[0]})
+    return _run_one(args)  # one speed: the run of one impact, as before the sweeps
+
+
+def _run_one(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import RunProgress, estimate_run, load_ball, simulate
     from ..features import extract_features
 
     # every check on the input before anything is printed (progress, warnings) or meshed
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
+    check_output_folder(getattr(args, "table", None), "--table")
+    if args.solver == "3d" and getattr(args, "table", None) is not None:
+        raise InputError("--table: the sweep table of the axisymmetric solver; a 3d run's "
+                         "figures are in --json")
     if not (math.isfinite(args.friction) and args.friction >= 0):
         raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
     _refuse_other_solver_flags(args)
@@ -284,6 +330,10 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
             for k, v in layer.material.constants().items()}} for layer in ball.layers]
     if args.csv is not None:
         out["csv"] = _write_history(args.csv, result.history)
+    if getattr(args, "table", None) is not None:
+        from ..sweep import write_table
+
+        out["table"] = write_table([_sweep_json_row(result)], args.table)
     if args.plot is not None:
         from ..plotting import plot_fe
 
@@ -300,6 +350,79 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
         print(f"  {result.elements} elements, {result.steps} steps of "
               f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
     return out
+
+
+def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str, Any]:
+    """Several speeds of one ball in one batched run (`sweep.run_sweep`): a row per speed."""
+    import numpy as np
+
+    from ..fe import RunProgress, estimate_run
+    from ..fe.solver import default_group_size
+    from ..sweep import run_sweep, save_figure, sweep_balls, sweep_figure, write_table
+
+    check_plot_path(args.plot)
+    check_output_folder(args.table, "--table")
+    if args.solver == "3d":
+        raise InputError("--speed-m-s: a list of speeds (a sweep) runs with the axisymmetric "
+                         "solver only; with --solver 3d give one speed per run")
+    if args.csv is not None:
+        raise InputError("--csv: writes the histories of one run; a sweep writes a row per "
+                         "speed with --table (or give one speed)")
+    if not (math.isfinite(args.friction) and args.friction >= 0):
+        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    _refuse_other_solver_flags(args)
+    allow = check_allow(args.allow)
+    check_sweep_speeds(speeds, allow)
+    balls = sweep_balls(args.ball, speeds, moduli=args.moduli, allow=allow)
+    options = solver_options(args)
+    # refused before meshing; estimated with the ball of the slowest speed (the longest run)
+    estimate = estimate_run(balls[int(np.argmin(speeds))], speeds, options, allow=allow)
+    use_compilation_cache()
+    _warn_now(estimate.warning())
+    print(f"simulating {args.ball} at {len(speeds)} speeds in one batched run ...",
+          file=sys.stderr, flush=True)
+    # progress lines follow one vmapped group; a sweep of several groups runs without them
+    one_group = len(speeds) <= default_group_size(len(speeds))
+    sweep = run_sweep(balls, speeds, options, label=args.ball, allow=allow,
+                      progress=RunProgress(estimate.end_time_s, options.chunk_steps)
+                      if one_group else None)
+    rows = [_sweep_json_row(r) for r in sweep.results]
+    first = sweep.results[0].summary()
+    out = {"ball": args.ball, "speeds_m_s": list(speeds), "sweep": rows,
+           "moduli": first["moduli"], "elements": first["elements"],
+           "integration": first["integration"], "precision": first["precision"],
+           "wall_time_s": sweep.wall_time_s, "materials": [b.to_dict() for b in balls]}
+    if args.table is not None:
+        out["table"] = write_table(rows, args.table)
+    if args.plot is not None:
+        out["plot"] = save_figure(sweep_figure([sweep], title=f"{args.ball}: speed sweep (FE, "
+                                                               "rigid plane)"), args.plot)
+    if not args.json:
+        _print_sweep(args.ball, out)
+    return out
+
+
+def _sweep_json_row(result) -> dict[str, Any]:
+    """A sweep's row (`sweep.sweep_row`) with the run's ball name, energy error and steps."""
+    from ..sweep import sweep_row
+
+    return {**sweep_row(result), "energy_balance_error": result.energy_balance_error,
+            "steps": result.steps, "ball_name": result.ball_name}
+
+
+def _print_sweep(label: str, out: dict[str, Any]) -> None:
+    print(f"{label}: {len(out['sweep'])} speeds in one batched run ({out['moduli']} moduli, "
+          f"{out['elements']} elements, {out['wall_time_s']:.2f} s wall)")
+    print(f"{'speed m/s':>10}{'COR':>8}{'peak kN':>9}{'contact ms':>11}{'deflect mm':>11}"
+          f"{'rebound m/s':>12}{'stiff MN/m':>11}{'energy err':>11}")
+    for r in out["sweep"]:
+        print(f"{r['impact_speed_m_s']:>10.4g}{r['cor']:>8.4f}{r['peak_force_n'] / 1e3:>9.3f}"
+              f"{r['contact_time_s'] * 1e3:>11.4f}{r['max_deflection_m'] * 1e3:>11.3f}"
+              f"{r['rebound_speed_m_s']:>12.3f}{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}"
+              f"{r['energy_balance_error']:>11.1e}")
+    for key in ("table", "plot"):
+        if key in out:
+            print(f"{key} written to {out[key]}")
 
 
 def _write_history(path: Path, history: dict) -> str:
@@ -442,4 +565,6 @@ def run_balls(args: argparse.Namespace) -> dict[str, Any]:
     if not args.json:
         for preset in presets:
             print(f"{preset['name']}: {preset['description']}")
+            if preset.get("source"):
+                print(f"    source: {preset['source']}")
     return {"balls": presets}

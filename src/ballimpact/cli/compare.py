@@ -1,0 +1,146 @@
+"""`ballimpact compare`: two or more FE balls side by side at the same impact speeds, without
+tests (a ball against its calibrated version, two presets, two ball files)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from ..plausibility import check_allow
+from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .simulate import (
+    add_solver_options,
+    check_sweep_speeds,
+    given_speeds,
+    solver_options,
+    speed_list,
+)
+
+
+def add_parser(verbs) -> None:
+    compare = verbs.add_parser(
+        "compare", help="two or more balls side by side at the same speeds (FE, no tests)",
+        description="Normal FE impacts on a rigid plane of two or more balls at the same speeds "
+                    "(each ball's speeds one batched run): per speed the COR, peak force, "
+                    "contact time, centre deflection, rebound speed and dynamic stiffness "
+                    "F^2/(m v^2) of each ball, and each ball against the first (COR difference "
+                    "absolute, the others in %).")
+    compare.add_argument("--ball", action="append", required=True,
+                         help="preset (see `ballimpact balls`) or ball specification JSON/TOML; "
+                              "give two or more, the first is the reference")
+    compare.add_argument("--speed-m-s", type=speed_list, required=True,
+                         help="impact speeds (m/s), separated by commas (e.g. 10,20,30)")
+    compare.add_argument("--moduli", choices=("long_term", "instantaneous"),
+                         help="override every ball's moduli convention")
+    add_allow(compare)
+    add_solver_options(compare)
+    compare.add_argument("--json", action="store_true", help="print one JSON object")
+    compare.add_argument("--table", type=Path,
+                         help="CSV: a row per speed and ball, with the differences from the "
+                              "first ball (SI)")
+    compare.add_argument("--plot", type=Path,
+                         help="PNG: force-time overlays per speed, and COR, peak force and "
+                              "contact time against speed")
+
+
+def _ball_key(spec: str) -> str:
+    """What makes two --ball values the same ball: a file by its resolved path, else the name."""
+    path = Path(spec)
+    return str(path.resolve()) if path.is_file() else spec
+
+
+def check_balls(specs: list[str]) -> list[str]:
+    """Two or more balls, each given once (a file under two spellings counts as twice)."""
+    if len(specs) < 2:
+        raise InputError(f"--ball: give two or more balls to compare (got {len(specs)}); one "
+                         "ball at several speeds is `simulate --speed-m-s 5,10,20`")
+    seen: dict[str, str] = {}
+    for spec in specs:
+        key = _ball_key(spec)
+        if key in seen:
+            spelling = f" (as {seen[key]})" if seen[key] != spec else ""
+            raise InputError(f"--ball: {spec} is given twice{spelling}; give each ball once")
+        seen[key] = spec
+    return specs
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..fe import RunProgress, estimate_run
+    from ..fe.solver import default_group_size
+    from ..sweep import (
+        compare_rows,
+        run_sweep,
+        save_figure,
+        sweep_balls,
+        sweep_figure,
+        write_table,
+    )
+
+    # every check on the input, every ball loaded, before anything is meshed
+    check_plot_path(args.plot)
+    check_output_folder(args.table, "--table")
+    specs = check_balls(list(args.ball))
+    speeds = given_speeds(args)
+    allow = check_allow(args.allow)
+    check_sweep_speeds(speeds, allow)
+    balls = {spec: sweep_balls(spec, speeds, moduli=args.moduli, allow=allow) for spec in specs}
+    options = solver_options(args)
+    slowest = min(range(len(speeds)), key=speeds.__getitem__)
+    estimates = {spec: estimate_run(b[slowest], speeds, options, allow=allow)
+                 for spec, b in balls.items()}
+    use_compilation_cache()
+    started = time.perf_counter()
+    sweeps = []
+    for spec in specs:
+        message = estimates[spec].warning()
+        if message is not None:
+            print(f"warning: {message}", file=sys.stderr, flush=True)
+        print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
+        one_group = len(speeds) <= default_group_size(len(speeds))
+        progress = RunProgress(estimates[spec].end_time_s, options.chunk_steps) if one_group \
+            else None
+        sweeps.append(run_sweep(balls[spec], speeds, options, label=spec, progress=progress,
+                                allow=allow))
+    rows = compare_rows(sweeps)
+    out: dict[str, Any] = {
+        "balls": specs, "reference_ball": specs[0], "speeds_m_s": list(speeds),
+        "comparison": rows,
+        "sweeps": [{"ball": s.label, "ball_names": [r.ball_name for r in s.results],
+                    "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
+                    "rows": s.rows()} for s in sweeps],
+        "wall_time_s": time.perf_counter() - started}
+    if args.table is not None:
+        out["table"] = write_table(rows, args.table)
+    if args.plot is not None:
+        out["plot"] = save_figure(sweep_figure(sweeps, overlays=True,
+                                               title="compare: FE impacts on a rigid plane"),
+                                  args.plot)
+    if not args.json:
+        _print(out)
+    return out
+
+
+def _print(out: dict[str, Any]) -> None:
+    reference = out["reference_ball"]
+    width = max(12, *(len(b) + 2 for b in out["balls"]))
+    print(f"compare: {len(out['balls'])} balls at {len(out['speeds_m_s'])} speed(s), FE on a "
+          f"rigid plane; differences from {reference} (COR absolute, others %)")
+    print(f"{'speed m/s':>10}  {'ball':<{width}}{'COR':>8}{'peak kN':>9}{'contact ms':>11}"
+          f"{'stiff MN/m':>11}{'dCOR':>9}{'dpeak %':>9}{'dcontact %':>11}{'dstiff %':>10}")
+    for r in out["comparison"]:
+        same = r["ball"] == reference
+        diffs = (f"{'':>9}{'':>9}{'':>11}{'':>10}" if same else
+                 f"{r['cor_difference']:>+9.4f}{r['peak_force_difference_percent']:>+9.2f}"
+                 f"{r['contact_time_difference_percent']:>+11.2f}"
+                 f"{r['dynamic_stiffness_difference_percent']:>+10.2f}")
+        print(f"{r['impact_speed_m_s']:>10.4g}  {r['ball']:<{width}}{r['cor']:>8.4f}"
+              f"{r['peak_force_n'] / 1e3:>9.3f}{r['contact_time_s'] * 1e3:>11.4f}"
+              f"{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}{diffs}")
+    for key in ("table", "plot"):
+        if key in out:
+            print(f"{key} written to {out[key]}")
+    print(f"{out['wall_time_s']:.2f} s wall")
