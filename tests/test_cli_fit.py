@@ -197,3 +197,19 @@ def test_fit_flags_parameters_the_record_does_not_determine(capsys, tmp_path):
     assert code == 0
     flagged = [line.split()[0] for line in out.splitlines() if line.endswith("not identified")]
     assert flagged == unknown
+
+
+def test_fit_repeats_at_scattered_speeds_are_grouped(capsys, tmp_path):
+    """Repeats aimed at one speed land a little apart: within 5% of each other they are one
+    group, whose parameters' mean and SD are reported."""
+    paths = [write_test(tmp_path, name, speed, seed=seed)
+             for name, speed, seed in (("a", 19.8, 1), ("b", 20.3, 2), ("slow", 10.0, 3))]
+    code, out, err = run(capsys, "fit", *paths, "--model", "hunt_crossley", "--method", "de",
+                         "--generations", 15, "--fix", "n=1.5", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    (group,) = result["repeats"]
+    assert group["count"] == 2 and group["speed_m_s"] == pytest.approx(20.05)
+    k = [f["params"]["k"] for f in result["fits"] if not f["file"].endswith("slow.csv")]
+    assert group["params_mean"]["k"] == pytest.approx(np.mean(k), rel=1e-12)
+    assert group["params_sd"]["k"] == pytest.approx(np.std(k, ddof=1), rel=1e-12)

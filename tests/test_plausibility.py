@@ -304,9 +304,9 @@ def test_side_file_errors_name_the_side_file(capsys, tmp_path):
 # --------------------------------------------------------------------------- other input slips
 
 
-def test_folder_given_as_record(capsys, tmp_path):
+def test_folder_without_records(capsys, tmp_path):
     code, out, err = run(capsys, "features", tmp_path, "--mass-kg", 0.16, "--impact-speed-m-s", 10)
-    one_error_line(code, out, err, "is a folder")
+    one_error_line(code, out, err, "holds no test records")
 
 
 def test_absurd_forces_give_the_scaling_reason(capsys, tmp_path):

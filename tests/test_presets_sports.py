@@ -18,6 +18,7 @@ from ballimpact.universal.similarity import BallSize, map_params
 from ballimpact.universal.targets import (
     constants_for,
     map_dynamic_stiffness,
+    STANDARD_SPEED_M_S,
     solve_on_surrogate,
 )
 
@@ -93,7 +94,7 @@ def test_similar_cricket_balls_share_their_reference_constants():
 
 def test_dynamic_stiffness_maps_as_force_squared_over_mass():
     # DS = F^2 / (m v^2) and forces scale with m v^2 / R: the ratio from the force scales
-    a, b, v = BallSize(0.0485, 0.188), BallSize(0.036, 0.16), 26.8
+    a, b, v = BallSize(0.0485, 0.188), BallSize(0.036, 0.16), STANDARD_SPEED_M_S
     ratio = (b.scale("force", v) / a.scale("force", v)) ** 2 * a.mass_kg / b.mass_kg
     assert map_dynamic_stiffness(1.0e6, a, b) == pytest.approx(1.0e6 * ratio, rel=1e-12)
 
@@ -119,10 +120,10 @@ def test_surrogate_solution_meets_its_targets(model):
     found = solve_on_surrogate(model, size, 0.44, 0.9e6)
     p = found["reference_params"]
     ref = reference_size(model)
-    out = model.simulate(np.array([[p["c10_pa"], p["c01_pa"], p["g1"], p["tau1_s"], 26.8]]))
+    out = model.simulate(np.array([[p["c10_pa"], p["c01_pa"], p["g1"], p["tau1_s"], STANDARD_SPEED_M_S]]))
     features = out["features"][0]
     cor = features[FEATURES.index("P17")]
-    ds_ref = features[FEATURES.index("P6")] ** 2 / (ref.mass_kg * 26.8 ** 2)
+    ds_ref = features[FEATURES.index("P6")] ** 2 / (ref.mass_kg * STANDARD_SPEED_M_S ** 2)
     # the reference ball's DS maps to the ball by (m / R^2) / (m0 / R0^2)
     ds = ds_ref * (size.mass_kg / size.radius_m ** 2) / (ref.mass_kg / ref.radius_m ** 2)
     assert abs(cor - 0.44) <= 0.002 and abs(ds / 0.9e6 - 1) <= 0.005
@@ -153,7 +154,7 @@ def test_constants_for_refuses_an_unreachable_target(model, cor, ds, words):
     ({"speed_m_s": 80.0}, r"outside the universal model's training speeds"),
 ])
 def test_constants_for_refuses_bad_input(model, kwargs, words):
-    args = {"cor": 0.5, "ds_n_m": 1.2e6, "speed_m_s": 26.8, **kwargs}
+    args = {"cor": 0.5, "ds_n_m": 1.2e6, "speed_m_s": STANDARD_SPEED_M_S, **kwargs}
     with pytest.raises(InputError, match=words):
         constants_for(model, BallSize(0.0369, 0.145), verify=False, **args)
 
@@ -168,6 +169,6 @@ def test_constants_for_with_its_fe_check_end_to_end(model):
     assert check["passed"] and out["corrections"] == len(check["runs"]) - 1
     ball = load_ball(out["ball"])
     assert ball.mass_kg == pytest.approx(size.mass_kg, rel=1e-12)
-    result = simulate(ball, 26.8, SolverOptions(element_size_m=1.5e-3 * size.radius_m / 0.036))
-    ds = result.peak_force_n ** 2 / (size.mass_kg * 26.8 ** 2)
+    result = simulate(ball, STANDARD_SPEED_M_S, SolverOptions(element_size_m=1.5e-3 * size.radius_m / 0.036))
+    ds = result.peak_force_n ** 2 / (size.mass_kg * STANDARD_SPEED_M_S ** 2)
     assert abs(result.cor - 0.65) <= 0.01 and abs(ds / 1.3e6 - 1) <= 0.03

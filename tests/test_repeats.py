@@ -119,9 +119,10 @@ def test_group_by_speed_clusters_and_assigns_to_nominal_speeds():
     np.testing.assert_allclose(labels, expected, rtol=1e-12)
     np.testing.assert_array_equal(repeats.group_by_speed(speeds, [20, 5, 10]),
                                   [5, 20, 5, 10, 20, 10, 5])
-    # single linkage: a chain of steps each under 10% stays one group
-    chain = repeats.group_by_speed([10.0, 10.9, 11.8, 12.8])
-    assert np.unique(chain).size == 1
+    # a group spans at most the tolerance: a series of steps each under 10% stays a series
+    series = repeats.group_by_speed([10.0, 10.9, 11.8, 12.8], tolerance=0.1)
+    assert np.unique(series).size == 2  # 10, 10.9 | 11.8, 12.8
+    assert list(series) == pytest.approx([10.45, 10.45, 12.3, 12.3])
     # the split rule: a step of exactly the tolerance joins, more splits
     assert np.unique(repeats.group_by_speed([10.0, 10.5], tolerance=0.05)).size == 1
     assert np.unique(repeats.group_by_speed([10.0, 10.5001], tolerance=0.05)).size == 2
@@ -297,9 +298,9 @@ def test_bad_input_of_repeats(bad_input, repeat_set, tmp_path):
     bad_input(["features", empty], "empty", "holds no test records", "*.csv, *.wav")
     bad_input(["features", folder, "--table", tmp_path / "t.txt"], "--table", "t.txt",
               "must be a .csv file")
-    bad_input(["features", folder, "--speeds", "5,10"], "v20_r1.csv", "not within 10%",
+    bad_input(["features", folder, "--speeds", "5,10"], "v20_r1.csv", "not within 5%",
               "5, 10 m/s")
-    bad_input(["features", folder, "--speeds", "5,ten"], "--speeds", "separated by commas")
+    bad_input(["features", folder, "--speeds", "5,ten"], "--speeds", "not a number")
     bad_input(["features", folder, "--speed-tolerance", "10"], "--speed-tolerance",
               "a percentage")
     first = min(truth)

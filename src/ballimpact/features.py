@@ -260,6 +260,13 @@ class ImpactFeatures:
         }
 
 
+def dynamic_stiffness(peak_force_n, mass_kg, impact_speed_m_s):
+    """The dynamic stiffness (N/m) of an impact: the linear spring that a mass `mass_kg` (kg)
+    striking it at `impact_speed_m_s` (m/s) loads to `peak_force_n` (N), whose peak is
+    v sqrt(k m): k = F_peak^2 / (m v^2) (the quantity of ASTM F2845)."""
+    return peak_force_n ** 2 / (mass_kg * impact_speed_m_s ** 2)
+
+
 def extract_features(
     record: ImpactRecord,
     *,
@@ -372,7 +379,7 @@ def extract_features(
         impulse_cor=impulse / (mass * v_in) - 1.0,
         max_compression_m=float(np.max(displacement)),
         energy_lost_j=curve.work(velocity, mass),
-        dynamic_stiffness_n_m=peak**2 / (mass * v_in**2),
+        dynamic_stiffness_n_m=dynamic_stiffness(peak, mass, v_in),
         time_s=curve.knots_s,
         force_n=curve.knots_n,
         velocity_m_s=velocity,

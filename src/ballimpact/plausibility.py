@@ -401,6 +401,19 @@ _BALL_TYPICAL = {"outer radius": 0.036, "mass": 0.16, "density": 1000.0,
                  "shear modulus": 1e7, "bulk modulus": 1e9}
 
 
+def check_ball_mass(mass_kg: float, where: str) -> float:
+    """A ball mass inside `BALL_RANGES` (kg); outside it an `InputError` naming `where` and the
+    range, and grams given as kilograms when that fits."""
+    low, high, _ = BALL_RANGES["mass"]
+    number = isinstance(mass_kg, (int, float)) and not isinstance(mass_kg, bool)
+    if not (number and np.isfinite(mass_kg) and low <= mass_kg <= high):
+        hint = (f": it looks like grams given as kg (use {mass_kg * 1e-3:g})"
+                if number and low <= mass_kg * 1e-3 <= high else "")
+        raise InputError(f"{where} = {mass_kg!r} kg: the mass is outside {low:g}..{high:g} kg, "
+                         f"the range of solid sports balls{hint}")
+    return float(mass_kg)
+
+
 def ball_unit_slip(quantity: str, value: float) -> tuple[float, str] | None:
     """(factor, unit) of the likeliest unit slip that brings `value` (SI) of `quantity` (a key of
     `BALL_RANGES`) inside its range, or None."""

@@ -31,8 +31,10 @@ from .records import ImpactRecord
 #: Suffixes of the record files a folder is expanded to (side files `x.json` are not records).
 RECORD_SUFFIXES = (".csv", ".wav")
 
-#: Default relative speed tolerance of the grouping (10% of the speed).
-DEFAULT_SPEED_TOLERANCE = 0.1
+#: Default relative speed tolerance of the grouping (5% of the speed: repeats aimed at one speed
+#: scatter by a few percent, while the speeds of a series differ by 20% or more, e.g. the
+#: thesis' 5.5, 10, 20.8 and 25 m/s).
+DEFAULT_SPEED_TOLERANCE = 0.05
 
 #: Masses of the records of one speed group may differ by this fraction of the smallest.
 DEFAULT_MASS_TOLERANCE = 0.01
@@ -113,9 +115,10 @@ def group_by_speed(
     - With `nominal_m_s` (the speeds the lab aimed at): each record goes to the nominal speed
       nearest to it in relative terms, |v - v_n| / v_n, which must be at most `tolerance`; the
       label is that nominal speed.
-    - Without: the speeds are clustered. Sorted, they are split wherever the step from one to
-      the next exceeds `tolerance` times the lower one (single linkage: a chain of close speeds
-      stays one group); the label is the group's mean speed.
+    - Without: the speeds are clustered. Sorted, each speed joins the group of the speeds
+      before it while it exceeds that group's lowest speed by at most `tolerance` times it, and
+      starts a new group otherwise: a group never spans more than the tolerance (a series of
+      speeds 8% apart stays a series); the label is the group's mean speed.
 
     `tolerance` is a fraction of the speed (0.1 = 10%), in (0, 1). `files` (one per speed) names
     the record in errors.
@@ -148,10 +151,14 @@ def group_by_speed(
                     "--speed-tolerance")
         return nominal[nearest]
     order = np.argsort(speeds, kind="stable")
-    ordered = speeds[order]
-    breaks = np.flatnonzero(np.diff(ordered) > tolerance * ordered[:-1]) + 1
+    groups: list[list[int]] = []
+    for i in order:
+        if groups and speeds[i] <= speeds[groups[-1][0]] * (1 + tolerance):
+            groups[-1].append(i)
+        else:
+            groups.append([i])
     labels = np.empty_like(speeds)
-    for members in np.split(order, breaks):
+    for members in groups:
         labels[members] = np.mean(speeds[members])
     return labels
 
@@ -186,10 +193,12 @@ def check_masses(
     files: Sequence[str | Path],
     groups: Sequence[float],
     tolerance: float = DEFAULT_MASS_TOLERANCE,
+    what: str | None = None,
 ) -> None:
     """Repeats at one speed are tests of one ball kind: within each group the largest mass may
     exceed the smallest by at most `tolerance` of the smallest (1%), else `InputError` naming
-    the two files and their masses. Groups at different speeds are not compared."""
+    the two files and their masses. Groups at different speeds are not compared. `what` names
+    the records in the message (default: "the repeats at V m/s")."""
     masses = np.asarray(masses_kg, dtype=float)
     labels = np.asarray(groups, dtype=float)
     for label in np.unique(labels):
@@ -199,7 +208,8 @@ def check_masses(
         if masses[heavy] > masses[light] * (1 + tolerance):
             raise InputError(
                 f"{files[light]} ({masses[light]:.4g} kg) and {files[heavy]} "
-                f"({masses[heavy]:.4g} kg): mixed masses among the repeats at {label:.4g} m/s "
+                f"({masses[heavy]:.4g} kg): mixed masses among "
+                f"{what or f'the repeats at {label:.4g} m/s'} "
                 f"(differ by {masses[heavy] / masses[light] - 1:.1%}, more than "
                 f"{tolerance:.0%}); give the records of one ball kind, or check their mass_kg")
 

@@ -5,9 +5,11 @@ Three methods, each described by its facts only (speeds, quantities, formulas):
 
 - `cor` (ASTM F1887): the ball is fired at 60 mph (26.8224 m/s) at a massive, rigid, flat wall;
   COR = rebound speed / inbound speed, both measured near the wall.
-- `dynamic-stiffness` (ASTM F2845): fired at the same speed at a rigid wall with a load cell;
-  DS = (1/m) (F_peak / v_in)^2 (N/m; also in lbf/in, 1 lbf/in = 175.1268 N/m). This is
-  `features.extract_features`' `dynamic_stiffness_n_m`, used as it is.
+- `dynamic-stiffness` (ASTM F2845's quantity): DS = (1/m) (F_peak / v_in)^2 from the load-cell
+  peak force (N/m; also in lbf/in, 1 lbf/in = 175.1268 N/m), `features.extract_features`'
+  `dynamic_stiffness_n_m` used as it is. F2845 itself fires the ball at a rigid cylindrical
+  surface at a speed of its own; here the nominal speed is 60 mph against a flat rigid plane (a
+  choice: the one the other impact method uses; `nominal=` / `--impact-speed-m-s` sets it).
 - `compression` (ASTM F1888): the ball squeezed between two flat rigid platens by 0.25 in
   (6.35 mm), slowly; the force at that displacement (N, and lbf as the method quotes it).
 
@@ -43,7 +45,8 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError, InputWarning
-from .plausibility import BALL_RANGES
+from .features import dynamic_stiffness
+from .plausibility import check_ball_mass
 
 #: 1 lbf in N (exact by definition: 0.45359237 kg x 9.80665 m/s^2) and 1 in in m (exact)
 LBF_N = 4.4482216152605
@@ -107,7 +110,8 @@ METHODS: dict[str, Method] = {
         "impact", SIXTY_MPH_M_S, (Quantity("cor", "", "COR"),)),
     "dynamic-stiffness": Method(
         "dynamic-stiffness", "ASTM F2845",
-        "dynamic stiffness (F_peak / v_in)^2 / m from the load-cell peak force at 60 mph",
+        "dynamic stiffness (F_peak / v_in)^2 / m from the load-cell peak force (F2845's "
+        "quantity; here against a flat rigid plane, at 60 mph unless --impact-speed-m-s)",
         "impact", SIXTY_MPH_M_S,
         (Quantity("dynamic_stiffness_n_m", "N/m", "DS"),
          Quantity("dynamic_stiffness_lbf_in", "lbf/in", "DS", LBF_N / INCH_M),
@@ -191,19 +195,6 @@ def ball_id_function(pattern: str | Callable[[Path], str] | None = None
 # --------------------------------------------------------------------------- checks
 
 
-def check_mass(mass_kg: float, where: str) -> float:
-    """A ball mass inside `plausibility.BALL_RANGES` (kg); outside it an `InputError` naming
-    `where` and the range, and grams given as kilograms when that fits."""
-    low, high, _ = BALL_RANGES["mass"]
-    if not (math.isfinite(mass_kg) and low <= mass_kg <= high):
-        hint = ""
-        if low <= mass_kg * 1e-3 <= high:
-            hint = f": it looks like grams given as kg (use {mass_kg * 1e-3:g})"
-        raise InputError(f"{where} = {mass_kg:g} kg: the mass is outside {low:g}..{high:g} kg, "
-                         f"the range of solid sports balls{hint}")
-    return float(mass_kg)
-
-
 def speed_note(method: Method, speed_m_s: float, where: str, nominal_m_s: float) -> str | None:
     """The warning for an inbound speed off the method's (None when within the tolerance)."""
     off = speed_m_s - nominal_m_s
@@ -217,7 +208,7 @@ def speed_note(method: Method, speed_m_s: float, where: str, nominal_m_s: float)
 # --------------------------------------------------------------------------- statistics
 
 
-def mean_sd(values: Iterable[float]) -> dict[str, float]:
+def shot_stats(values: Iterable[float]) -> dict[str, float]:
     """{"mean", "sd", "count"}: the sample standard deviation (n - 1), NaN for one value."""
     values = [float(v) for v in values]
     sd = statistics.stdev(values) if len(values) > 1 else math.nan
@@ -238,11 +229,11 @@ def summarise(method: Method, shots: list[dict[str, Any]]) -> dict[str, Any]:
     for ball, own in by_ball.items():
         entry: dict[str, Any] = {"ball": ball, "count": len(own)}
         for key in keys:
-            entry[key] = mean_sd(shot[key] for shot in own)
+            entry[key] = shot_stats(shot[key] for shot in own)
         balls.append(entry)
     overall: dict[str, Any] = {"balls": len(balls), "shots": len(shots)}
     for key in keys:
-        overall[key] = mean_sd(entry[key]["mean"] for entry in balls)
+        overall[key] = shot_stats(entry[key]["mean"] for entry in balls)
     return {"balls": balls, "overall": overall}
 
 
@@ -270,7 +261,7 @@ def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | No
     method = get_method(method)
     ball_id = ball_id_function(ball_of)
     if mass_kg is not None:
-        check_mass(mass_kg, "--mass-kg")
+        check_ball_mass(mass_kg, "--mass-kg")
     if method.kind == "compression":
         if mass_kg is not None:
             raise InputError("--mass-kg: the compression method does not use the ball mass; "
@@ -312,7 +303,7 @@ def _impact_shot(method: Method, path: Path, ball: str, mass_kg: float | None,
     if record.mass_kg is None:
         raise InputError(f"{path}: no ball mass; give --mass-kg or mass_kg in its side file "
                          f"{path.with_suffix('.json').name}")
-    check_mass(record.mass_kg, f"{path}: mass_kg")
+    check_ball_mass(record.mass_kg, f"{path}: mass_kg")
     if record.impact_speed_m_s is None:
         raise InputError(f"{path}: no inbound speed; give impact_speed_m_s in its side file "
                          f"{path.with_suffix('.json').name}")
@@ -377,16 +368,21 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
     impact speed (cricket-universal) takes them at the impact methods' speed.
 
     Returns the method's description, "ball", the quantities under "result", and the model's
-    cost under "cost" (wall time s, steps or increments, elements)."""
+    cost under "cost" (wall time s, steps or increments, elements). `options` default: the
+    solver's, with the element size scaled to the ball (x R / 36 mm), the mesh the universal
+    model's study and its identifications use (`universal.identify.scaled_options`)."""
     from .fe import SolverOptions, compress, load_ball, simulate
+    from .fe.ball import UNIVERSAL_RADIUS_M
 
     method = get_method(method)
-    options = SolverOptions() if options is None else options
     if method.kind == "compression" and nominal is not None:
         raise InputError("--impact-speed-m-s: the compression method has no impact speed; "
                          "leave it out")
     speed = SIXTY_MPH_M_S if nominal is None else _speed(nominal)
     ball = load_ball(ball_spec, impact_speed_m_s=speed, allow=allow)
+    if options is None:
+        options = SolverOptions(element_size_m=SolverOptions().element_size_m
+                                * ball.outer_radius_m / UNIVERSAL_RADIUS_M)
     out = method.to_dict()
     out["source"] = "model"
     out["ball"] = ball.name
@@ -396,7 +392,7 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
         run = simulate(ball, speed, options, allow=allow)
         # the mass that moved: the mesh's (within ~0.2% of the ball's on a coarse mesh); with it
         # DS does not depend on how the mesh lumps the mass (a linear spring k gives DS = k)
-        ds = run.peak_force_n ** 2 / (run.mass_kg * speed ** 2)
+        ds = dynamic_stiffness(run.peak_force_n, run.mass_kg, speed)
         result = {"impact_speed_m_s": speed, "rebound_speed_m_s": run.rebound_speed_m_s,
                   **impact_quantities(method, run.cor, ds, run.peak_force_n),
                   "contact_time_s": run.contact_time_s, "mesh_mass_kg": run.mass_kg}

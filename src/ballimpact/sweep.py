@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .errors import InputError
+from .features import dynamic_stiffness
 
 #: the columns of a sweep's rows (SI, unit in the name), in the table's order
 ROW_KEYS = ("impact_speed_m_s", "cor", "peak_force_n", "contact_time_s", "max_deflection_m",
@@ -123,7 +124,8 @@ def sweep_row(result) -> dict[str, float]:
             "contact_time_s": float(result.contact_time_s),
             "max_deflection_m": max_deflection_m(result),
             "rebound_speed_m_s": float(result.rebound_speed_m_s),
-            "dynamic_stiffness_n_m": float(result.peak_force_n ** 2 / (result.mass_kg * v * v))}
+            "dynamic_stiffness_n_m": float(dynamic_stiffness(result.peak_force_n, result.mass_kg,
+                                                             v))}
 
 
 def differences(row: dict[str, float], reference: dict[str, float]) -> dict[str, float]:

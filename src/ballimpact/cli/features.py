@@ -48,21 +48,20 @@ def add_parser(verbs) -> None:
     features.add_argument("--speed-tolerance", type=float,
                           default=repeats.DEFAULT_SPEED_TOLERANCE,
                           help="relative speed tolerance of the grouping: a record within this "
-                               "fraction of a nominal speed; without --speeds, a step larger than "
-                               "this fraction between sorted speeds starts a new group "
+                               "fraction of a nominal speed; without --speeds, a speed more than "
+                               "this fraction above its group's lowest starts a new group "
                                f"(default {repeats.DEFAULT_SPEED_TOLERANCE})")
 
 
 def speed_list(text: str) -> list[float]:
-    """argparse type of --speeds: speeds in m/s separated by commas."""
+    """argparse type of --speeds: speeds in m/s separated by commas (`sweep.parse_speeds`; that
+    they are positive is `repeats.check_nominal`'s)."""
+    from ..sweep import parse_speeds
+
     try:
-        speeds = [float(item) for item in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"expected speeds in m/s separated by commas (e.g. 5,10,20), got {text!r}") from None
-    if not all(math.isfinite(v) and v > 0 for v in speeds):
-        raise argparse.ArgumentTypeError(f"speeds must be finite and > 0 m/s, got {text!r}")
-    return speeds
+        return list(parse_speeds(text))
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:

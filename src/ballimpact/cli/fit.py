@@ -130,18 +130,20 @@ def _warn_not_identified(fitted, path: Path) -> None:
 
 
 def parameter_scatter(table) -> list[dict[str, Any]]:
-    """Per speed with two or more tests: the mean and standard deviation (ddof = 1) of each
-    fitted parameter over the repeats (`repeats.mean_sd`): the scatter of the tests carried into
-    the parameters."""
-    from ..repeats import mean_sd
+    """Per speed group of two or more tests (`repeats.group_by_speed`: within
+    `repeats.DEFAULT_SPEED_TOLERANCE`, as identify and report group them): the mean and standard
+    deviation (ddof = 1) of each fitted parameter over the repeats (`repeats.mean_sd`): the
+    scatter of the tests carried into the parameters."""
+    from ..repeats import group_by_speed, mean_sd
 
     rows = [dict(zip(table.params, values)) for values in zip(*table.params.values())]
+    groups = group_by_speed(table.speeds_m_s).tolist()
     out = []
-    for speed in sorted(set(table.speeds_m_s)):
-        members = [row for row, s in zip(rows, table.speeds_m_s) if s == speed]
+    for label in sorted(set(groups)):
+        members = [row for row, g in zip(rows, groups) if g == label]
         if len(members) > 1:
             mean, sd = mean_sd(members)
-            out.append({"speed_m_s": float(speed), "count": len(members),
+            out.append({"speed_m_s": float(label), "count": len(members),
                         "params_mean": mean, "params_sd": sd})
     return out
 

@@ -10,6 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError, InputWarning
+from ..repeats import DEFAULT_SPEED_TOLERANCE
+from .features import speed_list
 from .common import (
     add_processing,
     add_record_options,
@@ -60,6 +62,13 @@ def add_parser(verbs) -> None:
                                "(0.072 m for the built-in model), with a note when the test's "
                                "mass is not that ball's. Any homogeneous ball maps onto the "
                                "model's by similarity (docs/universal.md)")
+    identify.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
+                          help="nominal impact speeds (m/s) to group repeated tests to; default: "
+                               "cluster the measured speeds (docs/features.md, repeated tests)")
+    identify.add_argument("--speed-tolerance", type=float, metavar="TOL",
+                          default=DEFAULT_SPEED_TOLERANCE,
+                          help="relative speed tolerance of the grouping into repeats (default "
+                               f"{DEFAULT_SPEED_TOLERANCE})")
     add_record_options(identify)
     add_processing(identify)
 
@@ -159,14 +168,17 @@ def check_arguments(args: argparse.Namespace) -> None:
 
 
 def speed_groups(args: argparse.Namespace, processed: list) -> list[float]:
-    """The speed group of each test (`repeats.group_by_speed`: speeds within
-    `repeats.DEFAULT_SPEED_TOLERANCE` of each other are repeats at one speed); repeats at one
-    speed must be of one ball (masses within 1%: `repeats.check_masses`)."""
-    from ..repeats import check_masses, group_by_speed
+    """The speed group of each test (`repeats.group_by_speed`, to `--speeds` or clustered within
+    `--speed-tolerance`): tests of one group are repeats at one speed. The tests of one command
+    are of one ball: masses within 1% (`repeats.check_masses`; one speed table, one ball)."""
+    from ..repeats import check_masses, check_nominal, check_tolerance, group_by_speed
 
+    tolerance = check_tolerance(args.speed_tolerance)
+    nominal = None if args.speeds is None else check_nominal(args.speeds)
     speeds = [p.features.values["P15"] for p in processed]
-    groups = [float(g) for g in group_by_speed(speeds, files=args.files)]
-    check_masses([p.features.mass_kg for p in processed], args.files, groups)
+    groups = [float(g) for g in group_by_speed(speeds, nominal, tolerance, files=args.files)]
+    check_masses([p.features.mass_kg for p in processed], args.files, [0.0] * len(processed),
+                 what="the tests of one command (one ball)")
     return groups
 
 
@@ -271,6 +283,10 @@ def _print(path: Path, found) -> None:
 
     print(f"{path.name}: universal ball at {found.impact_speed_m_s:g} m/s "
           f"(refine: {found.refine})")
+    size = found.ball_size
+    print(f"  ball     diameter {size['diameter_m']:g} m ({size['diameter_source']}), mass "
+          f"{size['mass_kg']:g} kg; groups " + ", ".join(f"{k} {v:.4g}"
+                                                          for k, v in found.groups.items()))
     for name, value in found.params.items():
         low, high = found.interval_90[name]
         unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""

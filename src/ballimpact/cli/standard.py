@@ -48,9 +48,10 @@ def add_parser(verbs) -> None:
     standard.add_argument("--impact-speed-m-s", type=float,
                           help="run or judge the impact methods at this inbound speed (m/s) "
                                "instead of the method's 26.82 m/s (60 mph); reported as such")
-    standard.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
+    standard.add_argument("--element-size-m", type=float,
                           help=f"--ball: element length on the outer surface (m; default "
-                               f"{SolverDefaults.element_size_m:g})")
+                               f"{SolverDefaults.element_size_m:g} m x R / 0.036 m: the "
+                               "universal study's mesh scaled to the ball)")
     standard.add_argument("--table", type=Path,
                           help="write a CSV: a row per shot, per ball and over all balls")
     standard.add_argument("--json", action="store_true", help="print one JSON object")
@@ -88,8 +89,10 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         from ..fe import SolverOptions
 
         use_compilation_cache()
+        options = None if args.element_size_m is None else SolverOptions(
+            element_size_m=args.element_size_m)
         result = on_model(method, args.ball, nominal=args.impact_speed_m_s, allow=allow,
-                          options=SolverOptions(element_size_m=args.element_size_m))
+                          options=options)
         if not args.json:
             print_model(result)
     else:

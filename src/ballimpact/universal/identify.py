@@ -34,6 +34,11 @@ NRMSE_LIMIT = 0.10
 #: an estimate or an interval end within this fraction of the range (on the parameter's own axis,
 #: log for tau1) of a training bound sits on it (the ensemble's outputs are clipped to the range)
 ON_BOUND = 1e-6
+#: the dimensionless groups (`similarity.GROUPS`) each parameter enters: named when it sits on a
+#: training bound
+GROUPS_OF = {"c10_pa": ("rho_v2_over_mu0", "c01_over_c10"),
+             "c01_pa": ("rho_v2_over_mu0", "c01_over_c10"), "mu0_pa": ("rho_v2_over_mu0",),
+             "g1": ("g1",), "tau1_s": ("tau1_v_over_r",)}
 
 
 @dataclass
@@ -77,16 +82,22 @@ def check_speed(model: UniversalModel, speed_m_s: float, allow: Collection[str] 
              "impact_speed_m_s=LOW:HIGH)", check_allow(allow))
 
 
-def check_range(model: UniversalModel, values: dict[str, float], where: str = "") -> None:
+def check_range(model: UniversalModel, values: dict[str, float], where: str = "",
+                measured: dict[str, float] | None = None) -> None:
     """Warn for each feature outside the range the model was trained on (the speed, P15, has its
-    own check: `check_speed`)."""
+    own check: `check_speed`). `values` are on the model's ball; `measured`, when given, are the
+    test's own before the mapping onto it (`similarity.map_features`), and the warning names
+    both."""
     ranges = model.metadata["feature_range"]
+    diameter = 2 * model.metadata["template"]["radius_m"]
     for key in FEATURES:
         low, high = ranges[key]
         v = values[key]
         if key != "P15" and not (low <= v <= high):
-            warnings.warn(f"{where}{key} ({FEATURE_NAMES[key]}) = {v:.5g} is outside the model's "
-                          f"training range {low:.5g}..{high:.5g}: the identification "
+            value = f"{v:.5g}" if measured is None else (
+                f"{measured[key]:.5g}, mapped onto the model's {diameter:g} m ball {v:.5g},")
+            warnings.warn(f"{where}{key} ({FEATURE_NAMES[key]}) = {value} is outside the "
+                          f"model's training range {low:.5g}..{high:.5g}: the identification "
                           "extrapolates", InputWarning, stacklevel=2)
 
 
@@ -181,9 +192,10 @@ def warn_bounds(found: Identification, where: str = "") -> None:
     ranges = found.training_range
     if found.at_training_bound:
         words = ", ".join(_bound_words(k, found.params[k], ranges) for k in found.at_training_bound)
+        bounded = dict.fromkeys(g for k in found.at_training_bound for g in GROUPS_OF[k])
         words += "; in dimensionless terms " + ", ".join(
-            f"{g} = {found.groups[g]:.4g} (range {lo:.4g}..{hi:.4g} at this speed)"
-            for g, (lo, hi) in found.group_range.items() if g in found.groups)
+            f"{g} = {found.groups[g]:.4g} at an end of the model's {lo:.4g}..{hi:.4g} at this "
+            "speed" for g in bounded for lo, hi in [found.group_range[g]])
         warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
                       f"{words}; the test lies outside what the model was trained on, the "
                       "identified ball is the nearest one inside the range, not an estimate of "
@@ -256,8 +268,9 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     check_speed(model, speed, allow, where)
     warn_failed_model(model)
     reference = reference_size(model)
+    mass = processed.features.mass_kg
     if size is None:
-        size = BallSize(reference.radius_m, processed.features.mass_kg or reference.mass_kg)
+        size = BallSize(reference.radius_m, mass or reference.mass_kg)
         given = "the model's ball (no diameter given)"
         if abs(size.mass_kg / reference.mass_kg - 1) > 0.02:
             warnings.warn(f"{where}no ball diameter given: the model's ball's "
@@ -266,8 +279,12 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
                           InputWarning, stacklevel=2)
     else:
         given = "given"
+        if mass and abs(size.mass_kg / mass - 1) > 0.01:
+            warnings.warn(f"{where}size: mass {size.mass_kg:g} kg differs from the test's "
+                          f"{mass:g} kg by more than 1%: the test is mapped as a ball of "
+                          f"{size.mass_kg:g} kg", InputWarning, stacklevel=2)
     mapped = map_features(values, size, reference)
-    check_range(model, mapped, where)
+    check_range(model, mapped, where, None if size == reference else values)
     template = model.metadata["template"]
     # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
     # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin

@@ -13,8 +13,8 @@ mass or time in it. Its dimensionless pulse F R / (m v^2) against t v / R is fix
 such ball maps exactly onto a test of the reference ball of a study at the same speed: times
 scale by R0 / R, forces by (m0 / R0) / (m / R), speeds not at all; and the constants found for
 the reference ball map back: moduli by rho / rho0, tau1 by R / R0, g1 and C01 / C10 unchanged.
-`tests/test_similarity.py` runs a ball and its scaled copy through the FE engine and finds the
-dimensionless pulses equal to 1e-12.
+`tests/test_similarity.py` runs a ball and its scaled copy through the FE engine and asserts
+their dimensionless pulses equal to 1e-6 (measured: 2e-12).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from collections.abc import Collection
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..plausibility import BALL_RANGES, check_ball_values
+from ..plausibility import BALL_RANGES, check_ball_mass, check_ball_values
 
 GROUPS = ("rho_v2_over_mu0", "c01_over_c10", "g1", "tau1_v_over_r")
 
@@ -113,14 +113,8 @@ def check_size(diameter_m: float, mass_kg: float, allow: Collection[str] = (),
     """A ball of `diameter_m` (m) and `mass_kg` (kg), checked as sports balls are
     (`plausibility.BALL_RANGES`: a diameter in mm or a mass in g is named as such; the density
     they give must be a ball's too, the `ball-units` check)."""
-    size = BallSize(0.5 * check_diameter(diameter_m, flag), mass_kg)
-    low, high, _ = BALL_RANGES["mass"]
-    if not (isinstance(mass_kg, (int, float)) and math.isfinite(mass_kg)
-            and low <= mass_kg <= high):
-        hint = (f": looks like grams; use {mass_kg / 1000:g}"
-                if isinstance(mass_kg, (int, float)) and low <= mass_kg / 1000 <= high else "")
-        raise InputError(f"mass_kg (--mass-kg) = {mass_kg!r} kg is outside {low:g}..{high:g} "
-                         f"kg, the masses of solid sports balls{hint}")
+    size = BallSize(0.5 * check_diameter(diameter_m, flag),
+                    check_ball_mass(mass_kg, "mass_kg (--mass-kg)"))
     check_ball_values(f"ball of diameter {diameter_m:g} m and mass {mass_kg:g} kg",
                       {"density": size.density_kg_m3}, allow=allow)
     return size
