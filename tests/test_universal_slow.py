@@ -1,6 +1,11 @@
-"""The universal model end to end at the issue's scale (slow: about 8 minutes on 2 cores): a
-600-run study at the default mesh, training, and the closed loop through the FE engine on 50
-held-out runs, clean and with 1% white noise at 100 kHz."""
+"""The universal model end to end at the issue's scale (slow: about 9 minutes on 2 cores): an
+800-run study at the default mesh, training, and the closed loop through the FE engine on 50
+held-out runs, clean and with 1% white noise at 100 kHz.
+
+800 runs, not the thesis' 600: a 600-run model sits on this test's 2% limits, and which side it
+lands on is chance. The stable-increment fix of issue 26 changed 8 of the 600 runs by at most
+5e-4. That moved the held-out mu0 median error from 1.91% to 2.16%, and the noisy closed loop's
+median force NRMSE from 1.80% to 2.04%. The 800-run model of the same seed gives 1.21% and 1.67%."""
 
 import pytest
 
@@ -14,8 +19,8 @@ pytestmark = pytest.mark.slow
 @pytest.fixture(scope="module")
 def trained(tmp_path_factory):
     folder = tmp_path_factory.mktemp("universal") / "study"
-    summary = run_study(folder, make_config(runs=600, seed=7))
-    assert summary["finished_runs"] == 600
+    summary = run_study(folder, make_config(runs=800, seed=7))
+    assert summary["finished_runs"] == 800
     model, report = train(folder)
     return folder, model, report
 
@@ -36,7 +41,7 @@ def test_closed_loop_on_held_out_runs(trained, noise):
     assert summary["runs"] == 50 and summary["failed"] == 0
     assert summary["force_nrmse"]["median"] < 0.02
     # the issue's 4% at the 90th percentile holds clean; with 1% noise a 600-run model reached
-    # 4.09% (the built-in 2048-run model: 2.61%, docs/universal.md)
+    # 4.09%, the 800-run one 2.58% (the built-in 2048-run model: 2.61%, docs/universal.md)
     assert summary["force_nrmse"]["p90"] < (0.04 if noise == 0 else 0.05)
     assert summary["cor_error"]["median"] < 0.01
     assert summary["contact_time_relative_error"]["median"] < 0.02
