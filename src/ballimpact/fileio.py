@@ -55,6 +55,20 @@ def first_line(error: BaseException) -> str:
     return (str(error).strip().splitlines() or [type(error).__name__])[0]
 
 
+def check_distinct_files(paths: list[Path], label: str) -> list[Path]:
+    """Each file of `paths` (the positional argument `label`, e.g. TEST) given once: the same
+    file under two spellings (a.csv and ./a.csv) counts as twice, so paths are compared
+    resolved. Returns the resolved paths."""
+    seen: dict[Path, Path] = {}
+    for path in paths:
+        key = path.resolve()
+        if key in seen:
+            spelling = f" (as {seen[key]})" if str(seen[key]) != str(path) else ""
+            raise InputError(f"{label}: {path} is given twice{spelling}; give each file once")
+        seen[key] = path
+    return list(seen)
+
+
 def read_arrays(npz: Path, where: str, what: str) -> dict[str, np.ndarray]:
     """The arrays of an NPZ file without unpickling anything (`allow_pickle=False`). A damaged,
     truncated or foreign file gives `InputError` naming it (`where`) and saying it is not `what`

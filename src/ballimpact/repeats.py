@@ -25,6 +25,7 @@ import numpy as np
 
 from .errors import InputError, InputWarning
 from .features import FEATURE_NAMES, ImpactFeatures
+from .fileio import check_distinct_files
 from .pipeline import ProcessedImpact
 from .records import ImpactRecord
 
@@ -89,13 +90,7 @@ def expand_records(paths: Sequence[Path]) -> list[Path]:
             found.append(path)
         else:
             raise InputError(f"{path}: no such file or folder")
-    seen: dict[Path, Path] = {}
-    for path in found:
-        key = path.resolve()
-        if key in seen:
-            spelling = f" (as {seen[key]})" if str(seen[key]) != str(path) else ""
-            raise InputError(f"{path}: given twice{spelling}; give each record once")
-        seen[key] = path
+    check_distinct_files(found, "FILES_OR_DIRS")
     return found
 
 

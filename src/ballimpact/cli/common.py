@@ -13,11 +13,11 @@ from typing import Any
 
 from ..errors import InputError
 from ..features import DEFAULT_IMPULSE_TOLERANCE
+from ..fileio import check_distinct_files  # noqa: F401 - the verbs import it from here
 from ..filters import FILTER_NAMES
 from ..loaders import load_record
 from ..pipeline import ProcessedImpact, process
 from ..plausibility import CHECKS
-
 
 #: Flags that mean the same in every verb: each is accepted wherever the other is (one name
 #: everywhere for the user; the verbs keep the name they were written with as `dest`).
@@ -158,20 +158,6 @@ def check_plot_path(path: Path | None) -> None:
 def check_output_folder(path: Path | None, flag: str) -> None:
     if path is not None and not path.parent.is_dir():
         raise InputError(f"{flag}: folder {path.parent} does not exist")
-
-
-def check_distinct_files(paths: list[Path], label: str) -> list[Path]:
-    """Each file of `paths` (the positional argument `label`, e.g. TEST) given once: the same
-    file under two spellings (a.csv and ./a.csv) counts as twice, so paths are compared
-    resolved. Returns the resolved paths."""
-    seen: dict[Path, Path] = {}
-    for path in paths:
-        key = path.resolve()
-        if key in seen:
-            spelling = f" (as {seen[key]})" if str(seen[key]) != str(path) else ""
-            raise InputError(f"{label}: {path} is given twice{spelling}; give each file once")
-        seen[key] = path
-    return list(seen)
 
 
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:
