@@ -13,7 +13,6 @@ from typing import Any
 
 from ..errors import InputError
 from ..features import DEFAULT_IMPULSE_TOLERANCE
-from ..fileio import check_distinct_files  # noqa: F401 - the verbs import it from here
 from ..filters import FILTER_NAMES
 from ..loaders import load_record
 from ..pipeline import ProcessedImpact, process

@@ -10,18 +10,18 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError, InputWarning
+from ..fileio import check_distinct_files
 from ..repeats import DEFAULT_SPEED_TOLERANCE
-from .features import speed_list
 from .common import (
     add_processing,
     add_record_options,
-    check_distinct_files,
     check_output_folder,
     check_plot_path,
     load,
     process_record,
     use_compilation_cache,
 )
+from .features import speed_list
 
 
 def add_parser(verbs) -> None:

@@ -9,7 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import check_distinct_files, check_output_folder, check_plot_path
+from ..fileio import check_distinct_files
+from .common import check_output_folder, check_plot_path
 
 #: models of `material fit`: the hyperelastic fits and the Prony series of viscoelastic tests
 FIT_MODELS = ("neo_hookean", "mooney_rivlin", "yeoh", "ogden", "ogden_hyperfoam", "prony")

@@ -7,10 +7,10 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..fileio import check_distinct_files
 from .common import (
     add_filtering,
     add_record_options,
-    check_distinct_files,
     load,
     process_record,
     use_compilation_cache,
