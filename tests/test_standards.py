@@ -241,6 +241,8 @@ def test_bad_input(bad_input, lab, tmp_path):
     (short / "s_1.csv").write_text("deflection_mm,force_n\n0,0\n2,300\n5,800\n")
     bad_input(["standard", "compression", str(short)], "s_1.csv", "6.35 mm")
     bad_input(["standard", "compression", str(short), "--mass-kg", "0.15"], "does not use")
+    bad_input(["standard", "cor", "--ball", "baseball", "--impact-speed-m-s", "60"],
+              "--impact-speed-m-s 60", "looks like mph", "26.82 m/s")
 
 
 # --------------------------------------------------------------------------- on a ball model

@@ -288,8 +288,14 @@ def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | No
 
 
 def _speed(value: float) -> float:
+    """An inbound speed (m/s) given for the impact methods; the methods' 60 mph typed in mph
+    (60 for 26.82) is named as such."""
     if not (math.isfinite(value) and value > 0):
         raise InputError(f"impact speed {value:g} m/s: must be a positive number (m/s)")
+    mph_m_s = SIXTY_MPH_M_S / 60
+    if abs(value * mph_m_s - SIXTY_MPH_M_S) <= SPEED_TOLERANCE_M_S < abs(value - SIXTY_MPH_M_S):
+        raise InputError(f"--impact-speed-m-s {value:g}: looks like mph given as m/s "
+                         f"({value:g} mph = {value * mph_m_s:.4g} m/s); give the speed in m/s")
     return float(value)
 
 

@@ -46,12 +46,13 @@ def nominal_size(name: str) -> BallSize:
 def family_tests(model: UniversalModel, size: BallSize, runs: int, seed: int
                  ) -> tuple[list[dict], np.ndarray]:
     """`runs` constants (c10_pa, c01_pa, g1, tau1_s) of balls of `size` inside the model's ranges
-    (mapped), and their impact speeds (m/s)."""
-    from scipy.stats import qmc
-
-    unit = 0.5 + INNER * (qmc.Sobol(len(space.PARAMETERS), scramble=True, seed=seed)
-                          .random(runs) - 0.5)
-    points = space.from_unit(unit, model.ranges)
+    (mapped), and their impact speeds (m/s): the study's seeded Sobol design (`space.sample`)
+    over the inner `INNER` of each range."""
+    names = list(space.PARAMETERS)
+    ends = space.from_unit(np.outer([0.5 - INNER / 2, 0.5 + INNER / 2], np.ones(len(names))),
+                           model.ranges)
+    inner = {name: (ends[0, j], ends[1, j]) for j, name in enumerate(names)}
+    points = space.sample(runs, seed, "sobol", inner)
     reference = reference_size(model)
     params = [map_params(dict(zip(space.MATERIAL_PARAMETERS, p[:4])), reference, size)
               for p in points]

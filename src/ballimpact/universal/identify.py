@@ -22,7 +22,7 @@ from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
 from . import space
 from .compare import compare, features_pulse, pulse_nrmse
-from .similarity import BallSize, groups, map_features, map_params
+from .similarity import BallSize, groups, map_features, map_params, map_ranges
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 
 REFINE = ("none", "surrogate")
@@ -292,16 +292,14 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     # C10, C01 and mu0 by one factor, so that stays true on the tested ball
     ref_params, ref_interval = estimate(model, mapped, refine)
     params = map_params(ref_params, reference, size)
-    interval = {k: [map_params({k: v}, reference, size)[k] for v in ref_interval[k]]
-                for k in ref_interval}
+    interval = map_ranges(ref_interval, reference, size)
     spec = universal_spec(params, size.radius_m, size.density_kg_m3, template["moduli"],
                           "identified-universal")
     load_ball(spec)  # checked as `simulate --ball` will check it
     result = Identification(params, interval, spec, speed, refine)
     ranges, result.at_training_bound, result.clipped_to_training_range = \
         training_bounds(model, ref_params, ref_interval)
-    result.training_range = {k: [map_params({k: v}, reference, size)[k] for v in ranges[k]]
-                             for k in ranges}
+    result.training_range = map_ranges(ranges, reference, size)
     result.ball_size = {"diameter_m": 2 * size.radius_m, "mass_kg": size.mass_kg,
                         "density_kg_m3": size.density_kg_m3, "diameter_source": given}
     result.groups = groups(params, size, speed)

@@ -92,6 +92,15 @@ def map_params(params: dict[str, float], source: BallSize, target: BallSize
     return out
 
 
+def map_ranges(ranges: dict[str, list[float]], source: BallSize, target: BallSize
+               ) -> dict[str, list[float]]:
+    """`map_params` of each end of each range (name -> [low, high]): intervals and training
+    ranges of a `source` ball's constants as the `target` ball's (the factors are positive, so
+    the ends stay in order)."""
+    return {k: [map_params({k: end}, source, target)[k] for end in ends]
+            for k, ends in ranges.items()}
+
+
 def check_diameter(diameter_m: float, flag: str = "--ball-diameter-m") -> float:
     """A ball diameter (m) within those of solid sports balls (`plausibility.BALL_RANGES`'s
     radii); one in millimetres is named as such."""
