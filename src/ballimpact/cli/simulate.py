@@ -300,15 +300,11 @@ def _run_one(args: argparse.Namespace) -> dict[str, Any]:
     from ..features import extract_features
 
     # every check on the input before anything is printed (progress, warnings) or meshed
-    check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
-    check_output_folder(getattr(args, "table", None), "--table")
     if args.solver == "3d" and getattr(args, "table", None) is not None:
         raise InputError("--table: the sweep table of the axisymmetric solver; a 3d run's "
                          "figures are in --json")
-    if not (math.isfinite(args.friction) and args.friction >= 0):
-        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
-    _refuse_other_solver_flags(args)
+    _check_flags(args)
     allow = _checked_allow(args)
     if args.solver == "3d":
         return _run_simulate_3d(args, allow)
@@ -352,6 +348,15 @@ def _run_one(args: argparse.Namespace) -> dict[str, Any]:
     return out
 
 
+def _check_flags(args: argparse.Namespace) -> None:
+    """The checks one run and a sweep share: output paths, friction, the other solver's flags."""
+    check_plot_path(args.plot)
+    check_output_folder(getattr(args, "table", None), "--table")
+    if not (math.isfinite(args.friction) and args.friction >= 0):
+        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    _refuse_other_solver_flags(args)
+
+
 def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str, Any]:
     """Several speeds of one ball in one batched run (`sweep.run_sweep`): a row per speed."""
     import numpy as np
@@ -360,17 +365,13 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
     from ..fe.solver import default_group_size
     from ..sweep import run_sweep, save_figure, sweep_balls, sweep_figure, write_table
 
-    check_plot_path(args.plot)
-    check_output_folder(args.table, "--table")
     if args.solver == "3d":
         raise InputError("--speed-m-s: a list of speeds (a sweep) runs with the axisymmetric "
                          "solver only; with --solver 3d give one speed per run")
     if args.csv is not None:
         raise InputError("--csv: writes the histories of one run; a sweep writes a row per "
                          "speed with --table (or give one speed)")
-    if not (math.isfinite(args.friction) and args.friction >= 0):
-        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
-    _refuse_other_solver_flags(args)
+    _check_flags(args)
     allow = check_allow(args.allow)
     check_sweep_speeds(speeds, allow)
     balls = sweep_balls(args.ball, speeds, moduli=args.moduli, allow=allow)
