@@ -180,7 +180,7 @@ def write_table(path: Path, rows: list[dict[str, Any]]) -> None:
 def print_groups(result: dict[str, Any]) -> None:
     grouping = result["grouping"]
     rule = ("to the nominal speeds" if grouping["rule"] == "nominal"
-            else "clustered: a step over the tolerance between sorted speeds splits them")
+            else "clustered: a group spans at most the tolerance above its lowest speed")
     print(f"{len(result['records'])} records in {len(result['groups'])} speed groups ({rule}; "
           f"tolerance {grouping['speed_tolerance']:.0%}); mean ± SD (ddof 1)")
     header = ["speed (m/s)", "n", "impact speed (m/s)", "COR", "peak force (N)",
