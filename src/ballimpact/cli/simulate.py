@@ -57,9 +57,13 @@ def add_parser(verbs) -> None:
     simulate.add_argument("--speed-m-s", type=speed_list, required=True,
                           help="impact speed (m/s), or several separated by commas (5,10,20,30: "
                                "a speed sweep, one batched run, axisymmetric solver only)")
-    simulate.add_argument("--angle-deg", type=float, default=0.0,
+    simulate.add_argument("--angle-deg", type=angle_list, default=0.0,
                           help="angle of the incoming velocity from the surface normal (deg; "
-                               "3d solver)")
+                               "3d solver), or several in [0, 89] separated by commas "
+                               "(5,10,20,30,45,60: an angle sweep, one batched run at one speed, "
+                               "with a table, --table CSV and --plot of the gripping regime "
+                               "against the rigid-body lines and, for a one-layer elastic ball, "
+                               "the elastic-sphere reference; docs/oblique.md)")
     simulate.add_argument("--spin-rad-s", type=float, default=0.0,
                           help="spin about the axis parallel to the surface and normal to the "
                                "incoming tangential velocity (rad/s; + topspin; 3d solver)")
@@ -84,6 +88,10 @@ def add_parser(verbs) -> None:
     three.add_argument("--pole-grading", type=float,
                        help="arc spacing at the equator over that at the contact pole "
                             "(1 to 10; default 2)")
+    three.add_argument("--contact-elements", type=float,
+                       help="grade the mesh so that this many elements span the Hertz contact "
+                            "radius expected at the (slowest) normal speed; sets the pole "
+                            "grading (0.5 to 50; docs/oblique.md, 'Gripping regime')")
     three.add_argument("--full-model", action="store_true",
                        help="mesh the whole ball (default: the half on the plane of incidence "
                             "unless there is out-of-plane spin)")
@@ -151,6 +159,22 @@ def speed_list(text: str) -> float | tuple[float, ...]:
     except InputError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
     return speeds[0] if len(speeds) == 1 else speeds
+
+
+def angle_list(text: str) -> float | tuple[float, ...]:
+    """argparse type of `--angle-deg`: one angle (deg; a float, checked by the 3D solver as
+    before the sweeps) or a comma-separated list of several (a tuple: an angle sweep,
+    `angle_sweep.parse_angles`)."""
+    if "," not in text:
+        from .common import finite_float
+
+        return finite_float(text)
+    from .angle_sweep import parse_angles
+
+    try:
+        return parse_angles(text)
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def given_speeds(args: argparse.Namespace) -> tuple[float, ...]:
@@ -267,6 +291,7 @@ _FLAGS_3D = {"--angle-deg": "angle_deg", "--spin-rad-s": "spin_rad_s",
              "--spin-x-rad-s": "spin_x_rad_s", "--spin-z-rad-s": "spin_z_rad_s",
              "--target": "target", "--vtk": "vtk", "--animate": "animate",
              "--divisions": "divisions", "--pole-grading": "pole_grading",
+             "--contact-elements": "contact_elements",
              "--full-model": "full_model", "--stick-scale": "stick_scale"}
 _FLAGS_AXISYMMETRIC = {"--element-size-m": "element_size_m",
                        "--pole-element-size-m": "pole_element_size_m"}
@@ -287,6 +312,13 @@ def _refuse_other_solver_flags(args: argparse.Namespace) -> None:
 
 
 def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
+    if isinstance(args.angle_deg, (tuple, list)):
+        if len(args.angle_deg) > 1:  # several angles: one batched 3D run
+            from .angle_sweep import run_angle_sweep
+
+            return run_angle_sweep(args)
+        # a caller's namespace holding [angle]: the run of one impact
+        args = argparse.Namespace(**{**vars(args), "angle_deg": float(args.angle_deg[0])})
     speeds = given_speeds(args)
     if len(speeds) > 1:
         return _run_sweep(args, speeds)
@@ -477,7 +509,7 @@ def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     options = Options3D(
         divisions=defaults.divisions if args.divisions is None else args.divisions,
         pole_grading=defaults.pole_grading if args.pole_grading is None else args.pole_grading,
-        half=False if args.full_model else None, integration=args.integration,
+        contact_elements=args.contact_elements, half=False if args.full_model else None, integration=args.integration,
         penalty_scale=args.penalty_scale,
         stick_scale=defaults.stick_scale if args.stick_scale is None else args.stick_scale,
         precision=args.precision, chunk_steps=50 if want_frames else 200,

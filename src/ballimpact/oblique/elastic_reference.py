@@ -39,11 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from ..lumped.hertz import hertz_impact
 from .rigid_body import HOMOGENEOUS_K2
-
-#: contact time of a Hertz impact over delta_max / v_n
-_HERTZ_CONTACT_TIME = 2.9432
-
 
 @dataclass(frozen=True)
 class ElasticSphere:
@@ -88,10 +85,11 @@ class ElasticSphere:
         return 1.0 / sum((2.0 - nu) * 2.0 * (1.0 + nu) / (4.0 * e) for e, nu in self._bodies())
 
 
-def hertz_max_deflection_m(sphere: ElasticSphere, normal_speed_m_s: float) -> float:
-    """delta_max = (15 m v_n^2 / (16 E* sqrt(R)))^(2/5) (m)."""
-    return (15.0 * sphere.mass_kg * normal_speed_m_s ** 2
-            / (16.0 * sphere.contact_modulus_pa * np.sqrt(sphere.radius_m))) ** 0.4
+def hertz_normal_impact(sphere: ElasticSphere, normal_speed_m_s: float) -> tuple[float, float]:
+    """Hertz's (largest deflection m, contact time s) of the normal motion."""
+    deflection, _, contact_time = hertz_impact(sphere.contact_modulus_pa, 0.0, sphere.radius_m,
+                                               sphere.mass_kg, normal_speed_m_s)
+    return deflection, contact_time
 
 
 def tangential_force_n(sphere: ElasticSphere, deflection_m, tangential_displacement_m,
@@ -156,10 +154,10 @@ def oblique_impact(sphere: ElasticSphere, normal_speed_m_s: float, tangential_sp
     R, m, k2 = sphere.radius_m, sphere.mass_kg, sphere.k2
     e_star, g_star = sphere.contact_modulus_pa, sphere.tangential_modulus_pa
     hertz = 4.0 / 3.0 * e_star * np.sqrt(R)
-    delta_max = hertz_max_deflection_m(sphere, normal_speed_m_s)
+    delta_max, contact_time = hertz_normal_impact(sphere, normal_speed_m_s)
     x, dx = _bed(1.02 * np.sqrt(R * delta_max), springs)
     profile = x * x / R
-    dt = _HERTZ_CONTACT_TIME * delta_max / normal_speed_m_s / steps
+    dt = contact_time / steps
     mobility = (1.0 + 1.0 / k2) / m           # d(slip velocity)/dt per unit tangential force
     ratio = friction * e_star / g_star
 

@@ -40,7 +40,7 @@ HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force
            "centre_velocity_z_m_s", "spin_x_rad_s", "spin_y_rad_s", "spin_z_rad_s",
            "contact_slip_velocity_m_s", "kinetic_energy_j", "internal_work_j", "contact_work_j",
            "strain_energy_j", "bulk_viscous_dissipation_j", "hourglass_energy_j",
-           "tangential_work_j", "stick_energy_j")
+           "tangential_work_j", "stick_energy_j", "slipping_load_fraction")
 
 
 @dataclass(frozen=True, eq=False)
@@ -173,7 +173,8 @@ class Kernel(ChunkedSteps):
 
     def contact(self, params, u, v_half, stick, dt):
         """Contact forces (3, n_contact) on the contact nodes, the new stick extensions
-        (2, n_contact), the interpolation onto the target and the relative velocity."""
+        (2, n_contact), the interpolation onto the target, the relative velocity and which nodes
+        slip (at the Coulomb limit)."""
         height, rel, where = self.surface(u, v_half)
         penetration = jnp.maximum(-height, 0.0)
         touching = penetration > 0
@@ -187,7 +188,8 @@ class Kernel(ChunkedSteps):
         scale = jnp.where(size > limit, limit / jnp.where(size > 0, size, 1.0), 1.0)
         f_t = f_trial * scale
         new_stick = -f_t / k_t
-        return jnp.concatenate([f_t, normal[None]]), new_stick, where, rel
+        slipping = touching & (size > limit)
+        return jnp.concatenate([f_t, normal[None]]), new_stick, where, rel, slipping
 
     def nodal_contact(self, forces, where):
         """Contact forces (3, n_contact) on ball nodes (and their reactions on the target) as
@@ -263,7 +265,7 @@ class Kernel(ChunkedSteps):
         u = state["u"] + dt * v_half
         f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi = self.internal(
             params, u, state["mat"], state["j0"], dt)
-        forces, stick, where, rel = self.contact(params, u, v_half, state["stick"], dt)
+        forces, stick, where, rel, slipping = self.contact(params, u, v_half, state["stick"], dt)
         f_contact = self.nodal_contact(forces, where)
         a = (f_contact - f_int) / mass * self.free_dof
         v = v_half + 0.5 * dt * a
@@ -277,10 +279,10 @@ class Kernel(ChunkedSteps):
             0.5 * mass * jnp.sum(v * v, axis=0),
             jnp.sum(0.5 * (state["f_int"] + f_int) * du, axis=0),
             jnp.sum(0.5 * (state["f_contact"] + f_contact) * du, axis=0)]), axis=1)
-        dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted = jnp.sum(jnp.stack([
+        dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted, f_slipping = jnp.sum(jnp.stack([
             0.5 * jnp.sum((state["f_tangential"] + forces[:2]) * du_t, axis=0),
             0.5 * k_t * jnp.sum(stick * stick, axis=0), normal, forces[0], forces[1],
-            normal * rel[0]]), axis=1)
+            normal * rel[0], normal * slipping]), axis=1)
         min_j, lam_lo, neg_hi = jnp.min(jnp.stack([J, lam_lo, -lam_hi]), axis=1)
         cm, vcm, omega = self.rigid_body(params, u, v)
         w_int = state["w_int"] + dw_int
@@ -297,6 +299,7 @@ class Kernel(ChunkedSteps):
         ke0 = state["ke0"]
         energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
         slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
+        slipping_share = f_slipping / jnp.where(f_n > 0, f_n, 1.0)
         new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
                "x_top": state["x_top"], "f_int": f_int, "f_contact": f_contact,
                "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
@@ -313,7 +316,7 @@ class Kernel(ChunkedSteps):
                "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(-neg_hi))}
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
-                         w_tangential, e_stick])
+                         w_tangential, e_stick, slipping_share])
         return new, row
 
     # ---- the stable increment ----------------------------------------------------------------

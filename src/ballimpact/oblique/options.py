@@ -75,6 +75,9 @@ class Options3D:
       half when every condition allows it, the full model otherwise.
     - `integration`: "reduced" (one point with hourglass control, the default) or "full"
       (2x2x2 points with F-bar), as the axisymmetric engine.
+    - `contact_elements`: when set, the pole grading is chosen for the impact so that this many
+      elements span the Hertz contact radius expected at the smallest normal speed of a run
+      (`oblique.contact_grading`; `pole_grading` is then ignored).
     - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).
@@ -82,6 +85,7 @@ class Options3D:
 
     divisions: int = 16
     pole_grading: float = 2.0
+    contact_elements: float | None = None
     half: bool | None = None
     integration: str = "reduced"
     hourglass_scale: float = 0.05
@@ -103,6 +107,8 @@ class Options3D:
                 and self.divisions % 2 == 0 and self.divisions <= 64):
             raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
         _check_range("pole_grading", self.pole_grading, 1.0, 10.0)
+        if self.contact_elements is not None:
+            _check_range("contact_elements", self.contact_elements, 0.5, 50.0)
         _check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
         _check_range("bulk_viscosity_linear", self.bulk_viscosity_linear, 0.0, 10.0)
         _check_range("bulk_viscosity_quadratic", self.bulk_viscosity_quadratic, 0.0, 10.0)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import jax
@@ -34,6 +34,7 @@ from . import kernel as kernel_module
 from .hexa import geometry
 from .kernel import HISTORY, Kernel
 from .mesh import HexMesh, ball_mesh, combine, estimate_ball_mesh, slab_mesh
+from .contact_grading import grading_for_contact, pole_spacing_for
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
 
@@ -69,6 +70,8 @@ class ObliqueResult:
     target: str
     wall_time_s: float
     stretch_range: tuple[float, float]
+    pole_grading: float = float("nan")       # the mesh's (set by `contact_elements` if given)
+    pole_spacing_m: float = float("nan")     # arc spacing of the elements at the contact pole
     frames: list = field(default_factory=list, repr=False)   # `_frame` dicts (single runs)
     geometry: Any = field(default=None, repr=False)           # the kernel's `HexGeometry`
     mesh: HexMesh | None = field(default=None, repr=False)
@@ -99,7 +102,8 @@ class ObliqueResult:
                 "energy_balance_error": self.energy_balance_error,
                 "energies_j": dict(self.energies_j), "mass_kg": self.mass_kg,
                 "elements": self.elements, "nodes": self.nodes, "steps": self.steps,
-                "half_model": self.half_model,
+                "half_model": self.half_model, "pole_grading": self.pole_grading,
+                "pole_spacing_m": self.pole_spacing_m,
                 "stable_time_increment_s": self.stable_time_increment_s,
                 "final_time_increment_s": self.final_time_increment_s,
                 "principal_stretch_bounds": list(self.stretch_range),  # Gershgorin bounds
@@ -263,9 +267,10 @@ SECONDS_PER_ELEMENT_STEP = 9e-7
 INCREMENT_OVER_SMALLEST_ELEMENT = 0.66
 
 
-def _checked(ball, conditions, options: Options3D, target) -> tuple[list, bool]:
-    """The conditions as a list, checked, and whether a half model serves; a target narrower
-    than the ball refused (`target.check_target_width`)."""
+def _checked(ball, conditions, options: Options3D, target) -> tuple[list, bool, Options3D]:
+    """The conditions as a list, checked, whether a half model serves, and the options with the
+    pole grading set for `contact_elements` (when given); a target narrower than the ball
+    refused (`target.check_target_width`)."""
     if target is not None:
         check_target_width(target, ball)
     conditions = list(conditions)
@@ -279,7 +284,12 @@ def _checked(ball, conditions, options: Options3D, target) -> tuple[list, bool]:
     if half and not symmetric:
         raise InputError("half = True: out-of-plane spin (spin_x_rad_s, spin_z_rad_s) needs the "
                          "full model (half = False or None)")
-    return conditions, half
+    if options.contact_elements is not None:
+        slowest = min(c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions)
+        grading, _ = grading_for_contact(ball, slowest, options.divisions,
+                                         options.contact_elements)
+        options = replace(options, pole_grading=grading, contact_elements=None)
+    return conditions, half, options
 
 
 def estimate_oblique(ball, conditions, options: Options3D = Options3D(),
@@ -293,7 +303,7 @@ def estimate_oblique(ball, conditions, options: Options3D = Options3D(),
 
     The mesh is built only after the same estimate from the mesh's counting rules fits in the
     available memory (`check_oblique_memory`: the `large-run` check, overridden by `allow`)."""
-    conditions, half = _checked(ball, conditions, options, target)
+    conditions, half, options = _checked(ball, conditions, options, target)
     check_oblique_memory(ball, conditions, options, target, half, allow)
     kernel, _ = kernel_for(ball, target, options, half)
     return _estimate(ball, target, conditions, options, kernel)
@@ -358,7 +368,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     """Several impact conditions of one ball (and target) as one vmapped run. Speeds are
     checked as in `simulate_oblique`; a run estimated above `ELEMENT_STEPS_WARNING` element
     updates or `fe.progress.MEMORY_WARNING_BYTES` gets an `InputWarning` before it starts."""
-    conditions, half = _checked(ball, conditions, options, target)
+    conditions, half, options = _checked(ball, conditions, options, target)
     impact_speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
@@ -430,7 +440,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
         out.append(_result(ball, target, c, history[i], {k: v[i] if batched else v[0]
                                                           for k, v in final.items()},
                            per_run[i], t_end[i], kernel, mesh, half, wall / len(conditions),
-                           run_frames))
+                           run_frames, options))
     return out
 
 
@@ -449,7 +459,7 @@ def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
 
 
 def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh, half, wall,
-            frames) -> ObliqueResult:
+            frames, options: Options3D) -> ObliqueResult:
     n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
     factor = 2.0 if half else 1.0
     h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
@@ -489,4 +499,6 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         outer_radius_m=radius, half_model=half,
         target="rigid plane" if target is None else target.name, wall_time_s=wall,
         stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
+        pole_grading=float(options.pole_grading),
+        pole_spacing_m=pole_spacing_for(radius, options.divisions, options.pole_grading),
         frames=frames, mesh=mesh, geometry=kernel.geom)
