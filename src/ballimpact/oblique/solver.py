@@ -138,7 +138,8 @@ _KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
 
 
 def pole_spacing_m(ball, options: Options3D) -> float:
-    """About the ball mesh's arc spacing at the contact pole (m)."""
+    """About the ball mesh's arc spacing at the contact pole (m), the target slab's cell size
+    (the exact spacing: `contact_grading.pole_spacing_for`)."""
     return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
             / options.pole_grading ** 0.5)
 
@@ -372,8 +373,11 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     impact_speeds([c.speed_m_s for c in conditions], len(conditions), allow, "3d")
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
-    warn_unresolved_contact([ball] * len(conditions), normal_speeds, pole_spacing_m(ball, options),
-                            refine="more divisions or pole_grading: --divisions, --pole-grading")
+    warn_unresolved_contact([ball] * len(conditions), normal_speeds,
+                            pole_spacing_for(ball.outer_radius_m, options.divisions,
+                                             options.pole_grading),
+                            refine="more divisions, pole_grading or contact_elements: --divisions, "
+                                   "--pole-grading, --contact-elements")
     start = time.perf_counter()
     kernel, mesh = kernel_for(ball, target, options, half)
     message = _estimate(ball, target, conditions, options, kernel).warning()
