@@ -50,3 +50,13 @@ def test_unreachable_contact_resolution_names_the_divisions():
         grading_for_contact(BALL, 2.0, 16, 20.0)
     with pytest.raises(InputError, match="contact_elements"):
         Options3D(contact_elements=0.0)
+
+
+def test_cli_contact_elements_bad_input(bad_input, tmp_path):
+    bad_input(["simulate", "--ball", "cricket-universal", "--speed-m-s", "10",
+               "--contact-elements", "3"], "--contact-elements", "--solver 3d")
+    bad_input(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
+               "--contact-elements", "100"], "contact_elements = 100", "[0.5, 50]")
+    bad_input(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
+               "--divisions", "8", "--contact-elements", "12"], "contact_elements = 12",
+              "use divisions >=")
