@@ -130,7 +130,8 @@ def _bed(half_width_m: float, springs: int) -> tuple[np.ndarray, float]:
 def oblique_impact(sphere: ElasticSphere, normal_speed_m_s: float, tangential_speed_m_s,
                    spin_rad_s, friction: float, springs: int = 1000, steps: int = 4000,
                    history: bool = False) -> dict:
-    """Rebound of the elastic sphere hitting the rigid plane at normal speed `normal_speed_m_s`
+    """Rebound of the elastic sphere hitting its plane (`ElasticSphere`: rigid or elastic) at
+    normal speed `normal_speed_m_s`
     (m/s, > 0 toward the plane) with tangential speeds `tangential_speed_m_s` (m/s, array) and
     spins `spin_rad_s` (rad/s, topspin positive: the contact point moves at v_x - w R), under
     Coulomb friction `friction`. The normal motion is Hertz's for every condition; one spring bed
