@@ -9,7 +9,8 @@ from ballimpact.errors import InputError
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
-from ballimpact.oblique.contact_grading import grading_for_contact, pole_spacing_for
+from ballimpact.oblique.contact_grading import grading_for_contact
+from ballimpact.oblique.mesh import pole_spacing_m
 from ballimpact.oblique.mesh import ball_mesh
 from ballimpact.oblique.solver import estimate_oblique
 
@@ -27,7 +28,7 @@ def test_contact_radius_is_hertz_and_grading_reaches_it():
     for elements in (3.0, 5.0):
         grading, a = grading_for_contact(BALL, 2.0, 16, elements)
         assert a == pytest.approx(math.sqrt(0.036 * delta), rel=1e-6)
-        assert pole_spacing_for(0.036, 16, grading) == pytest.approx(a / elements, rel=1e-9)
+        assert pole_spacing_m(0.036, 16, grading) == pytest.approx(a / elements, rel=1e-9)
         mesh = ball_mesh([0.036], 16, grading, half=True)
         outer = mesh.nodes_m[mesh.contact_nodes]
         r = np.hypot(outer[:, 0], outer[:, 1])

@@ -11,16 +11,10 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..fe.kernel import hertz_contact_radius_m
-from .mesh import _graded_angles
+from .mesh import pole_spacing_m
 
 #: the grading's range in `Options3D` and `ball_mesh`
 GRADING_RANGE = (1.0, 10.0)
-
-
-def pole_spacing_for(outer_radius_m: float, divisions: int, grading: float) -> float:
-    """Arc spacing (m) of the mesh's elements at the contact pole."""
-    g = _graded_angles(divisions, grading)
-    return outer_radius_m * float(g[divisions // 2 + 1] - g[divisions // 2])
 
 
 def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
@@ -33,18 +27,18 @@ def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
     wanted = a / elements
     low, high = GRADING_RANGE
     radius = ball.outer_radius_m
-    if pole_spacing_for(radius, divisions, low) <= wanted:
+    if pole_spacing_m(radius, divisions, low) <= wanted:
         return low, a
-    if pole_spacing_for(radius, divisions, high) > wanted:
+    if pole_spacing_m(radius, divisions, high) > wanted:
         needed = divisions
-        while needed < 64 and pole_spacing_for(radius, needed, high) > wanted:
+        while needed < 64 and pole_spacing_m(radius, needed, high) > wanted:
             needed += 2
         raise InputError(
             f"contact_elements = {elements:g}: the Hertz contact radius {a * 1e3:.3g} mm needs "
             f"a pole spacing of {wanted * 1e3:.3g} mm; {divisions} divisions reach "
-            f"{pole_spacing_for(radius, divisions, high) * 1e3:.3g} mm at the largest grading "
+            f"{pole_spacing_m(radius, divisions, high) * 1e3:.3g} mm at the largest grading "
             f"{high:g} (use divisions >= {needed} or fewer contact elements)")
     for _ in range(60):  # bisection: the pole spacing falls as the grading grows
         mid = 0.5 * (low + high)
-        low, high = (mid, high) if pole_spacing_for(radius, divisions, mid) > wanted else (low, mid)
+        low, high = (mid, high) if pole_spacing_m(radius, divisions, mid) > wanted else (low, mid)
     return high, a

@@ -68,12 +68,19 @@ def estimate_ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float =
     the smaller of the surface shell and the cube's cell: 0.6-1.0 of the real one)."""
     radii = np.asarray(layer_radii_m, dtype=float)
     g = _graded_angles(divisions, pole_grading)
-    surface = radii[-1] * (g[divisions // 2 + 1] - g[divisions // 2])
+    surface = pole_spacing_m(radii[-1], divisions, pole_grading)
     r_blend = min(BLEND_OF_INNERMOST * radii[0], BLEND_OF_OUTER * radii[-1])
     levels = BLEND_LEVELS + len(_radial_levels(radii, r_blend, surface, np.max(np.diff(g))))
     elements = divisions ** 3 + 6 * divisions ** 2 * (levels - 1)
     cube_cell = 2.0 * CUBE_FRACTION * r_blend / divisions
     return (elements // 2 if half else elements), 0.55 * min(surface, cube_cell)
+
+
+def pole_spacing_m(outer_radius_m: float, divisions: int, pole_grading: float) -> float:
+    """Arc spacing (m) of `ball_mesh`'s elements at the contact pole (also its surface shells'
+    default thickness)."""
+    g = _graded_angles(divisions, pole_grading)
+    return outer_radius_m * float(g[divisions // 2 + 1] - g[divisions // 2])
 
 
 def _graded_angles(n: int, grading: float) -> np.ndarray:
@@ -176,7 +183,7 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
     g = _graded_angles(divisions, pole_grading)
     t = np.tan(g)
     if surface_thickness_m is None:
-        surface_thickness_m = outer * (g[divisions // 2 + 1] - g[divisions // 2])
+        surface_thickness_m = pole_spacing_m(outer, divisions, pole_grading)
     if not (0 < surface_thickness_m < 0.5 * outer):
         raise InputError(f"surface_thickness_m = {shown(surface_thickness_m)}: allowed range "
                          f"(0, {0.5 * outer:g})")

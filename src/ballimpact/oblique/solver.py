@@ -34,7 +34,8 @@ from . import kernel as kernel_module
 from .hexa import geometry
 from .kernel import HISTORY, Kernel
 from .mesh import HexMesh, ball_mesh, combine, estimate_ball_mesh, slab_mesh
-from .contact_grading import grading_for_contact, pole_spacing_for
+from .mesh import pole_spacing_m as mesh_pole_spacing_m
+from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
 
@@ -139,7 +140,8 @@ _KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
 
 def pole_spacing_m(ball, options: Options3D) -> float:
     """About the ball mesh's arc spacing at the contact pole (m), the target slab's cell size
-    (the exact spacing: `contact_grading.pole_spacing_for`)."""
+    (the exact spacing: `mesh.pole_spacing_m`; kept for the slab layout, whose documented
+    figures rest on it)."""
     return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
             / options.pole_grading ** 0.5)
 
@@ -374,7 +376,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
     warn_unresolved_contact([ball] * len(conditions), normal_speeds,
-                            pole_spacing_for(ball.outer_radius_m, options.divisions,
+                            mesh_pole_spacing_m(ball.outer_radius_m, options.divisions,
                                              options.pole_grading),
                             refine="more divisions, pole_grading or contact_elements: --divisions, "
                                    "--pole-grading, --contact-elements")
@@ -504,5 +506,5 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         target="rigid plane" if target is None else target.name, wall_time_s=wall,
         stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
         pole_grading=float(options.pole_grading),
-        pole_spacing_m=pole_spacing_for(radius, options.divisions, options.pole_grading),
+        pole_spacing_m=mesh_pole_spacing_m(radius, options.divisions, options.pole_grading),
         frames=frames, mesh=mesh, geometry=kernel.geom)
