@@ -127,6 +127,17 @@ def test_bad_sphere_is_refused(field, value):
         ElasticSphere(**kwargs)
 
 
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(youngs_modulus_pa=100.0), "looks like MPa"),                 # 100 MPa typed as 100
+    (dict(mass_kg=156.0), "grams given as kg"),                        # 156 g typed as kg
+    (dict(radius_m=0.036, mass_kg=0.156e-6), "millimetres as metres"),  # a mm-sized mass slip
+    (dict(plane_youngs_modulus_pa=70.0), "plane_youngs_modulus_pa")])
+def test_unit_slips_are_refused(kwargs, fragment):
+    base = dict(radius_m=0.036, mass_kg=0.156, youngs_modulus_pa=1e8, poissons_ratio=0.3)
+    with pytest.raises(InputError, match=fragment):
+        ElasticSphere(**{**base, **kwargs})
+
+
 def test_bad_impact_is_refused():
     with pytest.raises(InputError, match="normal_speed_m_s"):
         oblique_impact(SPHERE, 0.0, 1.0, 0.0, 0.1)

@@ -67,6 +67,17 @@ class ElasticSphere:
                 continue
             if not (np.isfinite(value) and low < value <= high):
                 raise InputError(f"{name} = {value!r}: allowed range ({low:g}, {high:g}]")
+        # unit slips a range cannot catch: MPa given as Pa, grams as kg, millimetres as metres
+        for name in ("youngs_modulus_pa", "plane_youngs_modulus_pa"):
+            value = getattr(self, name)
+            if value is not None and value < 1e4:
+                raise InputError(f"{name} = {value!r}: below 10 kPa, softer than any ball or "
+                                 f"surface; looks like MPa given as Pa (use {value * 1e6:g})")
+        density = self.mass_kg / (4.0 / 3.0 * np.pi * self.radius_m ** 3)
+        if not 10.0 <= density <= 3e4:
+            raise InputError(f"mass_kg = {self.mass_kg!r}, radius_m = {self.radius_m!r}: density "
+                             f"{density:.4g} kg/m^3, outside [10, 30000]; grams given as kg or "
+                             "millimetres as metres?")
 
     def _bodies(self):
         yield self.youngs_modulus_pa, self.poissons_ratio
@@ -228,7 +239,8 @@ def normalised_curves(psi, poissons_ratio: float, k2: float = HOMOGENEOUS_K2,
     psi = np.atleast_1d(np.asarray(psi, float))
     if np.any(~np.isfinite(psi)) or np.any(psi <= 0):
         raise InputError("psi: every value must be > 0")
-    sphere = ElasticSphere(1.0, 1.0, 1.0, poissons_ratio, k2)
+    # any sphere serves (the results are scale-free): a cricket-ball-sized elastic one
+    sphere = ElasticSphere(0.036, 0.156, 1e8, poissons_ratio, k2)
     friction = 0.1
     run = oblique_impact(sphere, 1.0, 0.5 * psi * friction * 2.0, 0.0, friction, springs, steps)
     # the normal COR of the integration is 1 to round-off; Psi is recomputed with it
