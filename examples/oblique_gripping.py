@@ -4,19 +4,27 @@ tangential compliance (Maw, Barber & Fawcett; `oblique.elastic_reference`).
 A homogeneous elastic sphere (the cricket ball's size, 800 kg/m^3, E 100 MPa) on a rigid plane,
 the incidence set by the tangential speed at a held normal speed: 0.25 m/s for the comparison
 (Hertz contact radius 2.5 mm, a / R = 0.069: the theory is the small-contact limit) with friction
-0.5 (above the coupling of normal pressure and tangential displacement, see `diagnosis`), and the
-softer 2 m/s impact (a / R = 0.164) of the first probes for the diagnosis. Parts:
+0.5 (above the coupling of normal pressure and tangential displacement, see `diagnosis`) and a
+contact penalty 3 times the default (see `penalty`), and the softer 2 m/s impact (a / R = 0.164)
+of the first probes for the diagnosis. Parts:
 
-- `sweep`: Poisson's ratio 0.23 and 0.45, Psi 0.5 to 10, one batch per ratio: FE tangential COR
-  (centre) against the reference, the rebound spin's relative error, the contact point's COR;
-- `convergence`: the same at Psi 1 and 3 on three meshes;
+- `sweep`: Poisson's ratio 0.23 and 0.45, Psi 0.5 to 10: FE tangential COR (centre) against the
+  reference, the rebound spin's relative error, the contact point's COR;
+- `convergence`: the same at Psi 1 and 3 on three meshes (2, 2.9 and 4.3 elements across the
+  Hertz radius);
+- `penalty`: Psi 0.5 on the sweep's mesh with the normal penalty scaled 1 to 16: the penalty's
+  normal compliance against the mesh's tangential stiffness;
+- `slab`: nu 0.23 at Psi 1 on a slab of its own material, where the theory's uncoupled
+  contact is exact (Dundurs' beta = 0);
 - `diagnosis`: what moves the FE result at Psi 0.5 and 2 (nu 0.23): friction (the coupling of
   normal pressure and tangential displacement), the stick spring, the normal penalty, the time
   step, the hourglass stiffness, the integration and a target of the ball's own material.
 
-Prints one JSON object; `--plot` writes the sweep's plot.
+Prints one JSON object (and each run's row on stderr as it ends); `--plot` writes the sweep's
+plot. Each run is made alone: on a CPU that is faster than a vmapped batch (docs/oblique.md,
+"Cost"), and a run does not depend on its batch.
 
-    python examples/oblique_gripping.py --part sweep --part convergence \
+    python examples/oblique_gripping.py --part sweep --part convergence --part penalty \
         --plot docs/oblique-gripping.png
     python examples/oblique_gripping.py --part diagnosis
 """
@@ -43,12 +51,18 @@ RADIUS_M, DENSITY_KG_M3, YOUNGS_PA = 0.036, 800.0, 100e6
 NORMAL_SPEED_M_S, DIAGNOSIS_NORMAL_SPEED_M_S = 0.25, 2.0
 FRICTION = 0.5
 PSI = (0.5, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0)
-#: the sweep's mesh: 16 divisions graded so that 2.9 elements span the Hertz radius (the most
-#: 16 divisions reach at this speed)
-MESH = Options3D(divisions=16, contact_elements=2.9)
-#: the convergence study's meshes (divisions, elements across the Hertz radius); the sweep's mesh
-#: is the middle one (its runs at Psi 1 and 3 are reused when the sweep ran first)
-MESHES = ((16, 2.0), (16, 2.9), (20, 3.5))
+#: normal penalty over the default: at the default the penalty's normal compliance leaves the
+#: small contact's tangential response too soft, at 8 and more the mesh's own tangential
+#: stiffness makes it too stiff; 3 balances the two (`part_penalty`)
+PENALTY_SCALE = 3.0
+PENALTY_SCALES = (1.0, 2.0, 3.0, 4.0, 8.0, 16.0)
+#: the sweep's mesh: 16 divisions graded so that 2.9 elements span the Hertz radius
+MESH = Options3D(divisions=16, contact_elements=2.9, penalty_scale=PENALTY_SCALE)
+#: the convergence study's elements across the Hertz radius (16 divisions); the sweep's mesh is
+#: the middle one (its runs at Psi 1 and 3 are reused when the sweep ran first)
+ACROSS = (2.0, 2.9, 4.3)
+#: the same-material slab's cells through its depth grow by this from the pole spacing
+SLAB_DEPTH_GROWTH = 1.15
 
 
 def sphere(nu: float) -> BallModel:
@@ -67,9 +81,12 @@ def conditions(psi_values, friction: float, normal_speed: float) -> list[ImpactC
     return out
 
 
-def compare(ball: BallModel, nu: float, results) -> list[dict]:
-    """Each FE run against the reference at its own condition."""
-    ref_sphere = ElasticSphere(RADIUS_M, ball.mass_kg, YOUNGS_PA, nu)
+def compare(ball: BallModel, nu: float, results, same_material_plane: bool = False) -> list[dict]:
+    """Each FE run against the reference at its own condition (on a rigid plane, or on a
+    half-space of the ball's material)."""
+    plane = dict(plane_youngs_modulus_pa=YOUNGS_PA, plane_poissons_ratio=nu) \
+        if same_material_plane else {}
+    ref_sphere = ElasticSphere(RADIUS_M, ball.mass_kg, YOUNGS_PA, nu, **plane)
     rows = []
     for r in results:
         c = r.condition
@@ -95,32 +112,29 @@ def compare(ball: BallModel, nu: float, results) -> list[dict]:
     return rows
 
 
-_DONE: dict = {}  # (nu, options, friction, target, speed) -> {psi: row}: runs made in this process
+_DONE: dict = {}  # (nu, options, friction, target, speed) -> {psi: (result, row)}: this process' runs
 
 
 def run(nu: float, psi_values, options: Options3D = MESH, friction: float = FRICTION,
         target=None, label: str = "", normal_speed: float = NORMAL_SPEED_M_S
         ) -> tuple[list, list[dict]]:
-    """FE runs of the sphere at these Psi as one batch, each compared with the reference; runs
-    made before in this process are reused (a run does not depend on its batch: the batch
-    equals single runs, and every run here has the same normal speed). Each batch's rows go to
-    stderr as one JSON line as soon as they exist."""
+    """FE runs of the sphere at these Psi, one at a time, each compared with the reference; runs
+    made before in this process are reused (results, rows). Each row goes to stderr as one JSON
+    line as soon as it exists."""
     key = (nu, options, friction, None if target is None else target.name, normal_speed)
-    done = _DONE.get(key, {})
-    if all(psi in done for psi in psi_values):
-        return [], [done[psi] for psi in psi_values]
+    done = _DONE.setdefault(key, {})
     ball = sphere(nu)
-    started = time.perf_counter()
-    results = simulate_oblique_batch(ball, conditions(psi_values, friction, normal_speed),
-                                     options, target)
-    wall = time.perf_counter() - started
-    rows = compare(ball, nu, results)
-    for psi, row in zip(psi_values, rows):
-        row["wall_time_s_batch"] = wall
-        _DONE.setdefault(key, {})[psi] = row
-    print(json.dumps({"batch": label or f"nu {nu:g}", "runs": len(rows), "wall_time_s": wall,
-                      "rows": rows}), file=sys.stderr, flush=True)
-    return results, rows
+    for psi in psi_values:
+        if psi in done:
+            continue
+        started = time.perf_counter()
+        (result,) = simulate_oblique_batch(ball, conditions([psi], friction, normal_speed),
+                                           options, target)
+        (row,) = compare(ball, nu, [result], same_material_plane=target is not None)
+        row["wall_time_s"] = time.perf_counter() - started
+        done[psi] = (result, row)
+        print(json.dumps({"case": label or f"nu {nu:g}", **row}), file=sys.stderr, flush=True)
+    return [done[psi][0] for psi in psi_values], [done[psi][1] for psi in psi_values]
 
 
 def part_sweep(plot) -> dict:
@@ -146,27 +160,51 @@ def part_sweep(plot) -> dict:
                           poissons_ratio=nu,
                           title=f"elastic sphere E 100 MPa, nu {nu:g}, v_n "
                                 f"{NORMAL_SPEED_M_S:g} m/s, mu {FRICTION:g}, rigid plane; 3D FE "
-                                f"{results[0].elements} hexahedra (half model)")
+                                f"{results[0].elements} hexahedra (half model), penalty "
+                                f"x{PENALTY_SCALE:g}")
             out[f"nu_{nu:g}"]["plot"] = path
     return out
 
 
 def part_convergence() -> dict:
-    """Psi 1 and 3 on the three `MESHES`."""
+    """Psi 1 and 3 with each of `ACROSS` elements across the Hertz radius."""
     out = {}
     for nu in (0.23, 0.45):
-        for divisions, across in MESHES:
-            options = Options3D(divisions=divisions, contact_elements=across)
-            _, rows = run(nu, (1.0, 3.0), options, label=f"nu {nu:g}, {divisions} divisions, "
-                                                         f"{across:g} across")
-            out[f"nu_{nu:g}_{divisions}_{across:g}"] = rows
+        for across in ACROSS:
+            options = dataclasses.replace(MESH, contact_elements=across)
+            _, rows = run(nu, (1.0, 3.0), options, label=f"nu {nu:g}, {across:g} across")
+            out[f"nu_{nu:g}_{across:g}_across"] = rows
     return out
 
 
-def same_material_slab(nu: float) -> Target:
+def part_penalty() -> dict:
+    """Psi 0.5 on the sweep's mesh with each of `PENALTY_SCALES`."""
+    out = {}
+    for nu in (0.23, 0.45):
+        for scale in PENALTY_SCALES:
+            options = dataclasses.replace(MESH, penalty_scale=scale)
+            _, rows = run(nu, (0.5,), options, label=f"nu {nu:g}, penalty scale {scale:g}")
+            out[f"nu_{nu:g}_penalty_{scale:g}"] = rows[0]
+    return out
+
+
+def same_material_slab(nu: float, half_width_m: float = 0.12, thickness_m: float = 0.08
+                       ) -> Target:
     material = material_from_dict({"model": "linear_elastic", "youngs_modulus_pa": YOUNGS_PA,
                                    "poissons_ratio": nu})
-    return Target("same material", 0.12, (TargetLayer("slab", 0.08, DENSITY_KG_M3, material),))
+    return Target(f"same material {half_width_m:g} x {thickness_m:g}", half_width_m,
+                  (TargetLayer("slab", thickness_m, DENSITY_KG_M3, material),))
+
+
+def part_slab() -> dict:
+    """nu 0.23 at Psi 1 on a slab of its own material (Dundurs' beta = 0: the theory's
+    uncoupled case; 0.06 m half width, 0.04 m thick, about 14 contact radii; cells of the
+    pole spacing at its surface, `SLAB_DEPTH_GROWTH`), the sweep's mesh and penalty: the
+    rigid plane's largest miss. About half an hour on 2 cores (34,044 hexahedra)."""
+    options = dataclasses.replace(MESH, slab_depth_growth=SLAB_DEPTH_GROWTH)
+    _, rows = run(0.23, (1.0,), options, target=same_material_slab(0.23, 0.06, 0.04),
+                  label="nu 0.23 on a slab of its own material")
+    return {"nu_0.23_same_material_slab": rows}
 
 
 #: the diagnosis' mesh: the default 16 divisions and pole grading 2 (2.4 elements across the
@@ -208,7 +246,7 @@ def part_diagnosis(extended: bool = False) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", action="append",
-                        choices=("sweep", "convergence", "diagnosis"),
+                        choices=("sweep", "convergence", "penalty", "slab", "diagnosis"),
                         help="the parts to run (repeatable; default: sweep)")
     parser.add_argument("--plot", help="PNG of the sweep (one per Poisson's ratio: -nu0.23.png)")
     parser.add_argument("--all-suspects", action="store_true",
@@ -217,12 +255,16 @@ def main() -> None:
     args = parser.parse_args()
     started = time.perf_counter()
     out: dict = {"friction": FRICTION, "normal_speed_m_s": NORMAL_SPEED_M_S,
-                 "youngs_modulus_pa": YOUNGS_PA}
+                 "youngs_modulus_pa": YOUNGS_PA, "penalty_scale": PENALTY_SCALE}
     parts = args.part or ["sweep"]
     if "sweep" in parts:
         out["sweep"] = part_sweep(args.plot)
     if "convergence" in parts:
         out["convergence"] = part_convergence()
+    if "penalty" in parts:
+        out["penalty"] = part_penalty()
+    if "slab" in parts:
+        out["slab"] = part_slab()
     if "diagnosis" in parts:
         out["diagnosis"] = part_diagnosis(args.all_suspects)
     out["wall_time_s"] = time.perf_counter() - started

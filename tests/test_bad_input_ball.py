@@ -7,6 +7,7 @@ import json
 import re
 import time
 import warnings
+from pathlib import Path
 
 import pytest
 
@@ -166,8 +167,11 @@ THREE_D = ["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed
     (["--angle-deg", "95"], ("angle_deg = 95", "[0, 89]")),
     (["--angle-deg", "-5"], ("angle_deg = -5",)),
     (["--friction", "-0.1"], ("--friction", "[0, inf)")),
-    (["--pole-grading", "0.5"], ("pole_grading = 0.5", "[1, 10]")),
+    (["--pole-grading", "0.5"], ("pole_grading = 0.5", "[1, 40]")),
     (["--stick-scale", "0"], ("stick_scale = 0",)),
+    (["--slab-depth-growth", "1.15"], ("--slab-depth-growth", "--target")),
+    (["--slab-depth-growth", "3", "--target", "{repo}/examples/targets/stiff-slab.json"],
+     ("slab_depth_growth = 3", "(1, 2]")),
     (["--spin-rad-s", "1e6"], ("spin_rad_s = 1e+06",)),
     (["--element-size-m", "0.002"], ("--element-size-m", "--divisions")),
     (["--pole-element-size-m", "0.001"], ("--pole-element-size-m",)),
@@ -181,7 +185,8 @@ THREE_D = ["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed
     (["--allow", "large-runs"], ("unknown check 'large-runs'",)),
 ])
 def test_3d_flags(bad_input, tmp_path, flags, fragments):
-    flags = [flag.replace("{tmp}", str(tmp_path)) for flag in flags]
+    repo = str(Path(__file__).resolve().parents[1])
+    flags = [flag.replace("{tmp}", str(tmp_path)).replace("{repo}", repo) for flag in flags]
     bad_input(THREE_D + flags, *fragments)
 
 
@@ -278,7 +283,7 @@ def test_ball_is_a_folder(bad_input, tmp_path):
     (["--divisions", "8"], ("--divisions", "--element-size-m")),
     (["--solver", "3d", "--element-size-m", "0.002"], ("--element-size-m", "--divisions")),
     (["--solver", "3d", "--divisions", "3"], ("divisions = 3",)),
-    (["--solver", "3d", "--pole-grading", "20"], ("pole_grading = 20",)),
+    (["--solver", "3d", "--pole-grading", "50"], ("pole_grading = 50",)),
     (["--element-size-m", "0.5"], ("element_size_m", "0.018")),
     (["--step-time-s", "-1"], ("step_time_s = -1",)),
     (["--friction", "-1"], ("friction = -1",)),

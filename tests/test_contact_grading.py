@@ -47,8 +47,8 @@ def test_options_choose_the_grading_for_the_slowest_normal_speed():
 
 
 def test_unreachable_contact_resolution_names_the_divisions():
-    with pytest.raises(InputError, match=r"contact_elements = 20: .* \(use divisions >= \d+"):
-        grading_for_contact(BALL, 2.0, 16, 20.0)
+    with pytest.raises(InputError, match=r"contact_elements = 30: .* \(use divisions >= \d+"):
+        grading_for_contact(BALL, 2.0, 16, 30.0)
     with pytest.raises(InputError, match="contact_elements"):
         Options3D(contact_elements=0.0)
 
@@ -59,5 +59,5 @@ def test_cli_contact_elements_bad_input(bad_input, tmp_path):
     bad_input(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
                "--contact-elements", "100"], "contact_elements = 100", "[0.5, 50]")
     bad_input(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
-               "--divisions", "8", "--contact-elements", "12"], "contact_elements = 12",
+               "--divisions", "8", "--contact-elements", "40"], "contact_elements = 40",
               "use divisions >=")

@@ -21,7 +21,7 @@ from ballimpact.oblique import (ImpactCondition, Options3D, Target, rigid_obliqu
                                 simulate_oblique, simulate_oblique_batch)
 from ballimpact.oblique import hexa
 from ballimpact.oblique import solver as oblique_solver
-from ballimpact.oblique.mesh import ball_mesh, centre_jacobian_det, slab_mesh
+from ballimpact.oblique.mesh import ball_mesh, centre_jacobian_det, graded_depths_m, slab_mesh
 from ballimpact.oblique.output import animate_section, write_series
 
 R, RHO = 0.036, 800.0
@@ -147,6 +147,23 @@ def test_3d_stress_equals_the_axisymmetric_form_and_is_finite_at_rest(material):
         plus = stress(tuple(a + h * d for a, d in zip(rest, direction)))
         minus = stress(tuple(a - h * d for a, d in zip(rest, direction)))
         assert np.allclose(tangent, (plus - minus) / (2 * h), rtol=1e-5, atol=1e-3)
+
+
+def test_graded_slab_depths():
+    """Cells of about the top size at the surface, growing by at most 1.15 (times the filling
+    scale) to at most the largest size, every layer bottom a boundary, at least two cells a
+    layer; the slab built on them spans the same depth."""
+    depths = graded_depths_m([0.001, 0.03, 0.05], 0.0008, 0.0032)
+    cells = np.diff(depths)
+    bottoms = np.cumsum([0.001, 0.03, 0.05])
+    assert depths[0] == 0.0 and depths[-1] == pytest.approx(bottoms[-1], rel=1e-12)
+    assert all(np.min(np.abs(depths - b)) < 1e-12 for b in bottoms)
+    assert np.sum(depths <= bottoms[0] + 1e-12) - 1 == 2              # the thin layer: 2 cells
+    assert cells[2] == pytest.approx(0.0008 * 1.15 ** 2, rel=0.1)      # below it: graded on
+    assert np.all(cells[3:] / cells[2:-1] < 1.15 * 1.1) and cells.max() < 0.0032 * 1.1
+    slab = slab_mesh([0.001, 0.03, 0.05], 0.05, 6, depths_m=depths)
+    assert slab.nodes_m[:, 2].min() == pytest.approx(-bottoms[-1])
+    assert np.bincount(slab.element_group).sum() == 12 * 6 * len(cells)
 
 
 def test_slab_mesh():
@@ -407,7 +424,13 @@ def test_slab_cells_are_counted_before_meshing():
 
     target = Target.from_dict({"name": "pad", "half_width_m": 0.1, "layers": [
         {"thickness_m": 0.02, "density_kg_m3": 100.0, "material": ELASTIC}]})
-    options = Options3D(divisions=8)
-    for half in (True, False):
-        mesh = mesh_for(_ball(), target, options, half)
-        assert _mesh_size(_ball(), target, options, half)[0] == mesh.n_elements
+    for options in (Options3D(divisions=8), Options3D(divisions=8, slab_depth_growth=1.15)):
+        for half in (True, False):
+            mesh = mesh_for(_ball(), target, options, half)
+            assert _mesh_size(_ball(), target, options, half)[0] == mesh.n_elements
+    uniform, graded = (mesh_for(_ball(), target, Options3D(divisions=8, slab_depth_growth=g),
+                                True) for g in (None, 1.15))
+    top = [np.unique(m.nodes_m[~m.ball_nodes, 2])[-2] for m in (uniform, graded)]
+    assert -top[1] < 0.6 * -top[0]       # the graded slab's surface cells are finer
+    with pytest.raises(InputError, match=r"slab_depth_growth = 3: allowed range \(1, 2\]"):
+        Options3D(slab_depth_growth=3.0)

@@ -1,6 +1,7 @@
 """The 3D solver in the gripping regime against the elastic-sphere reference (issue 27, "Must
-show", as far as it stands): agreement from the contact point's reversal to gross sliding, and the
-coupling that makes a compressible sphere on a rigid plane differ from the theory.
+show"): agreement at small incidence with the study's contact penalty, the default penalty's
+shortfall there, and the coupling that makes a compressible sphere on a rigid plane at small
+friction differ from the theory.
 The figures behind docs/oblique.md come from examples/oblique_gripping.py."""
 
 import sys
@@ -15,20 +16,28 @@ import oblique_gripping as gripping  # noqa: E402
 pytestmark = pytest.mark.slow
 
 
-def test_fe_against_the_reference_from_reversal_to_sliding():
+def test_fe_against_the_reference_at_small_incidence():
     """nu 0.23, a / R = 0.069, mu 0.5 (above the coupling), the sweep's mesh (16 divisions, 2.9
-    elements across the Hertz radius): at Psi 5 and 7 the tangential COR within 0.01 of the
-    reference and the spin within 3% (measured: +0.006 / -2.4%, +0.0004 / -0.9%); at Psi 3 the
-    contact point's velocity reverses as the theory has it (e_cp 0.37 against 0.43). Below Psi 3
-    the FE is not within 0.02 (docs/oblique.md: +0.045 at Psi 0.5). About 5 minutes."""
-    _, rows = gripping.run(0.23, (3.0, 5.0, 7.0))
+    elements across the Hertz radius) and penalty (3 times the default): at Psi 0.5 and 3 the
+    tangential COR within 0.02 of the reference and the spin within 5% (measured: -0.003 /
+    -0.1%, and docs/oblique.md for Psi 3), the contact point reversing (Psi 3) or not (Psi 0.5)
+    as the theory has it. About 2 minutes."""
+    _, rows = gripping.run(0.23, (0.5, 3.0))
     for row in rows:
         assert row["energy_balance_error"] < 1e-4
-        if row["psi"] >= 4.0:
-            assert abs(row["tangential_cor_error"]) < 0.01, row
-            assert abs(row["spin_relative_error"]) < 0.03, row
-        else:
-            assert row["fe_contact_point_cor"] > 0 and row["reference_contact_point_cor"] > 0
+        assert abs(row["tangential_cor_error"]) < 0.02, row
+        assert abs(row["spin_relative_error"]) < 0.05, row
+        assert (row["fe_contact_point_cor"] > 0) == (row["reference_contact_point_cor"] > 0)
+
+
+def test_default_penalty_leaves_a_small_contact_too_soft_tangentially():
+    """The same impact at Psi 0.5 with the default penalty: the penalty's normal compliance
+    takes a share of the small contact's approach and the contact point reverses too little
+    (e_t 0.045 above the reference, spin 21% low; docs/oblique.md). About 1 minute."""
+    options = gripping.dataclasses.replace(gripping.MESH, penalty_scale=1.0)
+    _, rows = gripping.run(0.23, (0.5,), options)
+    assert rows[0]["tangential_cor_error"] > 0.03
+    assert rows[0]["spin_relative_error"] < -0.1
 
 
 def test_coupling_makes_a_compressible_sphere_on_a_rigid_plane_depend_on_friction():

@@ -87,7 +87,7 @@ def add_parser(verbs) -> None:
                        help="hexahedra along each 90 degrees of arc (even, 4 to 64; default 16)")
     three.add_argument("--pole-grading", type=float,
                        help="arc spacing at the equator over that at the contact pole "
-                            "(1 to 10; default 2)")
+                            "(1 to 40; default 2)")
     three.add_argument("--contact-elements", type=float,
                        help="grade the mesh so that this many elements span the Hertz contact "
                             "radius expected at the (slowest) normal speed; sets the pole "
@@ -97,6 +97,10 @@ def add_parser(verbs) -> None:
                             "unless there is out-of-plane spin)")
     three.add_argument("--stick-scale", type=float,
                        help="friction stick-spring stiffness over the normal penalty (default 8)")
+    three.add_argument("--slab-depth-growth", type=float,
+                       help="a --target slab's cells through the depth: the pole spacing at the "
+                            "surface growing by this a cell (1 to 2; default: uniform, 4 pole "
+                            "spacings)")
     three.add_argument("--vtk", type=Path,
                        help="write a time series for ParaView: FILE.pvd (binary .vtu files "
                             "beside it) or FILE.xdmf; displacement, velocity, stresses, contact "
@@ -292,7 +296,8 @@ _FLAGS_3D = {"--angle-deg": "angle_deg", "--spin-rad-s": "spin_rad_s",
              "--target": "target", "--vtk": "vtk", "--animate": "animate",
              "--divisions": "divisions", "--pole-grading": "pole_grading",
              "--contact-elements": "contact_elements",
-             "--full-model": "full_model", "--stick-scale": "stick_scale"}
+             "--full-model": "full_model", "--stick-scale": "stick_scale",
+             "--slab-depth-growth": "slab_depth_growth"}
 _FLAGS_AXISYMMETRIC = {"--element-size-m": "element_size_m",
                        "--pole-element-size-m": "pole_element_size_m"}
 
@@ -504,6 +509,8 @@ def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
             check_target_width(target, ball)
         except InputError as error:
             raise InputError(f"--target {args.target}: {error}") from None
+    if args.slab_depth_growth is not None and args.target is None:
+        raise InputError("--slab-depth-growth: grades a target slab's cells; give --target FILE")
     want_frames = args.vtk is not None or args.animate is not None
     defaults = Options3D()
     options = Options3D(
@@ -512,7 +519,7 @@ def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
         contact_elements=args.contact_elements, half=False if args.full_model else None, integration=args.integration,
         penalty_scale=args.penalty_scale,
         stick_scale=defaults.stick_scale if args.stick_scale is None else args.stick_scale,
-        precision=args.precision, chunk_steps=50 if want_frames else 200,
+        slab_depth_growth=args.slab_depth_growth, precision=args.precision, chunk_steps=50 if want_frames else 200,
         frames=1 if want_frames else 0)
     return ball, condition, target, options
 

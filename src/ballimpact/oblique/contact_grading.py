@@ -11,15 +11,12 @@ from __future__ import annotations
 
 from ..errors import InputError
 from ..fe.kernel import hertz_contact_radius_m
-from .mesh import pole_spacing_m
-
-#: the grading's range in `Options3D` and `ball_mesh`
-GRADING_RANGE = (1.0, 10.0)
+from .mesh import GRADING_RANGE, pole_spacing_m
 
 
 def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
                         elements: float) -> tuple[float, float]:
-    """(pole grading, contact radius m): the grading in [1, 10] whose pole spacing puts
+    """(pole grading, contact radius m): the grading in `mesh.GRADING_RANGE` whose pole spacing puts
     `elements` elements across the Hertz radius (the smallest grading that does; 1 if the
     uniform mesh already does). Raises `InputError` when `divisions` cannot reach it at the
     largest grading, naming the divisions that would."""

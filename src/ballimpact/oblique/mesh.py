@@ -37,6 +37,8 @@ BLEND_OF_INNERMOST, BLEND_OF_OUTER = 0.9, 0.7
 BLEND_LEVELS = 3
 #: radial growth of the shell thickness inward from the surface
 RADIAL_GROWTH = 1.15
+#: the pole grading's range (largest over smallest arc spacing)
+GRADING_RANGE = (1.0, 40.0)
 
 
 @dataclass(frozen=True)
@@ -177,8 +179,9 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
     radii = np.asarray(layer_radii_m, dtype=float)
     if not (isinstance(divisions, int) and divisions >= 4 and divisions % 2 == 0):
         raise InputError(f"divisions = {shown(divisions)}: must be an even integer >= 4")
-    if not (math.isfinite(pole_grading) and 1.0 <= pole_grading <= 10.0):
-        raise InputError(f"pole_grading = {shown(pole_grading)}: allowed range [1, 10]")
+    low, high = GRADING_RANGE
+    if not (math.isfinite(pole_grading) and low <= pole_grading <= high):
+        raise InputError(f"pole_grading = {shown(pole_grading)}: allowed range [{low:g}, {high:g}]")
     outer = radii[-1]
     g = _graded_angles(divisions, pole_grading)
     t = np.tan(g)
@@ -248,18 +251,46 @@ def _graded_line(half_width: float, cells_half: int, grading: float) -> np.ndarr
     return np.concatenate([[0.0], np.cumsum(steps)]) / steps.sum() * half_width
 
 
-def slab_mesh(layer_thicknesses_m, half_width_m: float, cells_half: int, cells_per_layer,
-              grading: float = 4.0, half: bool = True) -> HexMesh:
-    """A flat target: layers (top down) of the given thicknesses under z = 0, over
-    [-w, w] x [-w, w] (y >= 0 for a half model), spacing graded toward the centre by `grading`;
-    its base is fixed. `target` holds the top surface's node grid for contact."""
-    line = _graded_line(half_width_m, cells_half, grading)
-    xs = np.concatenate([-line[:0:-1], line])
-    ys = line if half else xs
+def graded_depths_m(layer_thicknesses_m, top_cell_m: float, largest_cell_m: float,
+                    growth: float = RADIAL_GROWTH, min_cells: int = 2) -> np.ndarray:
+    """Depths (m, down from the surface, 0 to the total thickness) of a slab's cell boundaries:
+    `top_cell_m` thick at the surface, growing by `growth` a cell down to at most
+    `largest_cell_m`, at least `min_cells` in a layer, each layer's cells scaled to fill it (its
+    bottom is a boundary)."""
+    depths, cell = [0.0], top_cell_m
+    for thickness in layer_thicknesses_m:
+        steps = []
+        while sum(steps) < thickness * (1 - 1e-9) or len(steps) < min_cells:
+            steps.append(min(cell, largest_cell_m))
+            cell *= growth
+        if len(steps) > min_cells and sum(steps[:-1]) > thickness * (1 - 1e-9) - 0.5 * steps[-1]:
+            steps.pop()  # a last sliver would be the slab's smallest cell: spread it instead
+        depths.extend(depths[-1] + np.cumsum(steps) * thickness / sum(steps))
+    return np.array(depths)
+
+
+def uniform_depths_m(layer_thicknesses_m, cells_per_layer) -> np.ndarray:
+    """Depths (m, down from the surface) of a slab's cell boundaries: equal cells in each
+    layer."""
     depths = [0.0]
     for thickness, cells in zip(layer_thicknesses_m, cells_per_layer):
         depths.extend(depths[-1] + thickness * np.arange(1, cells + 1) / cells)
-    zs = -np.array(depths)[::-1]                        # from the base up to 0
+    return np.array(depths)
+
+
+def slab_mesh(layer_thicknesses_m, half_width_m: float, cells_half: int, cells_per_layer=None,
+              grading: float = 4.0, half: bool = True, depths_m=None) -> HexMesh:
+    """A flat target: layers (top down) of the given thicknesses under z = 0, over
+    [-w, w] x [-w, w] (y >= 0 for a half model), spacing graded toward the centre by `grading`;
+    its base is fixed. Through the depth: `cells_per_layer` equal cells in each layer, or the
+    cell boundaries `depths_m` (`graded_depths_m`). `target` holds the top surface's node grid
+    for contact."""
+    line = _graded_line(half_width_m, cells_half, grading)
+    xs = np.concatenate([-line[:0:-1], line])
+    ys = line if half else xs
+    if depths_m is None:
+        depths_m = uniform_depths_m(layer_thicknesses_m, cells_per_layer)
+    zs = -np.asarray(depths_m)[::-1]                    # from the base up to 0
     X, Y, Z = np.meshgrid(xs, ys, zs, indexing="ij")
     nodes = np.stack([X, Y, Z], axis=-1).reshape(-1, 3)
     ids = np.arange(len(nodes)).reshape(X.shape)

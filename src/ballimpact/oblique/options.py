@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..fe.options import INTEGRATIONS, PRECISIONS, shown
+from .mesh import GRADING_RANGE
 
 
 def _check_range(name: str, value, low: float, high: float, low_open: bool = False,
@@ -79,6 +80,10 @@ class Options3D:
       elements span the Hertz contact radius expected at the smallest normal speed of a run
       (`oblique.contact_grading`; `pole_grading` is then ignored).
     - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
+    - `slab_depth_growth`: a target slab's cells through its depth. None: uniform, 4 pole
+      spacings thick. A growth factor in (1, 2]: the pole spacing at the surface, growing by
+      this factor a cell to at most 4 pole spacings; it resolves a small contact's stresses in
+      the slab (a light foam's finer surface cells may chatter against the ball).
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).
     """
@@ -93,6 +98,7 @@ class Options3D:
     bulk_viscosity_quadratic: float = 1.2
     penalty_scale: float = 1.0
     stick_scale: float = 8.0
+    slab_depth_growth: float | None = None
     contact_damping: float = 0.0
     time_step_scale: float = 0.8
     energy_error_limit: float = 0.05
@@ -106,7 +112,7 @@ class Options3D:
         if not (isinstance(self.divisions, int) and self.divisions >= 4
                 and self.divisions % 2 == 0 and self.divisions <= 64):
             raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
-        _check_range("pole_grading", self.pole_grading, 1.0, 10.0)
+        _check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
         if self.contact_elements is not None:
             _check_range("contact_elements", self.contact_elements, 0.5, 50.0)
         _check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
@@ -114,6 +120,8 @@ class Options3D:
         _check_range("bulk_viscosity_quadratic", self.bulk_viscosity_quadratic, 0.0, 10.0)
         _check_range("penalty_scale", self.penalty_scale, 0.0, 100.0, low_open=True)
         _check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)
+        if self.slab_depth_growth is not None:
+            _check_range("slab_depth_growth", self.slab_depth_growth, 1.0, 2.0, low_open=True)
         _check_range("contact_damping", self.contact_damping, 0.0, 1.0)
         _check_range("time_step_scale", self.time_step_scale, 0.0, 1.0, low_open=True)
         _check_range("energy_error_limit", self.energy_error_limit, 0.0, 1.0, low_open=True)

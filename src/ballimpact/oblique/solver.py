@@ -33,7 +33,8 @@ from ..records import ImpactRecord
 from . import kernel as kernel_module
 from .hexa import geometry
 from .kernel import HISTORY, Kernel
-from .mesh import HexMesh, ball_mesh, combine, estimate_ball_mesh, slab_mesh
+from .mesh import (HexMesh, ball_mesh, combine, estimate_ball_mesh, graded_depths_m, slab_mesh,
+                   uniform_depths_m)
 from .mesh import pole_spacing_m as mesh_pole_spacing_m
 from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
@@ -146,13 +147,18 @@ def pole_spacing_m(ball, options: Options3D) -> float:
             / options.pole_grading ** 0.5)
 
 
-def _slab_layout(ball, target, options: Options3D) -> tuple[int, list[int]]:
-    """(cells across half the slab, cells through each layer): the slab's spacing near the
-    centre matches the ball's pole spacing, growing by 1.15 a cell outward."""
+def _slab_layout(ball, target, options: Options3D) -> tuple[int, np.ndarray]:
+    """(cells across half the slab, depths of the cell boundaries m): the slab's spacing near
+    the centre matches the ball's pole spacing, growing by 1.15 a cell outward; through the
+    depth, uniform cells of about 4 pole spacings (at least 2 a layer) or, with
+    `slab_depth_growth`, cells of the pole spacing at the surface growing to that."""
     pole = pole_spacing_m(ball, options)
     cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
-    per_layer = [max(2, int(math.ceil(layer.thickness_m / (4 * pole)))) for layer in target.layers]
-    return cells, per_layer
+    thicknesses = [layer.thickness_m for layer in target.layers]
+    if options.slab_depth_growth is None:
+        return cells, uniform_depths_m(thicknesses, [max(2, int(math.ceil(t / (4 * pole))))
+                                                     for t in thicknesses])
+    return cells, graded_depths_m(thicknesses, pole, 4 * pole, options.slab_depth_growth)
 
 
 def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
@@ -160,9 +166,9 @@ def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
     mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
     if target is None:
         return mesh
-    cells, per_layer = _slab_layout(ball, target, options)
+    cells, depths = _slab_layout(ball, target, options)
     slab = slab_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,
-                     cells, per_layer, grading=min(20.0, 1.15 ** (cells - 1)), half=half)
+                     cells, grading=min(20.0, 1.15 ** (cells - 1)), half=half, depths_m=depths)
     return combine(mesh, slab, len(ball.layers))
 
 
@@ -171,16 +177,16 @@ def _mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float
     elements, smallest = estimate_ball_mesh(ball.layer_radii_m, options.divisions,
                                             options.pole_grading, half)
     if target is not None:
-        cells, per_layer = _slab_layout(ball, target, options)
-        elements += (2 * cells) * (cells if half else 2 * cells) * sum(per_layer)
-        smallest = min([smallest, pole_spacing_m(ball, options)]
-                       + [layer.thickness_m / n for layer, n in zip(target.layers, per_layer)])
+        cells, depths = _slab_layout(ball, target, options)
+        elements += (2 * cells) * (cells if half else 2 * cells) * (len(depths) - 1)
+        smallest = min(smallest, pole_spacing_m(ball, options), float(np.min(np.diff(depths))))
     return elements, smallest
 
 
 def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, HexMesh]:
     key = (_structure(ball, target), options.divisions, options.pole_grading, half,
-           options.integration, options.precision)
+           options.integration, options.precision,
+           None if target is None else options.slab_depth_growth)
     if key not in _KERNELS:
         mesh = mesh_for(ball, target, options, half)
         materials = [layer.material for layer in ball.layers]
