@@ -102,17 +102,22 @@ def test_thesis_oblique_case():
     assert r.energies_j["frictional_dissipation_j"] > 0
 
 
-def test_same_material_half_space_follows_hertz():
+@pytest.mark.parametrize("slab_depth_growth", [None, 1.15])
+def test_same_material_half_space_follows_hertz(slab_depth_growth):
     """A sphere on a thick slab of its own material: Hertz with the two moduli in series
-    (E* halved), contact 2^0.4 = 1.32 times longer than on the rigid plane."""
+    (E* halved), contact 2^0.4 = 1.32 times longer than on the rigid plane; with the slab's
+    uniform depth cells and with cells graded from the pole spacing at its surface."""
     nu, e, v = 0.45, 10e6, 3.0
     material = {"model": "linear_elastic", "youngs_modulus_pa": e, "poissons_ratio": nu}
     ball = _sphere(material)
     slab = Target.from_dict({"name": "half-space", "half_width_m": 0.12, "layers": [
         {"thickness_m": 0.08, "density_kg_m3": RHO, "material": material}]})
     r = simulate_oblique(ball, ImpactCondition(v),
-                         Options3D(divisions=12, pole_grading=3.0, **NO_BULK_VISCOSITY),
+                         Options3D(divisions=12, pole_grading=3.0, **NO_BULK_VISCOSITY,
+                                   slab_depth_growth=slab_depth_growth),
                          target=slab)
+    print(f"slab_depth_growth {slab_depth_growth}: peak force {r.peak_force_n:.1f} N, contact "
+          f"time {r.contact_time_s * 1e3:.3f} ms, {r.elements} hexahedra, {r.steps} steps")
     e_star, m = 0.5 * e / (1 - nu ** 2), ball.mass_kg
     delta = (15 * m * v ** 2 / (16 * e_star * math.sqrt(R))) ** 0.4
     assert r.peak_force_n == pytest.approx(4 / 3 * e_star * math.sqrt(R) * delta ** 1.5,

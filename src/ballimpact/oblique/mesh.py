@@ -95,6 +95,20 @@ def _graded_angles(n: int, grading: float) -> np.ndarray:
     return np.concatenate([-edges[:0:-1], edges])
 
 
+def _growing_cells(span: float, cell: float, growth: float, cap, min_cells: int = 1):
+    """Cells filling `span` (m): the first `cell` thick, each next `growth` times the one before
+    and at most `cap(covered)` (covered: the span filled so far), at least `min_cells`, all
+    scaled to fill it exactly (a last cell under half the one before is dropped and its share
+    spread over the others). Returns the cells (m) and the size the next cell would have."""
+    steps = []
+    while sum(steps) < span - 1e-9 or len(steps) < min_cells:
+        steps.append(min(cell, cap(sum(steps))))
+        cell *= growth
+    if len(steps) > min_cells and steps[-1] < 0.5 * steps[-2]:
+        steps = steps[:-1]
+    return np.array(steps) * span / sum(steps), cell
+
+
 def _radial_levels(radii: np.ndarray, r_blend: float, surface_thickness: float,
                    max_angle: float) -> np.ndarray:
     """Sphere radii from r_blend to the outer radius, including every layer radius: thickness
@@ -102,20 +116,11 @@ def _radial_levels(radii: np.ndarray, r_blend: float, surface_thickness: float,
     largest arc spacing (r x max_angle)."""
     levels = [radii[-1]]
     thickness = surface_thickness
-    bounds = [r for r in radii[::-1][1:]] + [r_blend]
     r = radii[-1]
-    for bound in bounds:
-        span = r - bound
-        steps = []
-        while sum(steps) < span - 1e-9:
-            steps.append(min(thickness, (r - sum(steps)) * max_angle))
-            thickness *= RADIAL_GROWTH
-        count = max(len(steps), 1)
-        # even out the last step: scale the layer's steps to fill it exactly
-        scaled = np.array(steps[:count]) * span / sum(steps[:count])
-        if len(steps) > 1 and steps[-1] < 0.5 * steps[-2]:
-            scaled = np.array(steps[:-1]) * span / sum(steps[:-1])
-        levels.extend(r - np.cumsum(scaled))
+    for bound in [*radii[::-1][1:], r_blend]:
+        cells, thickness = _growing_cells(r - bound, thickness, RADIAL_GROWTH,
+                                          lambda covered, r=r: (r - covered) * max_angle)
+        levels.extend(r - np.cumsum(cells))
         r = bound
     return np.array(levels[::-1])
 
@@ -259,13 +264,9 @@ def graded_depths_m(layer_thicknesses_m, top_cell_m: float, largest_cell_m: floa
     bottom is a boundary)."""
     depths, cell = [0.0], top_cell_m
     for thickness in layer_thicknesses_m:
-        steps = []
-        while sum(steps) < thickness * (1 - 1e-9) or len(steps) < min_cells:
-            steps.append(min(cell, largest_cell_m))
-            cell *= growth
-        if len(steps) > min_cells and sum(steps[:-1]) > thickness * (1 - 1e-9) - 0.5 * steps[-1]:
-            steps.pop()  # a last sliver would be the slab's smallest cell: spread it instead
-        depths.extend(depths[-1] + np.cumsum(steps) * thickness / sum(steps))
+        cells, cell = _growing_cells(thickness, cell, growth, lambda covered: largest_cell_m,
+                                     min_cells)
+        depths.extend(depths[-1] + np.cumsum(cells))
     return np.array(depths)
 
 

@@ -35,7 +35,7 @@ from .hexa import geometry
 from .kernel import HISTORY, Kernel
 from .mesh import (HexMesh, ball_mesh, combine, estimate_ball_mesh, graded_depths_m, slab_mesh,
                    uniform_depths_m)
-from .mesh import pole_spacing_m as mesh_pole_spacing_m
+from .mesh import pole_spacing_m
 from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
@@ -139,10 +139,10 @@ def _structure(ball, target) -> tuple:
 _KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
 
 
-def pole_spacing_m(ball, options: Options3D) -> float:
-    """About the ball mesh's arc spacing at the contact pole (m), the target slab's cell size
-    (the exact spacing: `mesh.pole_spacing_m`; kept for the slab layout, whose documented
-    figures rest on it)."""
+def _slab_cell_m(ball, options: Options3D) -> float:
+    """The target slab's cell size near the contact (m): about the ball mesh's arc spacing at
+    the pole (the exact spacing is `mesh.pole_spacing_m`; this estimate is kept because the
+    slab's documented figures rest on it)."""
     return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
             / options.pole_grading ** 0.5)
 
@@ -152,7 +152,7 @@ def _slab_layout(ball, target, options: Options3D) -> tuple[int, np.ndarray]:
     the centre matches the ball's pole spacing, growing by 1.15 a cell outward; through the
     depth, uniform cells of about 4 pole spacings (at least 2 a layer) or, with
     `slab_depth_growth`, cells of the pole spacing at the surface growing to that."""
-    pole = pole_spacing_m(ball, options)
+    pole = _slab_cell_m(ball, options)
     cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
     thicknesses = [layer.thickness_m for layer in target.layers]
     if options.slab_depth_growth is None:
@@ -179,7 +179,7 @@ def _mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float
     if target is not None:
         cells, depths = _slab_layout(ball, target, options)
         elements += (2 * cells) * (cells if half else 2 * cells) * (len(depths) - 1)
-        smallest = min(smallest, pole_spacing_m(ball, options), float(np.min(np.diff(depths))))
+        smallest = min(smallest, _slab_cell_m(ball, options), float(np.min(np.diff(depths))))
     return elements, smallest
 
 
@@ -382,8 +382,8 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     check_oblique_memory(ball, conditions, options, target, half, allow)  # before meshing
     normal_speeds = [c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions]
     warn_unresolved_contact([ball] * len(conditions), normal_speeds,
-                            mesh_pole_spacing_m(ball.outer_radius_m, options.divisions,
-                                             options.pole_grading),
+                            pole_spacing_m(ball.outer_radius_m, options.divisions,
+                                           options.pole_grading),
                             refine="more divisions, pole_grading or contact_elements: --divisions, "
                                    "--pole-grading, --contact-elements")
     start = time.perf_counter()
@@ -512,5 +512,5 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
         target="rigid plane" if target is None else target.name, wall_time_s=wall,
         stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
         pole_grading=float(options.pole_grading),
-        pole_spacing_m=mesh_pole_spacing_m(radius, options.divisions, options.pole_grading),
+        pole_spacing_m=pole_spacing_m(radius, options.divisions, options.pole_grading),
         frames=frames, mesh=mesh, geometry=kernel.geom)
