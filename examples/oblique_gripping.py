@@ -12,6 +12,9 @@ of the first probes for the diagnosis. Parts:
   reference, the rebound spin's relative error, the contact point's COR;
 - `convergence`: the same at Psi 1 and 3 on three meshes (2, 2.9 and 4.3 elements across the
   Hertz radius);
+- with `--slab`, `sweep` and `convergence` run on a slab of the sphere's own material instead of
+  the rigid plane: Dundurs' beta = 0, where the theory's uncoupled contact is exact (the rigid
+  plane couples normal pressure and tangential displacement, beta 0.35 for nu 0.23);
 - `penalty`: Psi 0.5 on the sweep's mesh with the normal penalty scaled 1 to 16: the penalty's
   normal compliance against the mesh's tangential stiffness;
 - `diagnosis`: what moves the FE result at Psi 0.5 and 2 (nu 0.23): friction (the coupling of
@@ -23,6 +26,8 @@ plot. Each run is made alone: on a CPU that is faster than a vmapped batch (docs
 "Cost"), and a run does not depend on its batch.
 
     python examples/oblique_gripping.py --part sweep --part convergence --part penalty \
+        --plot docs/oblique-gripping.png
+    python examples/oblique_gripping.py --slab --part sweep --part convergence \
         --plot docs/oblique-gripping.png
     python examples/oblique_gripping.py --part diagnosis
 """
@@ -59,6 +64,8 @@ MESH = Options3D(divisions=16, contact_elements=2.9, penalty_scale=PENALTY_SCALE
 #: the convergence study's elements across the Hertz radius (16 divisions); the sweep's mesh is
 #: the middle one (its runs at Psi 1 and 3 are reused when the sweep ran first)
 ACROSS = (2.0, 2.9, 4.3)
+#: `--slab`: the same-material slab's cells through its depth grow by this from the pole spacing
+SLAB_DEPTH_GROWTH = 1.15
 
 
 def sphere(nu: float) -> BallModel:
@@ -133,11 +140,32 @@ def run(nu: float, psi_values, options: Options3D = MESH, friction: float = FRIC
     return [done[psi][0] for psi in psi_values], [done[psi][1] for psi in psi_values]
 
 
-def part_sweep(plot) -> dict:
+def matched_slab(nu: float) -> Target:
+    """A slab of the sphere's own material (Dundurs' beta = 0: the theory's uncoupled contact is
+    exact), 0.06 m half width (about 20 contact radii) and 0.04 m thick on a fixed base."""
+    material = material_from_dict({"model": "linear_elastic", "youngs_modulus_pa": YOUNGS_PA,
+                                   "poissons_ratio": nu})
+    return Target(f"same material nu {nu:g}, 0.06 x 0.04 m", 0.06,
+                  (TargetLayer("slab", 0.04, DENSITY_KG_M3, material),))
+
+
+def setting(nu: float, on_slab: bool, across: float = 2.9) -> tuple[Options3D, Target | None]:
+    """The sweep's mesh with `across` elements across the rigid plane's Hertz radius, on the
+    rigid plane or on `matched_slab` (cells matched to the ball's at the contact:
+    `SLAB_DEPTH_GROWTH`)."""
+    options = dataclasses.replace(MESH, contact_elements=across)
+    if not on_slab:
+        return options, None
+    return dataclasses.replace(options, slab_depth_growth=SLAB_DEPTH_GROWTH), matched_slab(nu)
+
+
+def part_sweep(plot, on_slab: bool = False) -> dict:
     out = {}
     all_results = []
+    where = "on a slab of its own material" if on_slab else "on the rigid plane"
     for nu in (0.23, 0.45):
-        results, rows = run(nu, PSI)
+        options, target = setting(nu, on_slab)
+        results, rows = run(nu, PSI, options, target=target, label=f"nu {nu:g} {where}")
         all_results.append((nu, results))
         out[f"nu_{nu:g}"] = {
             "rows": rows,
@@ -151,23 +179,26 @@ def part_sweep(plot) -> dict:
 
         for nu, results in all_results:
             grid = np.linspace(0.05, 12.0, 200)
-            path = str(plot).replace(".png", f"-nu{nu:g}.png")
+            path = str(plot).replace(".png", f"{'-slab' if on_slab else ''}-nu{nu:g}.png")
+            surface = ("slab of its own material 0.06 x 0.04 m" if on_slab else "rigid plane")
             plot_gripping(results, path, reference=normalised_curves(grid, nu),
                           poissons_ratio=nu,
                           title=f"elastic sphere E 100 MPa, nu {nu:g}, v_n "
-                                f"{NORMAL_SPEED_M_S:g} m/s, mu {FRICTION:g}, rigid plane; 3D FE "
-                                f"{results[0].elements} hexahedra (half model)")
+                                f"{NORMAL_SPEED_M_S:g} m/s, mu {FRICTION:g}, {surface}; 3D FE "
+                                f"{results[0].elements} hexahedra (half model), penalty "
+                                f"x{PENALTY_SCALE:g}")
             out[f"nu_{nu:g}"]["plot"] = path
     return out
 
 
-def part_convergence() -> dict:
+def part_convergence(on_slab: bool = False) -> dict:
     """Psi 1 and 3 with each of `ACROSS` elements across the Hertz radius."""
     out = {}
     for nu in (0.23, 0.45):
         for across in ACROSS:
-            options = dataclasses.replace(MESH, contact_elements=across)
-            _, rows = run(nu, (1.0, 3.0), options, label=f"nu {nu:g}, {across:g} across")
+            options, target = setting(nu, on_slab, across)
+            _, rows = run(nu, (1.0, 3.0), options, target=target,
+                          label=f"nu {nu:g}, {across:g} across{', slab' if on_slab else ''}")
             out[f"nu_{nu:g}_{across:g}_across"] = rows
     return out
 
@@ -231,18 +262,22 @@ def main() -> None:
                         choices=("sweep", "convergence", "penalty", "diagnosis"),
                         help="the parts to run (repeatable; default: sweep)")
     parser.add_argument("--plot", help="PNG of the sweep (one per Poisson's ratio: -nu0.23.png)")
+    parser.add_argument("--slab", action="store_true",
+                        help="sweep and convergence on a slab of the sphere's own material "
+                             "(Dundurs' beta = 0) instead of the rigid plane")
     parser.add_argument("--all-suspects", action="store_true",
                         help="diagnosis: also the stick spring, penalty, time step, hourglass "
                              "control, full integration and a finer contact")
     args = parser.parse_args()
     started = time.perf_counter()
     out: dict = {"friction": FRICTION, "normal_speed_m_s": NORMAL_SPEED_M_S,
-                 "youngs_modulus_pa": YOUNGS_PA, "penalty_scale": PENALTY_SCALE}
+                 "youngs_modulus_pa": YOUNGS_PA, "penalty_scale": PENALTY_SCALE,
+                 "surface": "same-material slab" if args.slab else "rigid plane"}
     parts = args.part or ["sweep"]
     if "sweep" in parts:
-        out["sweep"] = part_sweep(args.plot)
+        out["sweep"] = part_sweep(args.plot, args.slab)
     if "convergence" in parts:
-        out["convergence"] = part_convergence()
+        out["convergence"] = part_convergence(args.slab)
     if "penalty" in parts:
         out["penalty"] = part_penalty()
     if "diagnosis" in parts:

@@ -446,5 +446,63 @@ def test_slab_cells_are_counted_before_meshing():
                                 True) for g in (None, 1.15))
     top = [np.unique(m.nodes_m[~m.ball_nodes, 2])[-2] for m in (uniform, graded)]
     assert -top[1] < 0.6 * -top[0]       # the graded slab's surface cells are finer
+    # matched in plane: the centre cell about the ball's pole spacing (not under it), growing
+    # as the ball's cells do from the pole
+    from ballimpact.oblique.mesh import pole_cell_growth, pole_spacing_m
+
+    pole = pole_spacing_m(R, 8, 2.0)
+    xs = np.unique(graded.nodes_m[~graded.ball_nodes, 0])
+    cells = np.diff(xs[xs >= 0])
+    assert pole <= cells[0] < 1.5 * pole
+    assert cells[1] / cells[0] == pytest.approx(max(1.15, pole_cell_growth(8, 2.0)))
     with pytest.raises(InputError, match=r"slab_depth_growth = 3: allowed range \(1, 2\]"):
         Options3D(slab_depth_growth=3.0)
+
+
+def test_lightest_partner_is_the_effective_mass_of_the_bilinear_contact():
+    """A point pressed on a surface node meets that node's mass; pressed only between nodes it
+    meets more (1 / m = sum w_j^2 / m_j: four equal nodes at a cell's centre act as 4 m)."""
+    from ballimpact.oblique.solver import _lightest_partner_kg
+
+    line = np.array([0.0, 1.0, 2.0, 3.0])
+    masses = np.full((4, 4), 2.0)
+    masses[2, 1] = 0.5
+    assert _lightest_partner_kg(line, line, masses, (1.5, 2.5), (0.5, 1.5)) == 0.5
+    assert _lightest_partner_kg(line, line, masses, (0.5, 0.5), (0.5, 0.5)) \
+        == pytest.approx(4 * 2.0)
+    # a box within one cell, away from its light corner: heavier than that corner, lighter than
+    # the cell's centre
+    partner = _lightest_partner_kg(line, line, masses, (1.2, 1.4), (1.2, 1.4))
+    assert 0.5 < partner < 8.0
+    grid = [(x, y) for x in np.linspace(1.2, 1.4, 21) for y in np.linspace(1.2, 1.4, 21)]
+    brute = min(1.0 / sum(((1 - fx) if dx == 0 else fx) ** 2 * ((1 - fy) if dy == 0 else fy) ** 2
+                          / masses[1 + dx, 1 + dy] for dx in (0, 1) for dy in (0, 1))
+                for fx, fy in ((x - 1, y - 1) for x, y in grid))
+    assert partner == pytest.approx(brute, rel=1e-12)
+
+
+def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
+    """Rigid plane: 1 everywhere. On a slab: 1 + m / m_t (> 1) for the nodes near the first
+    touch, 1 far from it (the equator), never more than the bound over every pair."""
+    from ballimpact.oblique.solver import (_checked, _contact_spring_factors, kernel_for,
+                                           model_arrays)
+
+    ball = _ball()
+    slab = Target.from_dict({"name": "slab", "half_width_m": 0.08, "layers": [
+        {"thickness_m": 0.03, "density_kg_m3": 800.0, "material": ELASTIC}]})
+    condition = ImpactCondition(3.0, 20.0, 0.0, 0.3)
+    for target in (None, slab):
+        for options in (Options3D(divisions=8), Options3D(divisions=8, slab_depth_growth=1.2)):
+            _, half, options = _checked(ball, [condition], options, target)
+            kernel, mesh = kernel_for(ball, target, options, half)
+            mass = model_arrays(ball, target, kernel, options, condition)["mass_kg"]
+            factors = _contact_spring_factors(ball, target, kernel, mass, condition, options)
+            if target is None:
+                assert np.all(factors == 1.0)
+                continue
+            s = np.asarray(kernel.contact_nodes)
+            height = np.asarray(kernel.geom.nodes_m)[s, 2]
+            top = mass[np.asarray(kernel.target["top"])]
+            assert np.all(factors[height < 1e-9] > 1.0)          # the first touch
+            assert np.all(factors[height > 0.5 * R] == 1.0)      # out of reach
+            assert np.max(factors) <= 1.0 + np.max(mass[s]) / np.min(top) + 1e-12

@@ -403,17 +403,26 @@ def hertz_contact_time_s(ball, speed: float) -> float:
     return hertz_impact(e_min, 0.5, ball.outer_radius_m, ball.mass_kg, speed)[2]
 
 
-def hertz_contact_radius_m(ball, speed: float) -> float:
+def hertz_contact_radius_m(ball, speed: float, target_materials=()) -> float:
     """Contact radius sqrt(R y_max) of a Hertz sphere with the smallest long-term plane-strain
     modulus E* = E / (1 - nu^2) of the ball's layers (the softest layer gives the widest patch;
-    exact for a homogeneous linear ball)."""
+    exact for a homogeneous linear ball), in series with the softest of `target_materials` (a
+    deformable target's layers; none: a rigid plane)."""
+    return float(np.sqrt(ball.outer_radius_m * hertz_series_impact(ball, speed,
+                                                                   target_materials)[0]))
+
+
+def hertz_series_impact(ball, speed: float, target_materials=()) -> tuple[float, float, float]:
+    """`hertz_impact` (max compression m, peak force N, contact time s) of the ball's softest
+    long-term plane-strain modulus in series with the softest of `target_materials`."""
     def plane_strain_pa(m) -> float:
         k, mu = m.bulk_modulus_pa(False), m.shear_modulus_pa(False)
         return 4.0 * mu * (3.0 * k + mu) / (3.0 * k + 4.0 * mu)  # E / (1 - nu^2)
 
-    e_star = min(plane_strain_pa(layer.material) for layer in ball.layers)
-    y_max = hertz_impact(e_star, 0.0, ball.outer_radius_m, ball.mass_kg, speed)[0]
-    return float(np.sqrt(ball.outer_radius_m * y_max))
+    compliance = 1.0 / min(plane_strain_pa(layer.material) for layer in ball.layers)
+    if target_materials:
+        compliance += 1.0 / min(plane_strain_pa(m) for m in target_materials)
+    return hertz_impact(1.0 / compliance, 0.0, ball.outer_radius_m, ball.mass_kg, speed)
 
 
 def time_limit_default(ball, speed: float) -> float:

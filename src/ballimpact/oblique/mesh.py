@@ -85,12 +85,16 @@ def pole_spacing_m(outer_radius_m: float, divisions: int, pole_grading: float) -
     return outer_radius_m * float(g[divisions // 2 + 1] - g[divisions // 2])
 
 
+def pole_cell_growth(divisions: int, pole_grading: float) -> float:
+    """How much each of `ball_mesh`'s cells is longer than the next toward the pole."""
+    return pole_grading ** (1.0 / max(divisions // 2 - 1, 1))
+
+
 def _graded_angles(n: int, grading: float) -> np.ndarray:
     """n + 1 angles over [-pi/4, pi/4], symmetric, spacing growing geometrically from 0 outward
     with largest / smallest = `grading` (n even)."""
     half = n // 2
-    ratio = grading ** (1.0 / max(half - 1, 1))
-    steps = ratio ** np.arange(half)
+    steps = pole_cell_growth(n, grading) ** np.arange(half)
     edges = np.concatenate([[0.0], np.cumsum(steps)]) / steps.sum() * (math.pi / 4)
     return np.concatenate([-edges[:0:-1], edges])
 

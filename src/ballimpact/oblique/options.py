@@ -80,10 +80,12 @@ class Options3D:
       elements span the Hertz contact radius expected at the smallest normal speed of a run
       (`oblique.contact_grading`; `pole_grading` is then ignored).
     - `stick_scale`: stick-spring stiffness of friction over the normal penalty stiffness.
-    - `slab_depth_growth`: a target slab's cells through its depth. None: uniform, 4 pole
-      spacings thick. A growth factor in (1, 2]: the pole spacing at the surface, growing by
-      this factor a cell to at most 4 pole spacings; it resolves a small contact's stresses in
-      the slab (a light foam's finer surface cells may chatter against the ball).
+    - `slab_depth_growth`: a target slab's cells. None: through the depth uniform, 4 pole
+      spacings thick (in plane graded toward the centre, see `solver._slab_layout`). A growth
+      factor in (1, 2]: a slab matched to the contact: cells of the ball's pole spacing at the
+      centre of its surface, growing by 1.15 a cell in plane and by this factor a cell down to
+      at most 4 pole spacings; it resolves a small contact's stresses in the slab (a light
+      foam's finer surface cells may chatter against the ball).
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).
     """

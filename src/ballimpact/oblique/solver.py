@@ -24,7 +24,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
-from ..fe.kernel import cast, hertz_contact_time_s, time_limit_default
+from ..fe.kernel import (cast, hertz_contact_radius_m, hertz_contact_time_s, hertz_series_impact,
+                         time_limit_default)
 from ..fe.progress import RunEstimate
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
@@ -35,7 +36,7 @@ from .hexa import geometry
 from .kernel import HISTORY, Kernel
 from .mesh import (HexMesh, ball_mesh, combine, estimate_ball_mesh, graded_depths_m, slab_mesh,
                    uniform_depths_m)
-from .mesh import pole_spacing_m
+from .mesh import _graded_line, pole_cell_growth, pole_spacing_m
 from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
@@ -139,6 +140,10 @@ def _structure(ball, target) -> tuple:
 _KERNELS: dict[Any, tuple[Kernel, HexMesh]] = {}
 
 
+#: a target slab's in-plane cells grow by this a cell outward from the centre
+SLAB_GROWTH = 1.15
+
+
 def _slab_cell_m(ball, options: Options3D) -> float:
     """The target slab's cell size near the contact (m): about the ball mesh's arc spacing at
     the pole (the exact spacing is `mesh.pole_spacing_m`; this estimate is kept because the
@@ -147,18 +152,31 @@ def _slab_cell_m(ball, options: Options3D) -> float:
             / options.pole_grading ** 0.5)
 
 
-def _slab_layout(ball, target, options: Options3D) -> tuple[int, np.ndarray]:
-    """(cells across half the slab, depths of the cell boundaries m): the slab's spacing near
-    the centre matches the ball's pole spacing, growing by 1.15 a cell outward; through the
-    depth, uniform cells of about 4 pole spacings (at least 2 a layer) or, with
-    `slab_depth_growth`, cells of the pole spacing at the surface growing to that."""
-    pole = _slab_cell_m(ball, options)
-    cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole) / math.log(1.15))))
+def _slab_layout(ball, target, options: Options3D) -> tuple[int, float, np.ndarray]:
+    """(cells across half the slab, their grading, depths of the cell boundaries m).
+
+    Default: in plane about `_slab_cell_m` near the centre (the count is the one the slab's
+    documented figures rest on; with its grading capped at 20 the centre cells come out finer
+    than the ball's pole spacing), through the depth uniform cells of about 4 pole spacings (at
+    least 2 a layer). With `slab_depth_growth` the slab is matched to the ball's contact: in
+    plane cells of the pole spacing (`mesh.pole_spacing_m`) at the centre growing outward as
+    the ball's cells do from its pole (at least by 1.15 a cell: the ball's nodes then press on
+    target nodes of about their own mass, see `_contact_spring_factors`), through the depth
+    the pole spacing at the surface growing by that factor to 4 pole spacings."""
     thicknesses = [layer.thickness_m for layer in target.layers]
     if options.slab_depth_growth is None:
-        return cells, uniform_depths_m(thicknesses, [max(2, int(math.ceil(t / (4 * pole))))
-                                                     for t in thicknesses])
-    return cells, graded_depths_m(thicknesses, pole, 4 * pole, options.slab_depth_growth)
+        pole = _slab_cell_m(ball, options)
+        cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole)
+                                     / math.log(SLAB_GROWTH))))
+        return cells, min(20.0, SLAB_GROWTH ** (cells - 1)), uniform_depths_m(
+            thicknesses, [max(2, int(math.ceil(t / (4 * pole)))) for t in thicknesses])
+    pole = pole_spacing_m(ball.outer_radius_m, options.divisions, options.pole_grading)
+    growth = max(SLAB_GROWTH, pole_cell_growth(options.divisions, options.pole_grading))
+    # rounded down: the centre cells at least the pole spacing, so never lighter than the ball's
+    cells = max(4, int(math.log(1 + (growth - 1) * target.half_width_m / pole)
+                       / math.log(growth)))
+    return cells, growth ** (cells - 1), graded_depths_m(thicknesses, pole, 4 * pole,
+                                                          options.slab_depth_growth)
 
 
 def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
@@ -166,9 +184,9 @@ def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
     mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
     if target is None:
         return mesh
-    cells, depths = _slab_layout(ball, target, options)
+    cells, grading, depths = _slab_layout(ball, target, options)
     slab = slab_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,
-                     cells, grading=min(20.0, 1.15 ** (cells - 1)), half=half, depths_m=depths)
+                     cells, grading=grading, half=half, depths_m=depths)
     return combine(mesh, slab, len(ball.layers))
 
 
@@ -177,9 +195,10 @@ def _mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float
     elements, smallest = estimate_ball_mesh(ball.layer_radii_m, options.divisions,
                                             options.pole_grading, half)
     if target is not None:
-        cells, depths = _slab_layout(ball, target, options)
+        cells, grading, depths = _slab_layout(ball, target, options)
+        centre = float(_graded_line(target.half_width_m, cells, grading)[1])
         elements += (2 * cells) * (cells if half else 2 * cells) * (len(depths) - 1)
-        smallest = min(smallest, _slab_cell_m(ball, options), float(np.min(np.diff(depths))))
+        smallest = min(smallest, centre, float(np.min(np.diff(depths))))
     return elements, smallest
 
 
@@ -204,7 +223,8 @@ def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, He
     return _KERNELS[key]
 
 
-def model_arrays(ball, target, kernel: Kernel, options: Options3D, friction: float) -> dict:
+def model_arrays(ball, target, kernel: Kernel, options: Options3D,
+                 condition: ImpactCondition) -> dict:
     """Per-run parameters (NumPy float64)."""
     geom = kernel.geom
     layers = list(ball.layers) + (list(target.layers) if target is not None else [])
@@ -219,15 +239,13 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D, friction: flo
     length = np.asarray(geom.characteristic_length_m, np.float64)
     penalty = options.penalty_scale * m_s * (c_d[len(ball.layers) - 1]
                                              / np.asarray(geom.node_length_m, np.float64)[s]) ** 2
-    spring_factor = 1.0
-    if target is not None:  # a contact spring between a ball node and lighter target nodes
-        top_mass = mass[np.asarray(kernel.target["top"]).reshape(-1)]
-        spring_factor = 1.0 + float(np.max(m_s) / np.min(top_mass[top_mass > 0]))
     return {"mass_kg": mass, "ball_mass_kg": float(np.sum(mass[kernel.ball_nodes])),
             "outer_radius_m": float(ball.outer_radius_m),
             "penalty_n_m": penalty, "stick_n_m": options.stick_scale * penalty,
             "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
-            "contact_spring_factor": spring_factor, "friction": float(friction),
+            "contact_spring_factor": _contact_spring_factors(ball, target, kernel, mass,
+                                                             condition, options),
+            "friction": float(condition.friction),
             "hourglass_n_m": options.hourglass_scale * shear[group]
             * np.asarray(geom.hourglass_length_m, np.float64),
             "bv_linear_pa_s": options.bulk_viscosity_linear * rho[group] * c_d[group] * length,
@@ -236,6 +254,91 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D, friction: flo
             "increment_factor": increment_factor(options.time_step_scale,
                                                  options.bulk_viscosity_linear),
             "groups": [layer.material.constants() for layer in layers]}
+
+
+def _contact_spring_factors(ball, target, kernel: Kernel, mass: np.ndarray,
+                            condition: ImpactCondition, options: Options3D) -> np.ndarray:
+    """Per contact node, the factor on its contact springs in the stable increment's estimate
+    (n_contact,): a ball node of mass m pressed on target nodes of mass m_t makes a two-mass
+    spring, 1 + m / m_t times stiffer than one tied to the ground (1 on the rigid plane).
+
+    Only the ball nodes that can meet the target get it, with m_t the lightest target surface
+    node they can meet (`_contact_reach`: within the reach angle of the first touch, and on
+    the slab's cells under them give or take the travel). The bound over every pair (the
+    heaviest ball node on the lightest target node) made a run on a slab matched to the contact
+    take ten times the steps it needs."""
+    s = np.asarray(kernel.contact_nodes)
+    factors = np.ones(len(s))
+    if target is None:
+        return factors
+    reach_rad, travel_m = _contact_reach(ball, target, kernel, mass, condition, options)
+    top_mass = mass[np.asarray(kernel.target["top"])]
+    xs, ys = (np.asarray(kernel.target[k], np.float64) for k in ("x_m", "y_m"))
+    x = np.asarray(kernel.geom.nodes_m, np.float64)[s]
+    radius = ball.outer_radius_m
+    from_pole = np.arccos(np.clip((radius - x[:, 2]) / np.linalg.norm(
+        x - np.array([0.0, 0.0, radius]), axis=1), -1.0, 1.0))
+    for i in np.flatnonzero(from_pole <= reach_rad):
+        box = [(x[i, k] - travel_m, x[i, k] + travel_m) for k in (0, 1)]
+        factors[i] += mass[s[i]] / _lightest_partner_kg(xs, ys, top_mass, *box)
+    return factors
+
+
+def _lightest_partner_kg(xs, ys, top_mass, x_range, y_range) -> float:
+    """The smallest effective mass (kg) a point pressed anywhere in the box x_range x y_range
+    meets on a target surface of node lines `xs`, `ys` and node masses `top_mass`: with the
+    bilinear weights w_j of the four corners, 1 / m = sum w_j^2 / m_j. That sum is convex along
+    each axis within a cell, so its largest value is at a corner of the box cut by the cells:
+    the box's corners and edges on the lines and the nodes inside."""
+    def points(line, low, high):
+        low, high = max(low, line[0]), min(high, line[-1])
+        return np.unique(np.concatenate([[low, high], line[(line > low) & (line < high)]]))
+
+    def cell_weights(line, p):
+        i = np.clip(np.searchsorted(line, p, "right") - 1, 0, len(line) - 2)
+        f = (p - line[i]) / (line[i + 1] - line[i])
+        return i, f
+
+    (ix, fx), (iy, fy) = (cell_weights(line, points(line, *span))
+                          for line, span in ((xs, x_range), (ys, y_range)))
+    ix, iy, fx, fy = ix[:, None], iy[None, :], fx[:, None], fy[None, :]
+    inverse = sum((wx * wy) ** 2 / top_mass[ix + dx, iy + dy]
+                  for dx, wx in ((0, 1 - fx), (1, fx)) for dy, wy in ((0, 1 - fy), (1, fy)))
+    return float(1.0 / np.max(inverse))
+
+
+#: the reach's margin on the Hertz contact radius and on the contact time
+REACH_MARGIN = 1.5
+
+
+def _contact_reach(ball, target, kernel: Kernel, mass: np.ndarray, condition: ImpactCondition,
+                   options: Options3D) -> tuple[float, float]:
+    """(angle rad, travel m): the angle from the first touch within which the ball's surface
+    can meet a target, and how far a point of it can move along the target while in contact.
+
+    From the Hertz contact (the ball's and the target's softest moduli in series) with
+    `REACH_MARGIN` on its radius and time: the contact's half angle plus the rotation over the
+    contact at the initial spin plus the most friction can add, plus two pole spacings; the
+    travel is the tangential speed and that rotation over the contact, plus a pole spacing."""
+    theta = math.radians(condition.angle_deg)
+    v_n, v_t = condition.speed_m_s * math.cos(theta), abs(condition.speed_m_s * math.sin(theta))
+    materials = [layer.material for layer in target.layers]
+    radius = ball.outer_radius_m
+    contact_time = REACH_MARGIN * hertz_series_impact(ball, v_n, materials)[2]
+    a = REACH_MARGIN * hertz_contact_radius_m(ball, v_n, materials)
+    ball_nodes = np.asarray(kernel.ball_nodes)
+    x = np.asarray(kernel.geom.nodes_m, np.float64)[ball_nodes]
+    inertia = float(np.sum(mass[ball_nodes] * (x[:, 0] ** 2 + (x[:, 2] - radius) ** 2)))
+    spin = float(np.linalg.norm(condition.spin_vector_rad_s))
+    k = inertia / (float(np.sum(mass[ball_nodes])) * radius ** 2)
+    # friction's impulse over m: at most mu (1 + 1) v_n, and at most what reverses the contact
+    # point's initial speed fully (a tangential COR of 1)
+    impulse = min(2.0 * condition.friction * v_n, 2.0 * (v_t + spin * radius) / (1.0 + 1.0 / k))
+    spin += impulse / (k * radius)
+    pole = pole_spacing_m(radius, options.divisions, options.pole_grading)
+    rotation = spin * contact_time
+    return (math.asin(min(1.0, a / radius)) + rotation + 2.0 * pole / radius,
+            (v_t + spin * radius) * contact_time + pole)
 
 
 _COMPILED: dict[Any, Any] = {}
@@ -391,7 +494,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     message = _estimate(ball, target, conditions, options, kernel).warning()
     if message is not None:
         warnings.warn(message, InputWarning, stacklevel=2)
-    per_run = [model_arrays(ball, target, kernel, options, c.friction) for c in conditions]
+    per_run = [model_arrays(ball, target, kernel, options, c) for c in conditions]
     batched = len(conditions) > 1
     params = jax.tree_util.tree_map(lambda *xs: np.stack(xs), *per_run) if batched else per_run[0]
     chunk_fn, init_fn = _compiled(kernel, options.chunk_steps, batched)
