@@ -208,7 +208,7 @@ def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero():
     in JSON."""
     import jax.numpy as jnp
 
-    from ballimpact.cli.common import json_safe
+    from ballimpact.fileio import json_safe
     from ballimpact.lumped import single_element
     from ballimpact.lumped.base import Parameter
     from ballimpact.lumped.engine import OdeModel

@@ -156,3 +156,15 @@ def is_number(text: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+def json_safe(value):
+    """`value` with its non-finite floats (invalid in JSON) replaced by None, through dicts,
+    lists and tuples."""
+    if isinstance(value, dict):
+        return {key: json_safe(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_safe(item) for item in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -20,10 +20,11 @@ import warnings
 
 from .. import __version__
 from ..errors import CheckFailed, InputError, SimulationError
+from ..fileio import json_safe
 from ..progress import line_open
 from . import (calibrate, compare, compress, export, features, fit, identify, material, report,
                simulate, standard, universal, video)
-from .common import Parser, json_safe
+from .common import Parser
 from .simulate import SolverDefaults
 
 __all__ = ["SolverDefaults", "build_parser", "main"]

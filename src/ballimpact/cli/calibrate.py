@@ -11,13 +11,13 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..fileio import json_safe
 from .common import (
     add_processing,
     add_record_options,
     assignments,
     check_output_folder,
     check_plot_path,
-    json_safe,
     load,
     process_record,
     use_compilation_cache,

@@ -195,14 +195,3 @@ def use_compilation_cache() -> None:
         return  # no writable cache: compile every time
     jax.config.update("jax_compilation_cache_dir", folder)
     jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
-
-
-def json_safe(value: Any) -> Any:
-    """Replace non-finite floats (invalid in JSON) by None."""
-    if isinstance(value, dict):
-        return {key: json_safe(item) for key, item in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_safe(item) for item in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value

@@ -12,8 +12,8 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..cli.common import json_safe
 from ..errors import InputError, InputWarning, SimulationError
+from ..fileio import json_safe
 from ..progress import progress_bar
 from . import figures
 from .inputs import ReportTest
