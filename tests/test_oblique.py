@@ -506,3 +506,18 @@ def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
             assert np.all(factors[height < 1e-9] > 1.0)          # the first touch
             assert np.all(factors[height > 0.5 * R] == 1.0)      # out of reach
             assert np.max(factors) <= 1.0 + np.max(mass[s]) / np.min(top) + 1e-12
+
+
+def test_hertz_in_series_halves_the_modulus_for_a_target_of_the_balls_material():
+    """`hertz_series_impact` against the closed form: a sphere on a half-space of its own
+    material is Hertz with E* halved (approach (15 m v^2 / (16 E* sqrt R))^0.4, contact time
+    2.94328 y_max / v); on a rigid plane it is the ball's own E*."""
+    from ballimpact.fe.kernel import hertz_series_impact
+
+    ball, v, nu = _ball(), 3.0, 0.3
+    material = material_from_dict(ELASTIC)
+    for targets, e_star in (((), 100e6 / (1 - nu ** 2)), ((material,), 50e6 / (1 - nu ** 2))):
+        y_max, _, contact_time = hertz_series_impact(ball, v, targets)
+        expected = (15 * ball.mass_kg * v ** 2 / (16 * e_star * math.sqrt(R))) ** 0.4
+        assert y_max == pytest.approx(expected, rel=1e-6)
+        assert contact_time == pytest.approx(2.94328 * expected / v, rel=1e-5)

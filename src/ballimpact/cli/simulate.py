@@ -98,9 +98,10 @@ def add_parser(verbs) -> None:
     three.add_argument("--stick-scale", type=float,
                        help="friction stick-spring stiffness over the normal penalty (default 8)")
     three.add_argument("--slab-depth-growth", type=float,
-                       help="a --target slab's cells through the depth: the pole spacing at the "
-                            "surface growing by this a cell (1 to 2; default: uniform, 4 pole "
-                            "spacings)")
+                       help="match a --target slab's cells to the contact: the ball's pole "
+                            "spacing at the centre of its surface, growing in plane as the ball's "
+                            "cells do and by this a cell through the depth (over 1, up to 2; "
+                            "default: uniform depth cells of 4 pole spacings)")
     three.add_argument("--vtk", type=Path,
                        help="write a time series for ParaView: FILE.pvd (binary .vtu files "
                             "beside it) or FILE.xdmf; displacement, velocity, stresses, contact "

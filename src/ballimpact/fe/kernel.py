@@ -403,13 +403,11 @@ def hertz_contact_time_s(ball, speed: float) -> float:
     return hertz_impact(e_min, 0.5, ball.outer_radius_m, ball.mass_kg, speed)[2]
 
 
-def hertz_contact_radius_m(ball, speed: float, target_materials=()) -> float:
-    """Contact radius sqrt(R y_max) of a Hertz sphere with the smallest long-term plane-strain
-    modulus E* = E / (1 - nu^2) of the ball's layers (the softest layer gives the widest patch;
-    exact for a homogeneous linear ball), in series with the softest of `target_materials` (a
-    deformable target's layers; none: a rigid plane)."""
-    return float(np.sqrt(ball.outer_radius_m * hertz_series_impact(ball, speed,
-                                                                   target_materials)[0]))
+def hertz_contact_radius_m(ball, speed: float) -> float:
+    """Contact radius sqrt(R y_max) on a rigid plane of a Hertz sphere with the smallest
+    long-term plane-strain modulus E* = E / (1 - nu^2) of the ball's layers (the softest layer
+    gives the widest patch; exact for a homogeneous linear ball)."""
+    return float(np.sqrt(ball.outer_radius_m * hertz_series_impact(ball, speed)[0]))
 
 
 def hertz_series_impact(ball, speed: float, target_materials=()) -> tuple[float, float, float]:

@@ -83,8 +83,8 @@ class Options3D:
     - `slab_depth_growth`: a target slab's cells. None: through the depth uniform, 4 pole
       spacings thick (in plane graded toward the centre, see `solver._slab_layout`). A growth
       factor in (1, 2]: a slab matched to the contact: cells of the ball's pole spacing at the
-      centre of its surface, growing by 1.15 a cell in plane and by this factor a cell down to
-      at most 4 pole spacings; it resolves a small contact's stresses in the slab (a light
+      centre of its surface, growing in plane as the ball's cells grow from its pole (at least
+      1.15 a cell) and by this factor a cell down to at most 4 pole spacings; it resolves a small contact's stresses in the slab (a light
       foam's finer surface cells may chatter against the ball).
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).

@@ -24,8 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
-from ..fe.kernel import (cast, hertz_contact_radius_m, hertz_contact_time_s, hertz_series_impact,
-                         time_limit_default)
+from ..fe.kernel import cast, hertz_contact_time_s, hertz_series_impact, time_limit_default
 from ..fe.progress import RunEstimate
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
@@ -34,9 +33,8 @@ from ..records import ImpactRecord
 from . import kernel as kernel_module
 from .hexa import geometry
 from .kernel import HISTORY, Kernel
-from .mesh import (HexMesh, ball_mesh, combine, estimate_ball_mesh, graded_depths_m, slab_mesh,
-                   uniform_depths_m)
-from .mesh import _graded_line, pole_cell_growth, pole_spacing_m
+from .mesh import (HexMesh, _graded_line, ball_mesh, combine, estimate_ball_mesh, graded_depths_m,
+                   pole_cell_growth, pole_spacing_m, slab_mesh, uniform_depths_m)
 from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
@@ -324,8 +322,8 @@ def _contact_reach(ball, target, kernel: Kernel, mass: np.ndarray, condition: Im
     v_n, v_t = condition.speed_m_s * math.cos(theta), abs(condition.speed_m_s * math.sin(theta))
     materials = [layer.material for layer in target.layers]
     radius = ball.outer_radius_m
-    contact_time = REACH_MARGIN * hertz_series_impact(ball, v_n, materials)[2]
-    a = REACH_MARGIN * hertz_contact_radius_m(ball, v_n, materials)
+    y_max, _, contact_time = hertz_series_impact(ball, v_n, materials)
+    a, contact_time = REACH_MARGIN * math.sqrt(radius * y_max), REACH_MARGIN * contact_time
     ball_nodes = np.asarray(kernel.ball_nodes)
     x = np.asarray(kernel.geom.nodes_m, np.float64)[ball_nodes]
     inertia = float(np.sum(mass[ball_nodes] * (x[:, 0] ** 2 + (x[:, 2] - radius) ** 2)))
