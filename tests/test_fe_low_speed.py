@@ -1,5 +1,5 @@
 """Slow impacts, the textbook Hertz case (issue 24): a homogeneous linear-elastic ball at 0.1,
-0.3 and 1 m/s against the Hertz closed form (`lumped.hertz.hertz_impact`), and the warning when
+0.3 and 1 m/s against the Hertz closed form (`closedform.hertz_impact`), and the warning when
 the contact patch is narrower than the mesh resolves (`fe.solver.contact_resolution_note`)."""
 
 import math
@@ -11,7 +11,7 @@ from ballimpact.errors import InputWarning
 from ballimpact.fe import SolverOptions, load_ball, simulate
 from ballimpact.fe import solver as fe_solver
 from ballimpact.fe.kernel import hertz_contact_radius_m
-from ballimpact.lumped.hertz import hertz_impact
+from ballimpact.closedform import hertz_impact
 
 E_PA, NU, RADIUS_M, DENSITY = 1.0e7, 0.3, 0.036, 1000.0
 #: Saint Venant-Kirchhoff: linear at the small strains of a slow impact (stretches 0.97-1.02)

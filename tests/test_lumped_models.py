@@ -7,16 +7,14 @@ import numpy as np
 import pytest
 
 from ballimpact import InputError, extract_features
+from ballimpact.closedform import hertz_impact, power_law_contact_constant, undamped_power_law
 from ballimpact.lumped import (
     MODELS,
-    hertz_impact,
     hunt_crossley_cor,
     hunt_crossley_lambda,
     kelvin_voigt_from_test,
-    power_law_contact_constant,
     simulate,
     thesis_tables,
-    undamped_power_law,
 )
 from ballimpact.lumped.simulate import parameter_vector, run_one
 from ballimpact.lumped.thesis import sim1

@@ -149,7 +149,7 @@ def resample(record: ImpactRecord, rate_hz: float, method: str = "cubic") -> Imp
     first (e.g. a CFC filter) so that nothing aliases. Linear suits a finely sampled model pulse
     that ends in exact zeros (a separation): a spline through its kink rings on into the tail with
     small values of alternating sign, which a coarser grid can sample all positive, so that the
-    pulse never returns to zero (`calibrate.evaluate.measured_like`).
+    pulse never returns to zero (`comparison.measured_like`).
     """
     if method not in ("cubic", "linear"):
         raise ValueError(f"resample: method {method!r}: allowed cubic, linear")

@@ -1,8 +1,8 @@
 """Objectives of designs, each run through the FE engine against every test.
 
-Per test: force NRMSE on the aligned pulses (`universal.compare.pulse_nrmse`, fraction of the
+Per test: force NRMSE on the aligned pulses (`comparison.aligned_nrmse`, fraction of the
 test's peak): the run's pulse from its first touch against the test's from its contact start as
-its processing found it, at the best time shift within +/- `SHIFT_FRACTION` of the test's contact
+its processing found it, at the best time shift within +/- `comparison.SHIFT_FRACTION` of the test's contact
 time. The contact start of a noisy record is uncertain by a few samples (10-30 us at 100 kHz with
 1% noise, which alone would be an NRMSE of several percent); and the start found in a clean pulse
 at the same threshold is later than the first touch by another 30 us, so the run's own measured
@@ -19,12 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from ..universal.compare import compare, pulse_nrmse
+from ..comparison import aligned_nrmse, compare, measured_like
 from .problem import CalibrationProblem, sub_ball
 
-#: the largest time shift between the pulses when aligning them, as a fraction of contact time
-SHIFT_FRACTION = 0.05
-#: objective -> key of `universal.compare.compare`, taken in absolute value
+#: objective -> key of `comparison.compare`, taken in absolute value
 _KEYS = {"nrmse": "force_nrmse", "cor": "cor_error", "contact_time": "contact_time_relative_error",
          "peak_force": "peak_force_relative_error", "compression": "compression_nrmse"}
 
@@ -40,62 +38,8 @@ class Evaluation:
     wall_time_s: float
 
 
-def max_shift_s(test) -> float:
-    """How far (s) the pulses may be shifted against each other to align them."""
-    return SHIFT_FRACTION * float(test.features.values["P1"])
-
-
-def aligned_nrmse(test, t_model: np.ndarray, f_model: np.ndarray) -> float:
-    """Force NRMSE (`pulse_nrmse`) at the best time shift of the model pulse within
-    +/- `max_shift_s`."""
-    return best_alignment(test, t_model, f_model)[0]
-
-
-def best_alignment(test, t_model: np.ndarray, f_model: np.ndarray) -> tuple[float, float]:
-    """(NRMSE, shift in s) of `aligned_nrmse`: the model pulse's times plus the shift line up
-    with the test's."""
-    from scipy.optimize import minimize_scalar
-
-    limit = max_shift_s(test)
-    t_test, f_test = test.pulse
-
-    def misfit(shift):
-        return pulse_nrmse(t_test, f_test, t_model + shift, f_model)
-
-    best = minimize_scalar(misfit, bounds=(-limit, limit), method="bounded",
-                           options={"xatol": 1e-3 * limit})
-    unshifted = misfit(0.0)
-    return (float(best.fun), float(best.x)) if best.fun < unshifted else (float(unshifted), 0.0)
-
-
-def measured_like(test, run):
-    """The features of a model's pulse measured as the test's was: resampled at the test's
-    rate and windowed at the test's threshold (a fraction of the peak). A noisy test's window
-    starts and ends where its pulse crosses a threshold above the noise (5 x its RMS, 5% of the
-    peak at 1% noise), extrapolated to zero; the clean FE pulse measured at 1e-3 of its peak would
-    differ in contact time by the pulse's tails alone (5% on the thesis' ball). `run`: an FE run
-    or any model's `ImpactRecord`. Resampled by LINEAR interpolation: a clean model pulse ends
-    in exact zeros after a kink (separation), and the ringing of a cubic spline there once left
-    the resampled tail all positive, so that the contact never ended and a report aborted with
-    "force_n: no sample at or below zero force where the record ends" (a three-element fit to a
-    50 kHz test: spacing 20 us, 8.01 steps of 2.5 us; `records.resample`)."""
-    from ..features import extract_features
-    from ..records import ImpactRecord, resample
-
-    features = test.features
-    spacing = float(np.median(np.diff(features.time_s)))
-    fraction = max(1e-3, features.window.threshold_n / features.values["P6"])
-    record = run if isinstance(run, ImpactRecord) else run.record()
-    resampled = resample(record, 1.0 / spacing, method="linear")
-    # notes on the model's own pulse (its impulse over the test's window) are nothing the user
-    # can act on: warnings are for the user's data
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", InputWarning)
-        return extract_features(resampled, threshold_fraction=fraction)
-
-
 def compare_run(test, fe) -> dict:
-    """The comparison of an FE run with a test (`universal.compare.compare` keys): the force
+    """The comparison of an FE run with a test (`comparison.compare` keys): the force
     NRMSE of the run's pulse from its first touch, aligned with the test's; contact time, peak
     and COR of the run measured as the test was (`measured_like`). A compression test's with
     its FE curve: `compression.compare_compression`."""

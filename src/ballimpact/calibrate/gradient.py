@@ -46,7 +46,7 @@ from jax.flatten_util import ravel_pytree
 
 from ..errors import InputError, InputWarning, SimulationError
 from ..identifiability import correlation_factor, identification_notes, standard_errors
-from .evaluate import max_shift_s
+from ..comparison import max_shift_s
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
 CHUNK_STEPS = 100
@@ -231,7 +231,7 @@ def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[Smo
     """One `SmoothMisfit` per test, its increment `INCREMENT_MARGIN` times the smallest of the
     design's standard run (`runs`, one per test). The test's times count from its contact start
     as its processing found it, the run's from the first touch; the time shift between them is
-    the aligned NRMSE's (`evaluate.aligned_nrmse`)."""
+    the aligned NRMSE's (`comparison.aligned_nrmse`)."""
     if options.precision != "float64":
         raise InputError("gradient refinement: needs precision float64 (gradients in float32 "
                          "are dominated by round-off over thousands of steps)")

@@ -261,7 +261,7 @@ class CalibrationTest:
     @property
     def pulse(self) -> tuple[np.ndarray, np.ndarray]:
         """(time_s from contact start, force_n) of the contact pulse."""
-        from ..universal.compare import features_pulse
+        from ..comparison import features_pulse
 
         return features_pulse(self.features)
 

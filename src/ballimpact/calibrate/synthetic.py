@@ -1,11 +1,11 @@
 """Synthetic tests with known answers: a ball specification simulated by the FE engine, sampled
-at 100 kHz with a baseline and white noise as a test rig records it (`universal.measurement`)."""
+at 100 kHz with a baseline and white noise as a test rig records it (`comparison.noisy_record`)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..universal.dataset import PULSE_RATE_HZ
+from ..comparison import PULSE_RATE_HZ, noisy_record
 from .problem import CalibrationProblem, CalibrationTest, free_parameter, sub_ball, with_values
 
 
@@ -14,7 +14,6 @@ def synthetic_record(spec: dict, speed_m_s: float, options, noise: float,
     """An `ImpactRecord` of the ball (up to layer `layers`) at `speed_m_s` (m/s), with white
     noise of `noise` times the peak force, and its FE run."""
     from ..fe import load_ball, simulate
-    from ..universal.measurement import noisy_record
 
     fe = simulate(load_ball(sub_ball(spec, layers)), speed_m_s, options)
     t = np.arange(0.0, fe.history["time_s"][-1], 1.0 / PULSE_RATE_HZ)

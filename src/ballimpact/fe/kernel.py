@@ -27,7 +27,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..lumped.hertz import hertz_impact
+from ..closedform import hertz_impact
 from .axisymmetric import (
     AxiGeometry,
     centre_deformation,

@@ -8,14 +8,11 @@ differential evolution with a local polish; `fit_speed_table` and `SpeedTable` m
 functions of the impact speed (thesis tables 7-1, 7-2; `thesis_tables`).
 """
 
-from .hertz import hertz_impact as hertz_impact
 from .hunt_crossley import hunt_crossley_cor as hunt_crossley_cor
 from .hunt_crossley import hunt_crossley_lambda as hunt_crossley_lambda
 from .kelvin_voigt import kelvin_voigt_from_test as kelvin_voigt_from_test
 from .registry import MODELS as MODELS, describe_models as describe_models, get_model as get_model
 from .simulate import simulate as simulate
-from .single_element import power_law_contact_constant as power_law_contact_constant
-from .single_element import undamped_power_law as undamped_power_law
 from .fit import FitResult as FitResult, fit as fit
 from .speed_table import SpeedTable as SpeedTable, fit_speed_table as fit_speed_table
 from .speed_table import thesis_tables as thesis_tables

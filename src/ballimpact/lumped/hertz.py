@@ -1,23 +1,19 @@
 """Hertz model: an elastic sphere (E, nu, radius R) on a rigid plane, F = (4/3) E* sqrt(R) y^1.5
 with E* = E / (1 - nu^2). No damping: the COR is 1. Only E* can be identified from a pulse, so a
-fit searches E with nu and R fixed (defaults 0.5 and 36 mm, a cricket ball)."""
+fit searches E with nu and R fixed (defaults 0.5 and 36 mm, a cricket ball). Its closed form is
+`closedform.hertz_impact`."""
 
 from __future__ import annotations
 
 import jax.numpy as jnp
 import numpy as np
 
-from ..records import check_positive
+from ..closedform import HERTZ_EXPONENT as EXPONENT, hertz_stiffness
 from .base import Parameter, check_range
 from .engine import OdeModel
-from .single_element import force as single_element_force, undamped_power_law
+from .single_element import force as single_element_force
 
-EXPONENT = 1.5
 POISSONS_RATIO, RADIUS_M = 0.5, 0.036  # defaults: rubber-like, a cricket ball
-
-
-def _stiffness(youngs_modulus, poissons_ratio, radius):
-    return 4.0 / 3.0 * youngs_modulus / (1.0 - poissons_ratio**2) * jnp.sqrt(radius)
 
 
 def force(q, state):
@@ -25,7 +21,7 @@ def force(q, state):
 
 
 def split(p, mass):
-    return _stiffness(p[0], p[1], p[2])[None, None], jnp.atleast_1d(mass)
+    return jnp.asarray(hertz_stiffness(p[0], p[1], p[2]))[None, None], jnp.atleast_1d(mass)
 
 
 def bounds(scale):
@@ -54,13 +50,3 @@ MODEL = OdeModel(
     force=force,
     validate=validate,
 )
-
-
-def hertz_impact(youngs_modulus_pa: float, poissons_ratio: float, radius_m: float,
-                 mass_kg: float, speed_m_s: float) -> tuple[float, float, float]:
-    """Hertz closed form (docs/lumped.md "Verification"): (max compression m, peak force N,
-    contact time s), with t_c = C(1.5) y_max / v, C(1.5) = 2.94328."""
-    check_positive("youngs_modulus_pa", youngs_modulus_pa)
-    check_positive("radius_m", radius_m)
-    stiffness = float(_stiffness(youngs_modulus_pa, poissons_ratio, radius_m))
-    return undamped_power_law(stiffness, EXPONENT, mass_kg, speed_m_s)

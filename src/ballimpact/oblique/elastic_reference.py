@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..lumped.hertz import hertz_impact
+from ..closedform import hertz_impact
 from .rigid_body import HOMOGENEOUS_K2
 
 @dataclass(frozen=True)

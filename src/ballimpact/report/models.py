@@ -8,7 +8,7 @@ A model is named on the command line as
   "detailed" model: nothing is fitted).
 
 Every model's pulse is compared with the test's as a calibration compares an FE run with a test
-(`calibrate.evaluate`): the force NRMSE (`universal.compare.pulse_nrmse`, a fraction of the
+(`calibrate.evaluate`): the force NRMSE (`comparison.pulse_nrmse`, a fraction of the
 test's peak) with the model's pulse from its first touch at the best time shift within 5% of the
 test's contact time (a noisy test's contact start is uncertain by tens of microseconds), and the
 peak force, contact time and COR of the model's pulse measured as the test's was (resampled at
@@ -27,9 +27,8 @@ from typing import Any, Callable
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from ..calibrate.evaluate import best_alignment, measured_like
 from ..calibrate.problem import CalibrationTest
-from ..universal.compare import compare
+from ..comparison import best_alignment, compare, measured_like
 from .inputs import ReportTest
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from ..comparison import PULSE_RATE_HZ
 from ..errors import InputError
 from ..features import FEATURE_NAMES
 from ..fileio import first_line, read_arrays, replacing
@@ -29,8 +30,7 @@ from . import space
 #: normalised time grid of the stored force shapes (t / contact time)
 SHAPE_POINTS = 64
 SHAPE_GRID = np.linspace(0.0, 1.0, SHAPE_POINTS)
-#: the stored pulses: 100 kHz from first contact, 6 ms
-PULSE_RATE_HZ = 100e3
+#: the stored pulses: `PULSE_RATE_HZ` (100 kHz) from first contact, 6 ms
 PULSE_SAMPLES = 600
 #: the dataset's columns, in order
 COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "warnings",

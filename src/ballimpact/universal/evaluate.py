@@ -136,10 +136,9 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     Returns per-run errors and their median and 90th percentile."""
     from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
     from ..features import extract_features
-    from .compare import compare, pulse_nrmse
+    from ..comparison import compare, noisy_features, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate
-    from .measurement import noisy_features
     from .study import load_config, study_allow
 
     folder = Path(folder)

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import space
-from .compare import compare, pulse_nrmse
+from ..comparison import compare, pulse_nrmse
 from .evaluate import PERCENTILE
 from .identify import identify, reference_size, scaled_options
 from .model import UniversalModel
@@ -69,8 +69,7 @@ def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
     from ..fe import FailedRun, load_ball, simulate_batch
     from ..features import extract_features
     from ..pipeline import process
-    from .dataset import PULSE_RATE_HZ
-    from .measurement import noisy_record
+    from ..comparison import PULSE_RATE_HZ, noisy_record
     from .study import pulse_100khz
 
     params, speeds = family_tests(model, size, runs, seed)

@@ -21,7 +21,7 @@ from ..errors import InputError, InputWarning
 from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
 from . import space
-from .compare import compare, features_pulse, pulse_nrmse
+from ..comparison import compare, features_pulse, pulse_nrmse
 from .similarity import BallSize, groups, map_features, map_params, map_ranges
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 

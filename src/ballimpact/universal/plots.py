@@ -7,7 +7,7 @@ from pathlib import Path
 
 
 from ..plotting import _save, plt
-from .compare import features_pulse
+from ..comparison import features_pulse
 from .model import TARGETS
 
 _SCALE = {"c10_pa": (1e-6, "MPa"), "c01_pa": (1e-6, "MPa"), "g1": (1.0, ""),

@@ -26,7 +26,7 @@ from .model import (
     target_ranges,
 )
 from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
-from .measurement import noisy_features
+from ..comparison import noisy_features
 from .study import load_config
 
 #: shares of the finished runs: held out for the report (never seen in training or early
