@@ -28,6 +28,7 @@ import numpy as np
 
 from ballimpact import fe
 from ballimpact.fe.kernel import cast
+from ballimpact.fe.programs import compiled_run
 from ballimpact.oblique import ImpactCondition, Options3D, Target, simulate_oblique
 from ballimpact.oblique import solver
 
@@ -46,7 +47,7 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
     top = mass[np.asarray(kernel.target["top"])]
     every_pair = dict(params, contact_spring_factor=np.full(
         len(s), 1.0 + np.max(mass[s]) / np.min(top)))
-    _, init = solver._compiled(kernel, options.chunk_steps, False)
+    _, init = compiled_run(kernel, options.chunk_steps, False)
     out = []
     with jax.enable_x64(True):
         for p in (params, every_pair):

@@ -1,12 +1,11 @@
 """Closed-form impacts that the models are checked against (docs/lumped.md "Verification"):
 the undamped power-law spring m y'' = -k y^a and Hertz's elastic sphere on a rigid plane,
-F = (4/3) E* sqrt(R) y^1.5 with E* = E / (1 - nu^2). Pure NumPy/SciPy: the lumped models, the
+F = (4/3) E* sqrt(R) y^1.5 with E* = E / (1 - nu^2). Plain arithmetic: the lumped models, the
 FE engines' increment and time-limit estimates and the oblique reference all use them."""
 
 from __future__ import annotations
 
-import numpy as np
-from scipy.special import gamma
+import math
 
 from .records import check_positive
 
@@ -18,7 +17,7 @@ def power_law_contact_constant(exponent: float) -> float:
     """C(a) = 2 sqrt(pi) Gamma(1 + 1/(a+1)) / Gamma(1/2 + 1/(a+1)): t_c = C(a) y_max / v
     (C(1) = pi, C(1.5) = 2.94328)."""
     b = 1.0 / (exponent + 1.0)
-    return float(2.0 * np.sqrt(np.pi) * gamma(1.0 + b) / gamma(0.5 + b))
+    return 2.0 * math.sqrt(math.pi) * math.gamma(1.0 + b) / math.gamma(0.5 + b)
 
 
 def undamped_power_law(stiffness: float, exponent: float, mass_kg: float, speed_m_s: float):

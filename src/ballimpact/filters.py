@@ -14,7 +14,6 @@ from collections.abc import Callable
 import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from numpy.polynomial import Polynomial
-from scipy.signal import butter, savgol_filter, sosfiltfilt
 
 from .errors import InputError, InputWarning
 from .records import ImpactRecord, check_positive, contact_window, sample_rate_hz
@@ -42,6 +41,8 @@ def cfc_filter(force: np.ndarray, rate_hz: float, cfc: float) -> np.ndarray:
             f"filter: CFC {cfc:g} needs a sampling rate above {2 * design_hz:.0f} Hz, "
             f"the record has {rate_hz:.0f} Hz"
         )
+    from scipy.signal import butter, sosfiltfilt  # here: scipy.signal takes 0.3 s to import
+
     sos = butter(2, design_hz, btype="low", fs=rate_hz, output="sos")
     pad = 3 * (2 * len(sos) + 1)  # sosfiltfilt's default edge padding
     if force.size <= pad:
@@ -52,6 +53,8 @@ def cfc_filter(force: np.ndarray, rate_hz: float, cfc: float) -> np.ndarray:
 def savitzky_golay(force: np.ndarray, rate_hz: float, window_s: float, order: int = 3):
     """Savitzky-Golay smoothing: least-squares polynomial of `order` over a moving window of
     `window_s` seconds (rounded to an odd number of samples)."""
+    from scipy.signal import savgol_filter
+
     points = _window_points(window_s, rate_hz, minimum=order + 2, available=force.size)
     return savgol_filter(force, points, order, mode="interp")
 

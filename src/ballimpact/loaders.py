@@ -29,7 +29,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.io import wavfile
 
 from .errors import InputError
 from .fileio import is_number, read_table
@@ -182,6 +181,8 @@ def read_wav(
         full_scale = check_positive("full_scale_v", full_scale_v)
     except InputError as error:
         raise InputError(f"{path}: {error}") from None
+    from scipy.io import wavfile
+
     try:
         rate, data = wavfile.read(path)
     except Exception as error:  # noqa: BLE001 - scipy raises many kinds on a malformed file

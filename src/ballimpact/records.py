@@ -17,7 +17,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .errors import InputError
 
@@ -168,6 +167,8 @@ def resample(record: ImpactRecord, rate_hz: float, method: str = "cubic") -> Imp
             return None
         if method == "linear":
             return np.interp(time, record.time_s, series)
+        from scipy.interpolate import CubicSpline  # here: SciPy's import is slow, most uses never need it
+
         return CubicSpline(record.time_s, series)(time)
 
     return record.replace(

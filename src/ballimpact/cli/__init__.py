@@ -13,6 +13,7 @@ conventions: the error-to-exit-code mapping, the warnings list and the JSON outp
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import os
 import sys
@@ -22,30 +23,37 @@ from .. import __version__
 from ..errors import CheckFailed, InputError, SimulationError
 from ..fileio import json_safe
 from ..progress import line_open
-from . import (calibrate, compare, compress, export, features, fit, identify, material, report,
-               simulate, standard, universal, video)
 from .common import Parser
 from .simulate import SolverDefaults
 
 __all__ = ["SolverDefaults", "build_parser", "main"]
 
-#: verb -> runner; each runner returns the JSON object of the verb
-RUNNERS = {"features": features.run, "fit": fit.run_fit, "models": fit.run_models,
-           "simulate": simulate.run_simulate, "balls": simulate.run_balls,
-           "demo": simulate.run_demo, "universal": universal.run, "identify": identify.run,
-           "calibrate": calibrate.run, "export": export.run_export,
-           "import-material": export.run_import, "video": video.run,
-           "report": report.run, "material": material.run, "compress": compress.run,
-           "standard": standard.run, "compare": compare.run}
+#: verb -> (module of this package that adds its parser, its runner); each runner returns the
+#: JSON object of the verb. Modules are imported only when a command needs them: a command names
+#: one verb, and importing every verb's libraries took a second of a one-second `simulate`.
+VERBS = {"features": ("features", "run"), "fit": ("fit", "run_fit"),
+         "models": ("fit", "run_models"), "simulate": ("simulate", "run_simulate"),
+         "balls": ("simulate", "run_balls"), "demo": ("simulate", "run_demo"),
+         "universal": ("universal", "run"), "identify": ("identify", "run"),
+         "calibrate": ("calibrate", "run"), "export": ("export", "run_export"),
+         "import-material": ("export", "run_import"), "video": ("video", "run"),
+         "report": ("report", "run"), "material": ("material", "run"),
+         "compress": ("compress", "run"), "standard": ("standard", "run"),
+         "compare": ("compare", "run")}
 
 
-def build_parser() -> argparse.ArgumentParser:
+def _module(name: str):
+    return importlib.import_module(f"{__name__}.{name}")
+
+
+def build_parser(verb: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every verb; with `verb` (a known one), of only its module's verbs."""
     parser = Parser(prog="ballimpact", description="Sports-ball impact modelling (SI units).")
     parser.add_argument("--version", action="version", version=f"ballimpact {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True, metavar="VERB")
-    for module in (features, fit, simulate, universal, identify, calibrate, export, video,
-                   report, material, compress, standard, compare):
-        module.add_parser(verbs)
+    modules = [VERBS[verb][0]] if verb in VERBS else dict.fromkeys(m for m, _ in VERBS.values())
+    for name in modules:
+        _module(name).add_parser(verbs)
     return parser
 
 
@@ -69,11 +77,13 @@ def _main(argv: list[str] | None) -> int:
     args = None
     failed_check = None
     try:
-        args = build_parser().parse_args(argv)
+        argv = sys.argv[1:] if argv is None else argv
+        args = build_parser(argv[0] if argv else None).parse_args(argv)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                result = RUNNERS[args.verb](args)
+                module, runner = VERBS[args.verb]
+                result = getattr(_module(module), runner)(args)
             except CheckFailed as error:
                 result, failed_check = error.result, error
         notes = list(dict.fromkeys(str(w.message) for w in caught))

@@ -18,7 +18,6 @@ import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from functools import partial
 from typing import Any
 
 import jax
@@ -42,6 +41,7 @@ from .mesh import estimate_mesh, layered_sphere_mesh
 from .materials.stability import drucker_warnings
 from .options import SolverOptions, shown
 from .progress import RunEstimate
+from .programs import compiled_run
 
 __all__ = ["FE_SPEED_RANGE_M_S", "FEResult", "SolverOptions", "default_group_size",
            "estimate_run", "simulate", "simulate_batch"]
@@ -162,20 +162,6 @@ def _mesh_radii(ball, options: SolverOptions) -> np.ndarray:
     radii = np.asarray(ball.layer_radii_m)
     extra = [r for r in options.mesh_radii_m if 0 < r < radii[-1]]
     return np.unique(np.concatenate([radii, extra]))
-
-
-_COMPILED: dict[Any, Any] = {}
-
-
-def _compiled(kernel: Kernel, n_steps: int, batched: bool):
-    """(chunk, initial state) of a kernel, jitted (and vmapped for a batch)."""
-    key = (id(kernel), n_steps, batched)
-    if key not in _COMPILED:
-        fns = (partial(kernel.chunk, n_steps=n_steps), kernel.initial_state)
-        if batched:
-            fns = tuple(jax.vmap(fn) for fn in fns)
-        _COMPILED[key] = tuple(jax.jit(fn) for fn in fns)
-    return _COMPILED[key]
 
 
 def _stack(trees: list) -> Any:
@@ -448,7 +434,7 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
     per_ball = [ball_arrays(b, geom, options) for b in balls]
     batched = len(balls) > 1
     params = _stack(per_ball) if batched else per_ball[0]
-    chunk_fn, init_fn = _compiled(kernel, options.chunk_steps, batched)
+    chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     limits = np.array([options.time_limit_s or time_limit_default(b, s)
                        for b, s in zip(balls, speeds)])
     with jax.enable_x64(True), np.errstate(invalid="ignore"):

@@ -26,6 +26,7 @@ import numpy as np
 from ..errors import InputError, InputWarning, SimulationError
 from ..fe.kernel import cast, hertz_contact_time_s, hertz_series_impact, time_limit_default
 from ..fe.progress import RunEstimate
+from ..fe.programs import compiled_run
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
@@ -339,17 +340,7 @@ def _contact_reach(ball, target, kernel: Kernel, mass: np.ndarray, condition: Im
             (v_t + spin * radius) * contact_time + pole)
 
 
-_COMPILED: dict[Any, Any] = {}
-
-
-def _compiled(kernel: Kernel, n_steps: int, batched: bool):
-    key = (id(kernel), n_steps, batched)
-    if key not in _COMPILED:
-        fns = (lambda p, s: kernel.chunk(p, s, n_steps), kernel.initial_state)
-        if batched:
-            fns = tuple(jax.vmap(fn) for fn in fns)
-        _COMPILED[key] = tuple(jax.jit(fn) for fn in fns)
-    return _COMPILED[key]
+_STRESS: dict[Any, Any] = {}  # jitted stress recovery per kernel
 
 
 def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Options3D(),
@@ -495,7 +486,7 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     per_run = [model_arrays(ball, target, kernel, options, c) for c in conditions]
     batched = len(conditions) > 1
     params = jax.tree_util.tree_map(lambda *xs: np.stack(xs), *per_run) if batched else per_run[0]
-    chunk_fn, init_fn = _compiled(kernel, options.chunk_steps, batched)
+    chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     speeds = np.array([c.speed_m_s for c in conditions])
     angles = np.radians([c.angle_deg for c in conditions])
     spins = np.array([c.spin_vector_rad_s for c in conditions])
@@ -562,12 +553,12 @@ def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
     stress (6, n_el; xx, yy, zz, xy, yz, zx, elements sorted by group) and contact forces
     (3, n_nodes)."""
     key = ("stress", id(kernel))
-    if key not in _COMPILED:
-        _COMPILED[key] = jax.jit(kernel.cauchy_stress)
+    if key not in _STRESS:
+        _STRESS[key] = jax.jit(kernel.cauchy_stress)
     return {"time_s": float(state["t"]),
             "displacement_m": np.asarray(state["u"], np.float64),
             "velocity_m_s": np.asarray(state["v"], np.float64),
-            "stress_pa": np.asarray(_COMPILED[key](params, state["u"], state["mat"]), np.float64),
+            "stress_pa": np.asarray(_STRESS[key](params, state["u"], state["mat"]), np.float64),
             "contact_force_n": np.asarray(state["f_contact"], np.float64)}
 
 
