@@ -1,5 +1,6 @@
 """Benchmark: the explicit FE engine (issue 9 targets, 2-core CPU: universal ball at 25 m/s
-< 0.5 s a run, >= 3 runs/s in batches, whole `ballimpact simulate` <= 3 s warm).
+< 0.5 s a run, >= 3 runs/s in batches, whole `ballimpact simulate` <= 3 s warm;
+issue 28: <= 1.5 s, at least 40 times CalculiX).
 
 Prints one JSON object:
 - `single`: per ball and setting (`cricket-universal` at 25 m/s, `cricket-3layer` at 20.8 m/s;
@@ -15,11 +16,15 @@ Prints one JSON object:
 - `batch`: universal-ball parameter sets over the table 6-2 ranges (C10 4-7 MPa, C01 -1..1 MPa,
   g1 0-0.9, tau1 1e-5..1e-4 s) at speeds 5-45 m/s, through `simulate_batch`: runs per second
   in float64 and float32, and single runs of the same sets for the ratio;
-- `cli`: whole-process time of `ballimpact simulate` (Mooney-Rivlin ball C10 4.72 MPa, C01
-  -0.45 MPa, 160 g, 72 mm, 20 m/s) with a warm compilation cache, against the 122 s of an
+- `cli`: whole-process time of `ballimpact simulate` (the CalculiX cross-run ball: Mooney-Rivlin
+  C10 4.72 MPa, C01 -0.45 MPa, D1 = 0, 160 g, 72 mm, 20 m/s) cold and with warm caches, where
+  the warm run's time goes (JAX's compile events: tracing, lowering, loading the compilation
+  cache, compiling), and CalculiX on the same ball in the same run when ccx is installed (half
+  model, 8 divisions, implicit dynamics, all cores), with the ratio; and against the 122 s of an
   independent explicit code on the same problem.
 
-Run: python benchmarks/bench_fe.py [--quick]   (--quick: 16 sets in the batch, no 3-layer ball)
+Run: python benchmarks/bench_fe.py [--quick] [--cli]   (--quick: 16 sets in the batch, no 3-layer
+ball; --cli: only the whole-process part)
 """
 
 import json
@@ -112,29 +117,73 @@ def batch(n, precision):
             "steps_median": float(np.median([r.steps for r in results]))}
 
 
+#: the child process of `cli_breakdown`: `ballimpact` with JAX's compile events summed
+_BREAKDOWN = """
+import json, sys, time
+start = time.perf_counter()
+import jax.monitoring
+totals = {}
+def add(event, seconds, **kwargs):
+    totals[event] = totals.get(event, 0.0) + seconds
+jax.monitoring.register_event_duration_secs_listener(add)
+from ballimpact.cli import main
+code = main(sys.argv[1:])
+totals["in_python_s"] = time.perf_counter() - start
+print(json.dumps(totals), file=sys.stderr)
+sys.exit(code)
+"""
+
+
 def cli_whole_process():
-    spec = {"name": "mr-72mm-160g", "layers": [{
-        "name": "ball", "outer_radius_m": 0.036,
-        "density_kg_m3": 0.16 / (4.0 / 3.0 * np.pi * 0.036 ** 3),
-        "material": {"model": "mooney_rivlin", "c10_pa": 4.72e6, "c01_pa": -0.45e6}}]}
+    """`ballimpact simulate` as a user runs it: cold (empty caches), then warm (median of 3);
+    where the warm run's time goes; and CalculiX on the same ball (half model, 8 divisions,
+    both cores) when ccx is installed."""
+    from ballimpact.export.calculix import CROSS_RUN_BALL, ccx_path, run_impact
+
+    spec = dict(CROSS_RUN_BALL, name="mr-72mm-160g")
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "ball.json"
         path.write_text(json.dumps(spec))
         script = Path(sys.executable).parent / "ballimpact"  # the installed command
         launcher = [str(script)] if script.exists() else [sys.executable, "-m", "ballimpact.cli"]
-        command = launcher + ["simulate", "--ball", str(path), "--speed-m-s", "20", "--json"]
+        argv = ["simulate", "--ball", str(path), "--speed-m-s", "20", "--json"]
         env = dict(os.environ, BALLIMPACT_CACHE_DIR=str(Path(folder) / "cache"))
-        def run():
-            return subprocess.run(command, capture_output=True, env=env, check=True)
 
-        cold = timed(run)
-        walls = [timed(run)[0] for _ in range(3)]
-    out = json.loads(cold[1].stdout)
-    wall = statistics.median(walls)
-    return {"cold_cache_s": cold[0], "warm_cache_s": wall, "steps": out["steps"],
-            "peak_force_n": out["peak_force_n"], "cor": out["cor"],
-            "independent_code_s": INDEPENDENT_CODE_S, "speedup_vs_independent_code":
-                INDEPENDENT_CODE_S / wall}
+        def run(command):
+            return subprocess.run(command, capture_output=True, env=env, check=True, text=True)
+
+        cold = timed(run, launcher + argv)
+        warm = [timed(run, launcher + argv) for _ in range(3)]
+        child = run([sys.executable, "-c", _BREAKDOWN] + argv)
+        events = json.loads(child.stderr.strip().splitlines()[-1])
+        theirs = None
+        if ccx_path() is not None:
+            ours = json.loads(cold[1].stdout)
+            theirs = run_impact(load_ball(spec), 20.0, Path(folder) / "calculix",
+                                step_time_s=1.15 * ours["contact_time_s"],
+                                threads=os.cpu_count() or 1)
+    out = json.loads(warm[-1][1].stdout)
+    wall = statistics.median(w for w, _ in warm)
+    result = {
+        "cold_cache_s": cold[0], "warm_cache_s": wall, "steps": out["steps"],
+        "solver_run_s": out["wall_time_s"], "peak_force_n": out["peak_force_n"],
+        "cor": out["cor"],
+        "warm_breakdown_s": {
+            "process_in_python": events["in_python_s"],
+            "tracing": events.get("/jax/core/compile/jaxpr_trace_duration", 0.0),
+            "lowering": events.get("/jax/core/compile/jaxpr_to_mlir_module_duration", 0.0),
+            "loading_compilation_cache": events.get(
+                "/jax/compilation_cache/cache_retrieval_time_sec", 0.0),
+            "compiling": events.get("/jax/core/compile/backend_compile_duration", 0.0)},
+        "calculix": None if theirs is None else {
+            "wall_s": theirs.wall_time_s, "threads": os.cpu_count(), "divisions": 8,
+            "peak_force_n": theirs.peak_force_n, "cor": theirs.cor,
+            "increments": len(theirs.time_s) - 1},
+        "independent_code_s": INDEPENDENT_CODE_S,
+        "speedup_vs_independent_code": INDEPENDENT_CODE_S / wall}
+    if theirs is not None:
+        result["speedup_vs_calculix"] = theirs.wall_time_s / wall
+    return result
 
 
 def main():
@@ -143,6 +192,10 @@ def main():
                        "cpu_count": os.cpu_count(), "python": platform.python_version(),
                        "jax": jax.__version__, "backend": jax.default_backend()},
            "single": []}
+    if "--cli" in sys.argv:
+        out["cli"] = cli_whole_process()
+        print(json.dumps(out, indent=2))
+        return
     balls = [("cricket-universal", 25.0)] + ([] if quick else [("cricket-3layer", 20.8)])
     for name, speed in balls:
         for label, options in (("reduced float64 (default)", SolverOptions()),

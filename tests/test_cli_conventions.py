@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from ballimpact.cli import simulate as cli_simulate
+from ballimpact.cli import balls as cli_balls
 from ballimpact.cli import build_parser, main
 from ballimpact.errors import CheckFailed
 
@@ -73,7 +73,7 @@ def test_ctrl_c_is_exit_130_with_one_line_and_the_verbs_resume_hint(monkeypatch,
         args.resume_hint = "resume with: ballimpact universal run study --resume"
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli_simulate, "run_balls", interrupted)
+    monkeypatch.setattr(cli_balls, "run_balls", interrupted)
     assert main(["balls"]) == 130
     out, err = capsys.readouterr()
     assert out == ""
@@ -85,7 +85,7 @@ def test_a_failed_check_is_exit_3_with_the_result_still_printed(monkeypatch, cap
     def checked(args):
         raise CheckFailed("FE check NRMSE 0.29 above --max-nrmse 0.05", {"nrmse": 0.29})
 
-    monkeypatch.setattr(cli_simulate, "run_balls", checked)
+    monkeypatch.setattr(cli_balls, "run_balls", checked)
     assert main(["balls", "--json"]) == 3
     out, err = capsys.readouterr()
     assert json.loads(out)["nrmse"] == 0.29

@@ -135,14 +135,14 @@ def test_demo_table_flags_the_three_layer_constants(capsys, tmp_path):
 def _quick_demo(capsys, tmp_path, *flags):
     """`ballimpact demo` on a coarse mesh and without the identification step."""
     import ballimpact.fe
-    from ballimpact.cli import simulate as cli_simulate
+    from ballimpact.cli import demo as cli_demo
 
     real = ballimpact.fe.simulate
     patch = pytest.MonkeyPatch()
     try:
         patch.setattr(ballimpact.fe, "simulate",
                       lambda ball, speed: real(ball, speed, SolverOptions(element_size_m=4e-3)))
-        patch.setattr(cli_simulate, "_demo_identify", lambda quiet: {})
+        patch.setattr(cli_demo, "_demo_identify", lambda quiet: {})
         return run(capsys, "demo", "--plot", tmp_path / "demo.png", *flags)
     finally:
         patch.undo()

@@ -169,7 +169,7 @@ def test_specification_round_trip(spec):
 
 
 @pytest.mark.parametrize("spec, fragments", [
-    ({"model": "yeoh", "c10_pa": 0.0}, ["c10_pa = 0", "(0, inf]"]),
+    ({"model": "yeoh", "c10_pa": 0.0}, ["c10_pa = 0", "(0, inf)"]),
     ({"model": "yeoh"}, ["missing key 'c10_pa'"]),
     ({"model": "yeoh", "c10_pa": 1e6, "d1_per_pa": -1.0}, ["d1_per_pa = -1"]),
     ({"model": "yeoh", "c10_pa": 1e6, "c01_pa": 1.0}, ["unknown key 'c01_pa'"]),
@@ -232,7 +232,7 @@ def test_yeoh_and_ogden_ball_runs_in_3d():
 @pytest.mark.parametrize("material, fragments", [
     ({"model": "ogden", "terms": [{"mu_pa": -1e6, "alpha": 2.0}]},
      ["ball.layers[0].material", "ogden.terms: sum of mu_pa"]),
-    ({"model": "yeoh", "c10_pa": -1e6}, ["ball.layers[0].material.c10_pa = -1000000.0", "(0, inf]"]),
+    ({"model": "yeoh", "c10_pa": -1e6}, ["ball.layers[0].material.c10_pa = -1e+06", "(0, inf)"]),
 ])
 def test_cli_refuses_bad_rubber_constants(material, fragments, tmp_path, bad_input):
     path = tmp_path / "rubber.json"

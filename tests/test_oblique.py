@@ -348,7 +348,7 @@ def test_large_run_warns_before_compiling(monkeypatch):
 
     def refuse(*args):
         raise RuntimeError("compiled")
-    monkeypatch.setattr(oblique_solver, "_compiled", refuse)
+    monkeypatch.setattr(oblique_solver, "compiled_run", refuse)
     with pytest.warns(InputWarning, match="^large run: about .* element updates"), \
             pytest.raises(RuntimeError, match="compiled"):
         simulate_oblique(_ball(), ImpactCondition(5.0), COARSE)

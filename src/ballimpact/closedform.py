@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from .records import check_positive
+from .checks import check_positive
 
 #: Hertz's force exponent
 HERTZ_EXPONENT = 1.5

@@ -36,7 +36,8 @@ import numpy as np
 
 from .errors import InputError, InputWarning
 from .plausibility import check_allow, check_momentum, check_polarity, select_pulse
-from .records import ContactWindow, ImpactRecord, check_positive, contact_window
+from .checks import check_positive
+from .records import ContactWindow, ImpactRecord, contact_window
 
 FEATURE_NAMES: dict[str, str] = {
     "P1": "contact_time_s",

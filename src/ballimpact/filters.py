@@ -16,7 +16,8 @@ from numpy.lib.stride_tricks import sliding_window_view
 from numpy.polynomial import Polynomial
 
 from .errors import InputError, InputWarning
-from .records import ImpactRecord, check_positive, contact_window, sample_rate_hz
+from .checks import check_positive
+from .records import ImpactRecord, contact_window, sample_rate_hz
 
 #: SAE J211-1 design frequency of the 2-pole Butterworth stage, as a multiple of the CFC number.
 #: Run forwards and backwards, the 4-pole phaseless filter is -3 dB at about 1.65 x CFC (Hz).

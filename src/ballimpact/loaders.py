@@ -32,7 +32,8 @@ import numpy as np
 
 from .errors import InputError
 from .fileio import is_number, read_table
-from .records import ImpactRecord, check_positive
+from .checks import check_positive
+from .records import ImpactRecord
 
 #: CSV column name -> (record field, factor to SI).
 CSV_COLUMNS: dict[str, tuple[str, float]] = {

@@ -16,7 +16,8 @@ from .plausibility import (
     noisy_window_note,
     select_pulse,
 )
-from .records import ImpactRecord, check_positive, remove_baseline, resample
+from .checks import check_positive
+from .records import ImpactRecord, remove_baseline, resample
 
 
 @dataclass(frozen=True)

@@ -56,7 +56,7 @@ def plot_impact(
                 title=f"force-displacement: energy lost {features.energy_lost_j:.3g} J, "
                       f"COR {features.values['P17']:.3f}")
     ax_loop.grid(alpha=0.3)
-    return _save(figure, path, title)
+    return save_and_close(figure, path, title)
 
 
 def plot_fit(result, path: str | Path, *, title: str | None = None) -> Path:
@@ -79,7 +79,7 @@ def plot_fit(result, path: str | Path, *, title: str | None = None) -> Path:
                    title=f"convergence ({result.method.upper()}, seed {result.seed})")
     ax_history.legend(fontsize=8)
     ax_history.grid(alpha=0.3, which="both")
-    return _save(figure, path, title)
+    return save_and_close(figure, path, title)
 
 
 def plot_speed_fits(results, path: str | Path, *, title: str | None = None) -> Path:
@@ -93,7 +93,7 @@ def plot_speed_fits(results, path: str | Path, *, title: str | None = None) -> P
            title=title or f"{results[0].model} fitted at {len(results)} speeds")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
-    return _save(figure, path, None)
+    return save_and_close(figure, path, None)
 
 
 def _plot_fit_curves(ax, result, color: str, label: str | None = None) -> None:
@@ -104,7 +104,7 @@ def _plot_fit_curves(ax, result, color: str, label: str | None = None) -> None:
             label=label or f"{result.model} fit")
 
 
-def _save(figure, path: Path, title: str | None) -> Path:
+def save_and_close(figure, path: Path, title: str | None) -> Path:
     if title:
         figure.suptitle(title)
     figure.savefig(path, dpi=120)
@@ -144,4 +144,4 @@ def plot_fe(results, path: str | Path, *, title: str | None = None) -> Path:
     axes[0].set(xlabel="time (ms)", ylabel="contact force (kN)", title="contact force")
     axes[0].legend(fontsize=8)
     axes[0].grid(alpha=0.3)
-    return _save(figure, Path(path), title)
+    return save_and_close(figure, Path(path), title)

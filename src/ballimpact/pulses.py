@@ -12,7 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
-from .records import ImpactRecord, check_positive
+from .checks import check_positive
+from .records import ImpactRecord
 
 
 def sample_times(duration_s: float, rate_hz: float, pre_s: float, post_s: float, phase: float):

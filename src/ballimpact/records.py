@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from .checks import check_positive
 from .errors import InputError
 
 #: Relative spread of the time step above which a record counts as non-uniformly sampled.
@@ -93,18 +94,6 @@ class ImpactRecord:
 
     def with_metadata(self, **entries: Any) -> ImpactRecord:
         return self.replace(metadata={**self.metadata, **entries})
-
-
-def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
-    """`value` as a finite float > 0 (or >= 0), else `InputError` naming `name`."""
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a number, got {value!r}") from None
-    if not np.isfinite(number) or number < 0 or (number == 0 and not allow_zero):
-        allowed = ">= 0" if allow_zero else "> 0"
-        raise InputError(f"{name}: must be finite and {allowed}, got {number!r}")
-    return number
 
 
 def _as_series(name: str, value: Any) -> np.ndarray:

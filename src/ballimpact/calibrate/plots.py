@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..plotting import _save, plt
+from ..plotting import save_and_close, plt
 
 _LABELS = {"nrmse": "force NRMSE (%)", "cor": "|COR error| (x100)",
            "contact_time": "|contact time error| (%)", "peak_force": "|peak force error| (%)",
@@ -29,7 +29,7 @@ def plot_pareto(result, chosen: int | None, path: str | Path, title: str | None 
         if chosen is not None:
             ax.plot(result.generation[chosen], f[chosen, 0], "o", color="C3", label="chosen")
         ax.set(xlabel="generation", ylabel=_LABELS[names[0]])
-        return _save(figure, Path(path), title)
+        return save_and_close(figure, Path(path), title)
     pairs = [(0, 1)] if m == 2 else [(i, j) for j in range(m) for i in range(m) if i < j]
     figure, axes = plt.subplots(1, len(pairs), figsize=(4.6 * len(pairs), 4.2),
                                 constrained_layout=True, squeeze=False)
@@ -43,7 +43,7 @@ def plot_pareto(result, chosen: int | None, path: str | Path, title: str | None 
         ax.set(xlabel=_LABELS[names[i]], ylabel=_LABELS[names[j]],
                xscale=_scale(f[ok, i]), yscale=_scale(f[ok, j]))
     axes[0][0].legend(fontsize=8)
-    return _save(figure, Path(path), title)
+    return save_and_close(figure, Path(path), title)
 
 
 def _scale(values: np.ndarray) -> str:
@@ -63,7 +63,7 @@ def plot_convergence(result, path: str | Path, title: str | None = None) -> Path
     ax_best.legend(fontsize=8)
     ax_hv.plot(c["generation"], c["hypervolume"], "o-")
     ax_hv.set(xlabel="generation", ylabel="hypervolume of the normalised front")
-    return _save(figure, Path(path), title)
+    return save_and_close(figure, Path(path), title)
 
 
 def plot_pulses(tests, runs, path: str | Path, title: str | None = None) -> Path:
@@ -91,4 +91,4 @@ def plot_pulses(tests, runs, path: str | Path, title: str | None = None) -> Path
         ax.set(xlabel="time from contact (ms)", ylabel="force (kN)",
                title=f"{test.impact_speed_m_s:.3g} m/s, test COR {test.features.values['P17']:.3f}")
         ax.legend(fontsize=8)
-    return _save(figure, Path(path), title)
+    return save_and_close(figure, Path(path), title)

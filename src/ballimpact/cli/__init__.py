@@ -33,7 +33,7 @@ __all__ = ["SolverDefaults", "build_parser", "main"]
 #: one verb, and importing every verb's libraries took a second of a one-second `simulate`.
 VERBS = {"features": ("features", "run"), "fit": ("fit", "run_fit"),
          "models": ("fit", "run_models"), "simulate": ("simulate", "run_simulate"),
-         "balls": ("simulate", "run_balls"), "demo": ("simulate", "run_demo"),
+         "balls": ("balls", "run_balls"), "demo": ("demo", "run_demo"),
          "universal": ("universal", "run"), "identify": ("identify", "run"),
          "calibrate": ("calibrate", "run"), "export": ("export", "run_export"),
          "import-material": ("export", "run_import"), "video": ("video", "run"),

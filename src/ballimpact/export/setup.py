@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..fe.ball import BallModel
 from ..fe.kernel import hertz_contact_time_s
-from ..oblique.options import _check_range
+from ..checks import check_range
 
 
 @dataclass(frozen=True)
@@ -24,11 +24,11 @@ class ImpactSetup:
     step_time_s: float | None = None
 
     def __post_init__(self) -> None:
-        _check_range("speed_m_s", self.speed_m_s, 0.0, 1000.0, low_open=True)
-        _check_range("angle_deg", self.angle_deg, 0.0, 89.0)
-        _check_range("friction", self.friction, 0.0, 10.0)
+        check_range("speed_m_s", self.speed_m_s, 0.0, 1000.0, low_open=True)
+        check_range("angle_deg", self.angle_deg, 0.0, 89.0)
+        check_range("friction", self.friction, 0.0, 10.0)
         if self.step_time_s is not None:
-            _check_range("step_time_s", self.step_time_s, 0.0, 1.0, low_open=True)
+            check_range("step_time_s", self.step_time_s, 0.0, 1.0, low_open=True)
 
     def velocity_m_s(self, dimension: int) -> tuple[float, ...]:
         """Initial velocity of the ball: tangential along +x, toward the plane along -y (2D) or

@@ -41,8 +41,8 @@ import numpy as np
 from ..errors import InputError, InputWarning
 from ..plausibility import check_allow, check_ball
 from .materials import MODULI, Material, material_from_dict
-from .materials.base import _check_keys, _number
-from .options import shown
+from ..checks import check_keys, spec_number
+from ..checks import shown
 
 _BALL_KEYS = {"name", "layers"}
 _LAYER_KEYS = {"name", "outer_radius_m", "density_kg_m3", "material"}
@@ -105,15 +105,15 @@ class Layer:
     @classmethod
     def from_dict(cls, d: Any, where: str = "layer", previous_radius_m: float = 0.0,
                   default_name: str = "layer") -> Layer:
-        _check_keys(d, _LAYER_KEYS | _DERIVED_LAYER_KEYS, where)
+        check_keys(d, _LAYER_KEYS | _DERIVED_LAYER_KEYS, where)
         name = d.get("name", default_name)
         if not isinstance(name, str) or not name.strip():
             raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
-        radius = _number(d, "outer_radius_m", where, 0.0, low_open=True)
+        radius = spec_number(d, "outer_radius_m", where, 0.0, low_open=True)
         if radius <= previous_radius_m:
             raise InputError(f"{where}.outer_radius_m = {radius:g}: must be greater than the "
                              f"previous layer's {previous_radius_m:g}")
-        density = _number(d, "density_kg_m3", where, 0.0, low_open=True)
+        density = spec_number(d, "density_kg_m3", where, 0.0, low_open=True)
         if "material" not in d:
             raise InputError(f"{where}: missing key 'material'")
         material = material_from_dict(d["material"], where=f"{where}.material")
@@ -209,7 +209,7 @@ class BallModel:
         """A ball from its specification; every error names the key's path from `where`.
         Besides `name` and `layers`: `description` and `source` (kept), and the figures that
         `ballimpact balls --json` adds (checked against the ball, see docs/balls.md)."""
-        _check_keys(d, _BALL_KEYS | _TEXT_KEYS | _DERIVED_BALL_KEYS, where)
+        check_keys(d, _BALL_KEYS | _TEXT_KEYS | _DERIVED_BALL_KEYS, where)
         name = d.get("name", default_name)
         if not isinstance(name, str) or not name.strip():
             raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
@@ -370,20 +370,20 @@ def _speed_table_ball(data: dict, name: str, impact_speed_m_s: float | None) -> 
     {"name": ..., "speed_table": {"outer_radius_m", "density_kg_m3", "moduli", "rows": [{speed_m_s,
     c10_pa, c01_pa, g1, tau1_s}, ...]}}, interpolated at the impact speed as `cricket-universal`.
     `description` and `source` are kept; the figures `balls --json` adds are checked."""
-    _check_keys(data, {"name", "speed_table"} | _TEXT_KEYS | _DERIVED_TABLE_BALL_KEYS, name)
+    check_keys(data, {"name", "speed_table"} | _TEXT_KEYS | _DERIVED_TABLE_BALL_KEYS, name)
     description, source = _text(data, "description", name), _text(data, "source", name)
     table = data["speed_table"]
     where = f"{name}.speed_table"
-    _check_keys(table, _SPEED_TABLE_KEYS, where)
+    check_keys(table, _SPEED_TABLE_KEYS, where)
     for key in ("outer_radius_m", "density_kg_m3"):
-        _number(table, key, where, 0.0, low_open=True)
+        spec_number(table, key, where, 0.0, low_open=True)
     rows = table.get("rows")
     if not isinstance(rows, list) or not rows:
         raise InputError(f"{where}.rows: expected a non-empty list of rows")
     for i, row in enumerate(rows):  # each row's constants are checked again as a material
-        _check_keys(row, {"speed_m_s", *_TABLE_KEYS}, f"{where}.rows[{i}]")
+        check_keys(row, {"speed_m_s", *_TABLE_KEYS}, f"{where}.rows[{i}]")
         for key in ("speed_m_s", *_TABLE_KEYS):
-            _number(row, key, f"{where}.rows[{i}]")
+            spec_number(row, key, f"{where}.rows[{i}]")
         _speed(row["speed_m_s"], f"{where}.rows[{i}].speed_m_s")
     rows = sorted(rows, key=lambda r: r["speed_m_s"])
     radius, density = table["outer_radius_m"], table["density_kg_m3"]

@@ -38,7 +38,8 @@ import numpy as np
 from ..errors import InputError, InputWarning, SimulationError
 from .kernel import Kernel, ball_arrays, cast
 from .materials.stability import drucker_warnings
-from .options import SolverOptions, shown
+from ..checks import shown
+from .options import SolverOptions
 
 __all__ = ["CompressionResult", "compress", "check_compression_input"]
 

@@ -3,28 +3,14 @@
 from __future__ import annotations
 
 import math
-import numbers
 import warnings
 from dataclasses import dataclass
 
+from ..checks import check_range, shown
 from ..errors import InputError, InputWarning
 
 INTEGRATIONS = ("reduced", "full")
 PRECISIONS = ("float64", "float32")
-
-
-def shown(value) -> str:
-    """`value` for an error message: numbers (NumPy scalars included) as plain numbers (`:g`),
-    sequences and arrays element by element, anything else by its repr. Never `np.float64(...)`."""
-    if hasattr(value, "tolist"):
-        value = value.tolist()  # NumPy (and JAX) arrays and scalars -> Python numbers and lists
-    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
-        return str(int(value))
-    if isinstance(value, numbers.Real) and not isinstance(value, bool):
-        return f"{float(value):g}"
-    if isinstance(value, (list, tuple)):
-        return f"[{', '.join(shown(v) for v in value)}]"
-    return repr(value)
 
 
 @dataclass(frozen=True)
@@ -59,22 +45,14 @@ class SolverOptions:
     mesh_radii_m: tuple[float, ...] = ()  # extra node circles (e.g. to mesh like another ball)
 
     def __post_init__(self) -> None:
-        # (value, upper bound, zero allowed)
-        checks = {"element_size_m": (self.element_size_m, math.inf, False),
-                  "hourglass_scale": (self.hourglass_scale, 1.0, False),
-                  "bulk_viscosity_linear": (self.bulk_viscosity_linear, 10.0, True),
-                  "bulk_viscosity_quadratic": (self.bulk_viscosity_quadratic, 10.0, True),
-                  "penalty_scale": (self.penalty_scale, 100.0, False),
-                  "contact_damping": (self.contact_damping, 1.0, True),
-                  "time_step_scale": (self.time_step_scale, 2.0, False),
-                  "energy_error_limit": (self.energy_error_limit, 1.0, False),
-                  "end_margin": (self.end_margin, 10.0, True)}
-        for name, (value, high, zero_ok) in checks.items():
-            low_ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
-                      and (value >= 0 if zero_ok else value > 0))
-            if not (low_ok and value <= high):
-                raise InputError(f"{name} = {shown(value)}: allowed range "
-                                 f"{'[' if zero_ok else '('}0, {high:g}]")
+        # (upper bound, zero allowed)
+        checks = {"element_size_m": (math.inf, False), "hourglass_scale": (1.0, False),
+                  "bulk_viscosity_linear": (10.0, True), "bulk_viscosity_quadratic": (10.0, True),
+                  "penalty_scale": (100.0, False), "contact_damping": (1.0, True),
+                  "time_step_scale": (2.0, False), "energy_error_limit": (1.0, False),
+                  "end_margin": (10.0, True)}
+        for name, (high, zero_ok) in checks.items():
+            check_range(name, getattr(self, name), 0.0, high, low_open=not zero_ok)
         for name, value, allowed in (("integration", self.integration, INTEGRATIONS),
                                      ("precision", self.precision, PRECISIONS)):
             if value not in allowed:

@@ -39,7 +39,8 @@ from .kernel import (
 )
 from .mesh import estimate_mesh, layered_sphere_mesh
 from .materials.stability import drucker_warnings
-from .options import SolverOptions, shown
+from ..checks import shown
+from .options import SolverOptions
 from .progress import RunEstimate
 from .programs import compiled_run
 

@@ -10,23 +10,11 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
+from ..checks import shown
 from ..errors import InputError
-
-
-def shown(value: Any) -> str:
-    """`value` for a message: NumPy scalars and arrays as plain numbers (NumPy 2 would print
-    `np.float64(3.0)`), tuples and lists element by element, anything else as its repr."""
-    if isinstance(value, (np.generic, np.ndarray)):
-        value = value.tolist()
-    if isinstance(value, (tuple, list)):
-        inner = ", ".join(shown(item) for item in value)
-        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) \
-            else f"[{inner}]"
-    return repr(value)
 
 
 @dataclass(frozen=True)
@@ -151,15 +139,3 @@ class LumpedModel(ABC):
         """Runs for parameter vectors (B, P) in `parameter_names` order, from first contact on a
         grid of `steps` steps of `step_s` seconds (a model with its own fixed step may ignore
         both)."""
-
-
-def check_range(name: str, value: float, low: float, high: float | None = None, *,
-                strict: bool = False) -> None:
-    """InputError naming `params.<name>` unless low <= value (<= high); low < value if `strict`."""
-    below = value <= low if strict else value < low
-    if below or (high is not None and value > high):
-        opening = "(" if strict else "["
-        allowed = (f"{'>' if strict else '>='} {low:g}" if high is None
-                   else f"in {opening}{low:g}, {high:g}]")
-        raise InputError(f"params.{name}: must be {allowed}, got {shown(value)}")
-

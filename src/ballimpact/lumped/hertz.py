@@ -8,8 +8,9 @@ from __future__ import annotations
 import jax.numpy as jnp
 import numpy as np
 
+from ..checks import check_range
 from ..closedform import HERTZ_EXPONENT as EXPONENT, hertz_stiffness
-from .base import Parameter, check_range
+from .base import Parameter
 from .engine import OdeModel
 from .single_element import force as single_element_force
 
@@ -32,9 +33,9 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("youngs_modulus_pa", params["youngs_modulus_pa"], 0.0, strict=True)
-    check_range("poissons_ratio", params["poissons_ratio"], -1.0, 0.5, strict=True)
-    check_range("radius_m", params["radius_m"], 0.0, strict=True)
+    check_range("params.youngs_modulus_pa", params["youngs_modulus_pa"], 0.0, low_open=True)
+    check_range("params.poissons_ratio", params["poissons_ratio"], -1.0, 0.5, low_open=True)
+    check_range("params.radius_m", params["radius_m"], 0.0, low_open=True)
 
 
 MODEL = OdeModel(

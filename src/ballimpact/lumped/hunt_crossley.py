@@ -7,9 +7,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
+from ..checks import check_positive, check_range, shown
 from ..errors import InputError
-from ..records import check_positive
-from .base import Parameter, check_range, shown
+from .base import Parameter
 from .engine import OdeModel, signed_power
 from .single_element import split
 
@@ -28,9 +28,9 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0, strict=True)
-    check_range("n", params["n"], 0.5, 5.0)
-    check_range("lambda", params["lambda"], 0.0)
+    check_range("params.k", params["k"], 0.0, low_open=True)
+    check_range("params.n", params["n"], 0.5, 5.0)
+    check_range("params.lambda", params["lambda"], 0.0)
 
 
 MODEL = OdeModel(

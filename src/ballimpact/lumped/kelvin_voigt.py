@@ -13,9 +13,9 @@ import jax.numpy as jnp
 import numpy as np
 from scipy.optimize import brentq
 
+from ..checks import check_positive, check_range
 from ..errors import InputError
-from ..records import check_positive
-from .base import Parameter, check_range
+from .base import Parameter
 from .engine import OdeModel
 from .single_element import force as single_element_force
 
@@ -34,8 +34,8 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0, strict=True)
-    check_range("c", params["c"], 0.0)
+    check_range("params.k", params["k"], 0.0, low_open=True)
+    check_range("params.c", params["c"], 0.0)
 
 
 MODEL = OdeModel(

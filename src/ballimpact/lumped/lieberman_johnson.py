@@ -6,7 +6,8 @@ first contact. Contact force k1 x1^alpha + k2 x3^beta."""
 
 from __future__ import annotations
 
-from .base import Parameter, check_range
+from ..checks import check_range
+from .base import Parameter
 from .engine import OdeModel, signed_power
 from .single_element import split
 
@@ -33,10 +34,10 @@ def bounds(scale):
 
 def validate(params):
     for name in ("k1", "k2"):
-        check_range(name, params[name], 0.0, strict=True)
+        check_range(f"params.{name}", params[name], 0.0, low_open=True)
     for name in ("alpha", "beta"):
-        check_range(name, params[name], 0.5, 5.0)
-    check_range("c", params["c"], 0.0, strict=True)
+        check_range(f"params.{name}", params[name], 0.5, 5.0)
+    check_range("params.c", params["c"], 0.0, low_open=True)
 
 
 MODEL = OdeModel(

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
-from .base import Parameter, check_range
+from ..checks import check_range
+from .base import Parameter
 from .engine import OdeModel
 from .hunt_crossley import force as hunt_crossley_force
 from .single_element import split
@@ -24,8 +25,8 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0, strict=True)
-    check_range("alpha", params["alpha"], 0.0)
+    check_range("params.k", params["k"], 0.0, low_open=True)
+    check_range("params.alpha", params["alpha"], 0.0)
 
 
 MODEL = OdeModel(

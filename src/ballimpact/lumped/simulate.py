@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..checks import check_positive, shown
 from ..errors import InputError, SimulationError
-from ..records import ImpactRecord, check_positive
-from .base import BatchResult, LumpedModel, shown
+from ..records import ImpactRecord
+from .base import BatchResult, LumpedModel
 from .registry import get_model
 
 #: integration steps per contact time in `simulate`

@@ -5,7 +5,8 @@ m y'' = -(k y^alpha + c y'). The closed form of its undamped limit, F = k y^a, i
 from __future__ import annotations
 
 import jax.numpy as jnp
-from .base import Parameter, check_range
+from ..checks import check_range
+from .base import Parameter
 from .engine import OdeModel, signed_power
 
 STIFFNESS = Parameter("k", "N/m^alpha", "spring stiffness, F = k y^alpha", "stiffness", "alpha")
@@ -31,9 +32,9 @@ def bounds(scale):
 
 
 def validate(params):
-    check_range("k", params["k"], 0.0, strict=True)
-    check_range("alpha", params["alpha"], 0.5, 5.0)
-    check_range("c", params["c"], 0.0)
+    check_range("params.k", params["k"], 0.0, low_open=True)
+    check_range("params.alpha", params["alpha"], 0.5, 5.0)
+    check_range("params.c", params["c"], 0.0)
 
 
 MODEL = OdeModel(

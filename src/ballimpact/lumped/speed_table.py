@@ -12,10 +12,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..checks import check_positive, shown
 from ..errors import InputError
 from ..pipeline import ProcessedImpact
-from ..records import ImpactRecord, check_positive
-from .base import shown
+from ..records import ImpactRecord
 from .fit import FitResult, fit
 from .registry import get_model
 from .simulate import simulate

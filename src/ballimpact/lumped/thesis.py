@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import BatchResult, LumpedModel, Parameter, check_range
+from ..checks import check_range
+from .base import BatchResult, LumpedModel, Parameter
 from .three_element import UNITS
 from .three_element import MODEL as THREE_ELEMENT
 
@@ -87,11 +88,11 @@ class _ThesisModel(LumpedModel):
         full = self.full(params)
         for name, value in full.items():
             if name.startswith("c"):
-                check_range(name, value, 0.0)
+                check_range(f"params.{name}", value, 0.0)
             elif name.startswith("alpha"):
-                check_range(name, value, 0.5, 5.0)
+                check_range(f"params.{name}", value, 0.5, 5.0)
             else:  # stiffnesses and unit masses
-                check_range(name, value, 0.0, strict=True)
+                check_range(f"params.{name}", value, 0.0, low_open=True)
 
     def ball_mass_kg(self, params, mass_kg):
         if self._units == 1:

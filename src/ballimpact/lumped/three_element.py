@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import jax.numpy as jnp
 
+from ..checks import check_range
 from ..errors import InputError
-from .base import Parameter, check_range
+from .base import Parameter
 from .engine import OdeModel
 from .single_element import force
 
@@ -45,9 +46,9 @@ def bounds(scale):
 
 def validate(params):
     for i in range(1, UNITS + 1):
-        check_range(f"k{i}", params[f"k{i}"], 0.0, strict=True)
-        check_range(f"alpha{i}", params[f"alpha{i}"], 0.5, 5.0)
-        check_range(f"c{i}", params[f"c{i}"], 0.0)
+        check_range(f"params.k{i}", params[f"k{i}"], 0.0, low_open=True)
+        check_range(f"params.alpha{i}", params[f"alpha{i}"], 0.5, 5.0)
+        check_range(f"params.c{i}", params[f"c{i}"], 0.0)
         if not params[f"m{i}"] > 0:
             raise InputError(f"params.m{i}: unit masses must be > 0 kg, got {params[f'm{i}']!r}")
 

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
+from ..checks import allowed_range, shown
 from ..errors import InputError, InputWarning
 from ..identifiability import identification_notes, standard_errors
 from .data import RATIO_SLACK
@@ -283,8 +284,8 @@ def _check_range(a: np.ndarray, name: str, low: float, high: float, low_open: bo
     bad = np.flatnonzero((a <= low if low_open else a < low) | (a > high))
     if bad.size:
         i = bad[0]
-        lo = "(" if low_open else "["
-        raise InputError(f"{name}[{i}] = {a[i]:g}: allowed range {lo}{low:g}, {high:g}]{hint}")
+        raise InputError(f"{name}[{i}] = {shown(a[i])}: allowed range "
+                         f"{allowed_range(low, high, low_open)}{hint}")
 
 
 def _check_terms(terms: Any, points: int, span_decades: float, what: str) -> int:

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ..fe.options import shown
+from ..checks import shown
 
 #: corner signs of the reference hexahedron, VTK order (bottom face, then top face)
 HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],

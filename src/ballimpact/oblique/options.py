@@ -2,23 +2,12 @@
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass
 
+from ..checks import check_range, shown
 from ..errors import InputError
-from ..fe.options import INTEGRATIONS, PRECISIONS, shown
+from ..fe.options import INTEGRATIONS, PRECISIONS
 from .mesh import GRADING_RANGE
-
-
-def _check_range(name: str, value, low: float, high: float, low_open: bool = False,
-                 high_open: bool = False) -> None:
-    ok = (isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
-          and (value > low if low_open else value >= low)
-          and (value < high if high_open else value <= high))
-    if not ok:
-        raise InputError(f"{name} = {shown(value)}: allowed range {'(' if low_open else '['}{low:g}, "
-                         f"{high:g}{')' if high_open else ']'}")
 
 
 @dataclass(frozen=True)
@@ -47,11 +36,11 @@ class ImpactCondition:
     spin_z_rad_s: float = 0.0
 
     def __post_init__(self) -> None:
-        _check_range("speed_m_s", self.speed_m_s, 0.0, 1e3, low_open=True)
-        _check_range("angle_deg", self.angle_deg, 0.0, 89.0)
+        check_range("speed_m_s", self.speed_m_s, 0.0, 1e3, low_open=True)
+        check_range("angle_deg", self.angle_deg, 0.0, 89.0)
         for name in ("spin_rad_s", "spin_x_rad_s", "spin_z_rad_s"):
-            _check_range(name, getattr(self, name), -1e4, 1e4)
-        _check_range("friction", self.friction, 0.0, 10.0)
+            check_range(name, getattr(self, name), -1e4, 1e4)
+        check_range("friction", self.friction, 0.0, 10.0)
         for name in ("speed_m_s", "angle_deg", "spin_rad_s", "friction", "spin_x_rad_s",
                      "spin_z_rad_s"):  # plain floats: no np.float64(...) in reprs and messages
             object.__setattr__(self, name, float(getattr(self, name)))
@@ -114,27 +103,27 @@ class Options3D:
         if not (isinstance(self.divisions, int) and self.divisions >= 4
                 and self.divisions % 2 == 0 and self.divisions <= 64):
             raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
-        _check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
+        check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
         if self.contact_elements is not None:
-            _check_range("contact_elements", self.contact_elements, 0.5, 50.0)
-        _check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
-        _check_range("bulk_viscosity_linear", self.bulk_viscosity_linear, 0.0, 10.0)
-        _check_range("bulk_viscosity_quadratic", self.bulk_viscosity_quadratic, 0.0, 10.0)
-        _check_range("penalty_scale", self.penalty_scale, 0.0, 100.0, low_open=True)
-        _check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)
+            check_range("contact_elements", self.contact_elements, 0.5, 50.0)
+        check_range("hourglass_scale", self.hourglass_scale, 0.0, 1.0, low_open=True)
+        check_range("bulk_viscosity_linear", self.bulk_viscosity_linear, 0.0, 10.0)
+        check_range("bulk_viscosity_quadratic", self.bulk_viscosity_quadratic, 0.0, 10.0)
+        check_range("penalty_scale", self.penalty_scale, 0.0, 100.0, low_open=True)
+        check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)
         if self.slab_depth_growth is not None:
-            _check_range("slab_depth_growth", self.slab_depth_growth, 1.0, 2.0, low_open=True)
-        _check_range("contact_damping", self.contact_damping, 0.0, 1.0)
-        _check_range("time_step_scale", self.time_step_scale, 0.0, 1.0, low_open=True)
-        _check_range("energy_error_limit", self.energy_error_limit, 0.0, 1.0, low_open=True)
-        _check_range("end_margin", self.end_margin, 0.0, 10.0)
+            check_range("slab_depth_growth", self.slab_depth_growth, 1.0, 2.0, low_open=True)
+        check_range("contact_damping", self.contact_damping, 0.0, 1.0)
+        check_range("time_step_scale", self.time_step_scale, 0.0, 1.0, low_open=True)
+        check_range("energy_error_limit", self.energy_error_limit, 0.0, 1.0, low_open=True)
+        check_range("end_margin", self.end_margin, 0.0, 10.0)
         if self.integration not in INTEGRATIONS:
             raise InputError(f"integration = {self.integration!r}: allowed "
                              f"{', '.join(INTEGRATIONS)}")
         if self.precision not in PRECISIONS:
             raise InputError(f"precision = {self.precision!r}: allowed {', '.join(PRECISIONS)}")
         if self.time_limit_s is not None:
-            _check_range("time_limit_s", self.time_limit_s, 0.0, 10.0, low_open=True)
+            check_range("time_limit_s", self.time_limit_s, 0.0, 10.0, low_open=True)
         for name in ("chunk_steps", "frames"):
             value = getattr(self, name)
             if not (isinstance(value, int) and value >= (1 if name == "chunk_steps" else 0)):

@@ -16,7 +16,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..fe.materials import Material, material_from_dict
-from ..fe.materials.base import _check_keys, _number
+from ..checks import check_keys, spec_number
 
 
 @dataclass(frozen=True)
@@ -41,22 +41,22 @@ class Target:
 
     @classmethod
     def from_dict(cls, d: Any, where: str = "target") -> Target:
-        _check_keys(d, {"name", "half_width_m", "layers"}, where)
+        check_keys(d, {"name", "half_width_m", "layers"}, where)
         name = d.get("name", "target")
-        width = _number(d, "half_width_m", where, 0.0, 10.0, low_open=True)
+        width = spec_number(d, "half_width_m", where, 0.0, 10.0, low_open=True)
         raw = d.get("layers")
         if not isinstance(raw, list) or not raw:
             raise InputError(f"{where}.layers: expected a non-empty list of layers")
         layers = []
         for i, layer in enumerate(raw):
             w = f"{where}.layers[{i}]"
-            _check_keys(layer, {"name", "thickness_m", "density_kg_m3", "material"}, w)
+            check_keys(layer, {"name", "thickness_m", "density_kg_m3", "material"}, w)
             if "material" not in layer:
                 raise InputError(f"{w}: missing key 'material'")
             layers.append(TargetLayer(
                 name=str(layer.get("name", f"layer{i}")),
-                thickness_m=_number(layer, "thickness_m", w, 0.0, 10.0, low_open=True),
-                density_kg_m3=_number(layer, "density_kg_m3", w, 0.0, 1e5, low_open=True),
+                thickness_m=spec_number(layer, "thickness_m", w, 0.0, 10.0, low_open=True),
+                density_kg_m3=spec_number(layer, "density_kg_m3", w, 0.0, 1e5, low_open=True),
                 material=material_from_dict(layer["material"], f"{w}.material")))
         return cls(name=str(name), half_width_m=width, layers=tuple(layers))
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 
-from ..plotting import _save, plt
+from ..plotting import save_and_close, plt
 from ..comparison import features_pulse
 from .model import TARGETS
 
@@ -33,7 +33,7 @@ def plot_held_out(model, path: str | Path) -> Path:
         ax.set_ylabel("identified")
         ax.set_title(f"{name}: coverage {inside.mean():.0%}")
     axes[0].legend(fontsize=7)
-    return _save(figure, Path(path),
+    return save_and_close(figure, Path(path),
                  f"universal model: {len(held['truth'])} held-out runs (never seen in training)")
 
 
@@ -52,7 +52,7 @@ def plot_identification(results, path: str | Path) -> Path:
     ax.set_ylabel("force (kN)")
     ax.set_xlim(left=-0.02)
     ax.legend(fontsize=8)
-    return _save(figure, Path(path), "identify: test and identified universal FE ball")
+    return save_and_close(figure, Path(path), "identify: test and identified universal FE ball")
 
 
 def plot_layered(name: str, layered, universal, verification: dict, path: str | Path) -> Path:
@@ -66,6 +66,6 @@ def plot_layered(name: str, layered, universal, verification: dict, path: str | 
     ax.set_ylabel("force (kN)")
     ax.set_title(f"force NRMSE {verification['force_nrmse']:.1%}", fontsize=9)
     ax.legend(fontsize=8)
-    return _save(figure, Path(path), f"{name} reproduced by a universal ball")
+    return save_and_close(figure, Path(path), f"{name} reproduced by a universal ball")
 
 

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_range
 from ..errors import InputError
 from ..features import dynamic_stiffness
 from ..standards import SIXTY_MPH_M_S
@@ -96,13 +97,6 @@ def _surrogate(model, mu0, g1, speed_m_s: float, reference: BallSize):
     out = model.simulate(rows)["features"]
     peak = out[:, FEATURES.index("P6")]
     return out[:, FEATURES.index("P17")], dynamic_stiffness(peak, reference.mass_kg, speed_m_s)
-
-
-def _check_target(name: str, value: Any, low: float, high: float, unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
-            or not math.isfinite(value) or not low < value < high:
-        raise InputError(f"{name} = {value!r}: expected a number in ({low:g}, {high:g}){unit}")
-    return float(value)
 
 
 def solve_on_surrogate(model, size: BallSize, cor: float, ds_n_m: float,
@@ -195,9 +189,9 @@ def constants_for(model, size: BallSize, cor: float, ds_n_m: float,
 
     if not isinstance(size, BallSize):
         raise InputError(f"size: expected a BallSize(radius_m, mass_kg), got {type(size).__name__}")
-    cor = _check_target("cor", cor, 0.0, 1.0, "")
-    ds_n_m = _check_target("ds_n_m", ds_n_m, 0.0, math.inf, " N/m")
-    speed_m_s = _check_target("speed_m_s", speed_m_s, 0.0, math.inf, " m/s")
+    cor = check_range("cor", cor, 0.0, 1.0, low_open=True, high_open=True)
+    ds_n_m = check_range("ds_n_m", ds_n_m, 0.0, low_open=True, unit="N/m")
+    speed_m_s = check_range("speed_m_s", speed_m_s, 0.0, low_open=True, unit="m/s")
     if not (isinstance(max_corrections, int) and max_corrections >= 0):
         raise InputError(f"max_corrections = {max_corrections!r}: expected an integer >= 0")
     check_speed(model, speed_m_s)

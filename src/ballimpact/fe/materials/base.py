@@ -8,7 +8,6 @@ Stresses are second Piola-Kirchhoff, S = 2 dW/dC, from the energy by automatic d
 
 from __future__ import annotations
 
-import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -18,9 +17,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ...checks import check_keys, spec_number
 from ...errors import InputError
 from ..fastmath import cube_root
-from ..options import shown
 
 MODULI = ("long_term", "instantaneous")
 INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0 (instantaneous), as ABAQUS/Explicit (nu 0.475)
@@ -35,30 +34,6 @@ class PronyTerm:
     tau_s: float
 
 
-def _number(d: dict, key: str, where: str, low: float = -math.inf, high: float = math.inf,
-            low_open: bool = False, high_open: bool = False) -> float:
-    if key not in d:
-        raise InputError(f"{where}: missing key '{key}'")
-    value = d[key]
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}.{key}: expected a finite number, got {shown(value)}")
-    too_low = value <= low if low_open else value < low
-    too_high = value >= high if high_open else value > high
-    if too_low or too_high:
-        lo = "(" if low_open else "["
-        hi = ")" if high_open else "]"
-        raise InputError(f"{where}.{key} = {value}: allowed range {lo}{low:g}, {high:g}{hi}")
-    return float(value)
-
-
-def _check_keys(d: Any, allowed: set[str], where: str) -> None:
-    if not isinstance(d, dict):
-        raise InputError(f"{where}: expected an object, got {type(d).__name__}")
-    unknown = sorted(set(d) - allowed)
-    if unknown:
-        raise InputError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(sorted(allowed))})")
-
-
 def _prony_from(d: dict, where: str) -> tuple[PronyTerm, ...]:
     terms = d.get("prony", [])
     if not isinstance(terms, list):
@@ -66,10 +41,10 @@ def _prony_from(d: dict, where: str) -> tuple[PronyTerm, ...]:
     out = []
     for i, t in enumerate(terms):
         w = f"{where}.prony[{i}]"
-        _check_keys(t, {"g", "k", "tau_s"}, w)
-        out.append(PronyTerm(g=_number(t, "g", w, 0.0, 1.0, high_open=True),
-                             k=_number({"k": 0.0, **t}, "k", w, 0.0, 1.0, high_open=True),
-                             tau_s=_number(t, "tau_s", w, 0.0, low_open=True)))
+        check_keys(t, {"g", "k", "tau_s"}, w)
+        out.append(PronyTerm(g=spec_number(t, "g", w, 0.0, 1.0, high_open=True),
+                             k=spec_number({"k": 0.0, **t}, "k", w, 0.0, 1.0, high_open=True),
+                             tau_s=spec_number(t, "tau_s", w, 0.0, low_open=True)))
     if sum(t.g for t in out) >= 1.0:
         raise InputError(f"{where}.prony: sum of g must be < 1, got {sum(t.g for t in out):g}")
     if sum(t.k for t in out) >= 1.0:
@@ -163,7 +138,7 @@ class Material(ABC):
     # ---- specification ---------------------------------------------------------------------
     @classmethod
     def from_dict(cls, d: dict, where: str = "material") -> Material:
-        _check_keys(d, {"model", *cls.keys, "prony", "moduli"}, where)
+        check_keys(d, {"model", *cls.keys, "prony", "moduli"}, where)
         moduli = d.get("moduli", "long_term")
         if moduli not in MODULI:
             raise InputError(f"{where}.moduli = {moduli!r}: allowed {', '.join(MODULI)}")

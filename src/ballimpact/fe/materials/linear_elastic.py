@@ -9,7 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .base import Material, Sym, _number
+from ...checks import spec_number
+from .base import Material, Sym
 
 
 @dataclass(frozen=True)
@@ -38,8 +39,8 @@ class LinearElastic(Material):
 
     @classmethod
     def _from_keys(cls, d, where, **common):
-        return cls(youngs_modulus_pa=_number(d, "youngs_modulus_pa", where, 0.0, low_open=True),
-                   poissons_ratio=_number(d, "poissons_ratio", where, -1.0, 0.5, True, True),
+        return cls(youngs_modulus_pa=spec_number(d, "youngs_modulus_pa", where, 0.0, low_open=True),
+                   poissons_ratio=spec_number(d, "poissons_ratio", where, -1.0, 0.5, True, True),
                    **common)
 
     def _keys_dict(self):

@@ -5,7 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from .base import Material, _number, bulk_from_d1, isochoric_invariants
+from ...checks import spec_number
+from .base import Material, bulk_from_d1, isochoric_invariants
 
 
 @dataclass(frozen=True)
@@ -31,8 +32,8 @@ class NeoHookean(Material):
 
     @classmethod
     def _from_keys(cls, d, where, **common):
-        return cls(c10_pa=_number(d, "c10_pa", where, 0.0, low_open=True),
-                   d1_per_pa=_number({"d1_per_pa": 0.0, **d}, "d1_per_pa", where, 0.0), **common)
+        return cls(c10_pa=spec_number(d, "c10_pa", where, 0.0, low_open=True),
+                   d1_per_pa=spec_number({"d1_per_pa": 0.0, **d}, "d1_per_pa", where, 0.0), **common)
 
     def _keys_dict(self):
         return {"c10_pa": self.c10_pa, "d1_per_pa": self.d1_per_pa}

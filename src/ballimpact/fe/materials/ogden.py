@@ -25,7 +25,8 @@ import numpy as np
 
 from ...errors import InputError
 from ..fastmath import cube_root
-from .base import Material, Sym, _check_keys, _number, bulk_from_d1
+from ...checks import check_keys, spec_number
+from .base import Material, Sym, bulk_from_d1
 from .ogden_hyperfoam import principal_power_sum
 
 MAX_TERMS = 6  # as ABAQUS's N
@@ -90,14 +91,14 @@ class Ogden(Material):
         terms = []
         for i, t in enumerate(raw):
             w = f"{where}.terms[{i}]"
-            _check_keys(t, {"mu_pa", "alpha"}, w)
-            mu = _number(t, "mu_pa", w)
-            alpha = _number(t, "alpha", w)
+            check_keys(t, {"mu_pa", "alpha"}, w)
+            mu = spec_number(t, "mu_pa", w)
+            alpha = spec_number(t, "alpha", w)
             if alpha == 0.0:
                 raise InputError(f"{w}.alpha: must not be 0")
             terms.append(OgdenTerm(mu_pa=mu, alpha=alpha))
         return cls(terms=tuple(terms),
-                   d1_per_pa=_number({"d1_per_pa": 0.0, **d}, "d1_per_pa", where, 0.0), **common)
+                   d1_per_pa=spec_number({"d1_per_pa": 0.0, **d}, "d1_per_pa", where, 0.0), **common)
 
     def _keys_dict(self):
         return {"terms": [{"mu_pa": t.mu_pa, "alpha": t.alpha} for t in self.terms],

@@ -23,7 +23,8 @@ import numpy as np
 
 from ...errors import InputError
 from ..fastmath import power
-from .base import Material, _check_keys, _number
+from ...checks import check_keys, spec_number
+from .base import Material
 from .spectral import trace_power
 
 _SERIES_BELOW = 1e-3  # (gap / mean)^2 below which the 4-term series is exact to ~1e-12
@@ -107,18 +108,18 @@ class OgdenHyperfoam(Material):
         terms = []
         for i, t in enumerate(raw):
             w = f"{where}.terms[{i}]"
-            _check_keys(t, {"mu_pa", "alpha", "nu", "beta"}, w)
-            mu = _number(t, "mu_pa", w)
-            alpha = _number(t, "alpha", w)
+            check_keys(t, {"mu_pa", "alpha", "nu", "beta"}, w)
+            mu = spec_number(t, "mu_pa", w)
+            alpha = spec_number(t, "alpha", w)
             if alpha == 0.0 or mu * alpha <= 0.0:
                 raise InputError(f"{w}: need alpha != 0 and mu_pa * alpha > 0")
             if ("nu" in t) == ("beta" in t):
                 raise InputError(f"{w}: give exactly one of 'nu' or 'beta'")
             if "nu" in t:
-                nu = _number(t, "nu", w, -1.0, 0.5, True, True)
+                nu = spec_number(t, "nu", w, -1.0, 0.5, True, True)
                 beta = nu / (1.0 - 2.0 * nu)
             else:
-                beta = _number(t, "beta", w, -1.0 / 3.0, low_open=True)
+                beta = spec_number(t, "beta", w, -1.0 / 3.0, low_open=True)
             terms.append(HyperfoamTerm(mu_pa=mu, alpha=alpha, beta=beta))
         return cls(terms=tuple(terms), **common)
 

@@ -58,7 +58,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ...errors import InputError
-from ..options import shown
+from ...checks import shown
 from .base import Material, Sym
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean

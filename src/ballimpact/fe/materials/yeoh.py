@@ -12,7 +12,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...errors import InputError
-from .base import Material, _number, bulk_from_d1, isochoric_invariants
+from ...checks import spec_number
+from .base import Material, bulk_from_d1, isochoric_invariants
 
 
 @dataclass(frozen=True)
@@ -52,9 +53,9 @@ class Yeoh(Material):
     @classmethod
     def _from_keys(cls, d, where, **common):
         d0 = {"c20_pa": 0.0, "c30_pa": 0.0, "d1_per_pa": 0.0, **d}
-        return cls(c10_pa=_number(d, "c10_pa", where, 0.0, low_open=True),
-                   c20_pa=_number(d0, "c20_pa", where), c30_pa=_number(d0, "c30_pa", where),
-                   d1_per_pa=_number(d0, "d1_per_pa", where, 0.0), **common)
+        return cls(c10_pa=spec_number(d, "c10_pa", where, 0.0, low_open=True),
+                   c20_pa=spec_number(d0, "c20_pa", where), c30_pa=spec_number(d0, "c30_pa", where),
+                   d1_per_pa=spec_number(d0, "d1_per_pa", where, 0.0), **common)
 
     def _keys_dict(self):
         return {"c10_pa": self.c10_pa, "c20_pa": self.c20_pa, "c30_pa": self.c30_pa,
