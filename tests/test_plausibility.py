@@ -298,7 +298,7 @@ def test_side_file_errors_name_the_side_file(capsys, tmp_path):
     path = write_csv(tmp_path / "kv.csv", record.time_s, record.force_n,
                      side={**SCALARS, "impact_speed_m_s": -10})
     code, out, err = run(capsys, "features", path)
-    one_error_line(code, out, err, f"{path.with_suffix('.json')}: impact_speed_m_s: must be")
+    one_error_line(code, out, err, f"{path.with_suffix('.json')}: impact_speed_m_s = -10: allowed range")
 
 
 # --------------------------------------------------------------------------- other input slips

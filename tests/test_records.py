@@ -16,7 +16,7 @@ from ballimpact.pulses import half_sine
         (dict(force_n=[0.0, 1.0, 0.0]), r"force_n: has 3 samples, time_s has 4"),
         (dict(mass_kg=0.0), r"mass_kg = 0: allowed range \(0, inf\)"),
         (dict(mass_kg=-0.16), r"mass_kg = -0.16: allowed range \(0, inf\)"),
-        (dict(impact_speed_m_s=float("inf")), r"impact_speed_m_s = inf: allowed range \(0, inf\)"),
+        (dict(impact_speed_m_s=float("inf")), r"impact_speed_m_s = inf: expected a finite number in \(0, inf\)"),
         (dict(rebound_speed_m_s=-1.0), r"rebound_speed_m_s = -1: allowed range \[0, inf\)"),
     ],
 )

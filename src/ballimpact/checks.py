@@ -1,6 +1,8 @@
 """How a bad number is refused, everywhere: one message shape,
-"NAME = VALUE: allowed range [LOW, HIGH] UNIT" (an open end in parentheses), with the value shown
-as the user would write it (`shown`)."""
+"NAME = VALUE: allowed range [LOW, HIGH] UNIT" (an open end in parentheses; "NAME = VALUE:
+expected a finite number in ..." for text, NaN or infinity), with the value shown as the user
+would write it (`shown`), and the checks of specification objects (`check_keys`,
+`spec_number`)."""
 
 from __future__ import annotations
 
@@ -36,14 +38,17 @@ def allowed_range(low: float, high: float, low_open: bool = False, high_open: bo
 def check_range(name: str, value: Any, low: float = -math.inf, high: float = math.inf, *,
                 low_open: bool = False, high_open: bool = False, unit: str = "") -> float:
     """`value` as a float when it is a finite real number (not a bool) in the range, else
-    `InputError` "name = value: allowed range [low, high] unit"."""
-    ok = (isinstance(value, numbers.Real) and not isinstance(value, bool)
-          and math.isfinite(value)
-          and (value > low if low_open else value >= low)
-          and (value < high if high_open else value <= high))
-    if not ok:
-        raise InputError(f"{name} = {shown(value)}: allowed range "
-                         f"{allowed_range(low, high, low_open, high_open, unit)}")
+    `InputError` "name = value: allowed range [low, high] unit" ("expected a finite number (in
+    [low, high] unit)" for what is not one)."""
+    allowed = allowed_range(low, high, low_open, high_open, unit)
+    if not (isinstance(value, numbers.Real) and not isinstance(value, bool)
+            and math.isfinite(value)):
+        bounded = low > -math.inf or high < math.inf
+        raise InputError(f"{name} = {shown(value)}: expected a finite number"
+                         + (f" in {allowed}" if bounded else ""))
+    if not ((value > low if low_open else value >= low)
+            and (value < high if high_open else value <= high)):
+        raise InputError(f"{name} = {shown(value)}: allowed range {allowed}")
     return float(value)
 
 
