@@ -122,6 +122,18 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     return geom, order
 
 
+def materialized(tree, index: jnp.ndarray):
+    """`tree` (arrays (..., n_el)) computed once into memory: each array gathered by `index`,
+    arange(n_el) given at run time (`element_index` of the run's parameters). XLA's CPU compiler
+    drops `optimization_barrier` before it fuses, and then copied the deformation gradient and
+    hourglass modes into each of the 24 corner forces that read them (measured: the thesis' case
+    stepped twice as slowly); a gather by an index it cannot see is a boundary it keeps. The
+    gather is exact: the values are the same bits. `index` None: `tree` as it is."""
+    if index is None:
+        return tree
+    return jax.tree_util.tree_map(lambda x: jnp.take(x, index, axis=-1, mode="clip"), tree)
+
+
 def corners(geom: HexGeometry, nodal: jnp.ndarray) -> tuple:
     """Nodal vectors (3, n_nodes) at the element corners: u[c][a], each (n_el,)."""
     return tuple(tuple(nodal[c, geom.elements[:, a]] for a in range(8)) for c in range(3))
@@ -183,13 +195,13 @@ def first_piola(F, S, cof, pressure) -> tuple:
                        + pressure * cof[i][j] for j in range(3)) for i in range(3))
 
 
-def corner_forces(geom: HexGeometry, P, F, u_e, hourglass_n_m):
+def corner_forces(geom: HexGeometry, P, F, u_e, hourglass_n_m, index=None):
     """Corner forces f[c][a] (n_el,) of the stress P and the hourglass springs, and the hourglass
     energy (J, per element).
 
     With gamma_a = h_a - m_d b_ad (m = h . X), the hourglass displacement is
     q = sum_a h_a u_a - m_d (F - I)_d and its force sum_m k q_m gamma_ma: the stored geometry is
-    m (12 numbers an element) instead of gamma (32), and h is +-1."""
+    m (12 numbers an element) instead of gamma (32), and h is +-1. `index`: see `materialized`."""
     b, moment, V = geom.grad_n, geom.hourglass_moment_m, geom.volume_m3
     signs = _MODES
     q = [[sum(float(signs[m, a]) * u_e[i][a] for a in range(8))
@@ -198,10 +210,10 @@ def corner_forces(geom: HexGeometry, P, F, u_e, hourglass_n_m):
     kq = [[hourglass_n_m * q[i][m] for m in range(4)] for i in range(3)]
     energy = 0.5 * sum(kq[i][m] * q[i][m] for i in range(3) for m in range(4))
     # stress and hourglass moments combined per (i, d); computed once into memory (fused into
-    # each of the 24 corner forces they would be recomputed)
+    # each of the 24 corner forces they would be recomputed: `materialized`)
     T = [[P[i][d] * V - sum(kq[i][m] * moment[m, d] for m in range(4)) for d in range(3)]
          for i in range(3)]
-    T, kq = jax.lax.optimization_barrier((T, kq))
+    T, kq = materialized((T, kq), index)
     forces = tuple(tuple(T[i][0] * b[a, 0] + T[i][1] * b[a, 1] + T[i][2] * b[a, 2]
                          + sum(float(signs[m, a]) * kq[i][m] for m in range(4))
                          for a in range(8)) for i in range(3))

@@ -33,7 +33,7 @@ import numpy as np
 from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses
 from ..fe.materials import Sym, energy_and_stress
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
-                   determinant, fbar, first_piola, gather_nodal, right_cauchy_green)
+                   determinant, fbar, first_piola, gather_nodal, materialized, right_cauchy_green)
 
 HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force_y_n",
            "centre_x_m", "centre_z_m", "centre_velocity_x_m_s", "centre_velocity_y_m_s",
@@ -88,11 +88,12 @@ class Kernel(ChunkedSteps):
         stored and hourglass energies (J), the bulk-viscous stress (Pa) and bounds on C's
         eigenvalues (per element)."""
         g = self.geom
-        # corner values (and F) computed once into memory (XLA would recompute them in every
-        # consumer it fuses them into)
-        u_e = jax.lax.optimization_barrier(corners(g, u))
+        # F computed once into memory (`hexa.materialized`; XLA would recompute it in every
+        # consumer it fuses it into). The corner values are gathers, which XLA keeps as they are.
+        index = params["element_index"]
+        u_e = corners(g, u)
         if self.reduced:
-            F = jax.lax.optimization_barrier(deformation_gradient(g, u_e))
+            F = materialized(deformation_gradient(g, u_e), index)
             J = determinant(F, cofactor(F))
         else:
             F, pull, J = jax.vjp(lambda ue: fbar(g, ue), u_e, has_aux=True)
@@ -105,14 +106,14 @@ class Kernel(ChunkedSteps):
         if self.reduced:
             stored = density * g.volume_m3
             P = first_piola(F, S, cofactor(F), sigma_bv)
-            f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"])
+            f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"], index)
         else:
             weight = g.point_volume_m3
             stored = jnp.sum(density * weight, axis=0)
             P = first_piola(F, S, cofactor(F), sigma_bv[None])
             (f_e,) = pull(tuple(tuple(p * weight for p in row) for row in P))
             e_hg = self.zeros(g.n_elements)
-        f = gather_nodal(g, jax.lax.optimization_barrier(f_e))
+        f = gather_nodal(g, f_e)
         Cd = jax.lax.stop_gradient(C)
         # Gershgorin bounds on C's eigenvalues: the stretch range, a diagnostic
         n_el = g.n_elements
@@ -275,10 +276,14 @@ class Kernel(ChunkedSteps):
         k_t = params["stick_n_m"]
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
+        # per node, the components summed one by one: XLA's CPU compiler makes a reduction over
+        # the 3 components a pass of its own (a fifth of the step), the written sum fuses
+        def dot3(a, b):
+            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
         kinetic, dw_int, dw_contact = jnp.sum(jnp.stack([
-            0.5 * mass * jnp.sum(v * v, axis=0),
-            jnp.sum(0.5 * (state["f_int"] + f_int) * du, axis=0),
-            jnp.sum(0.5 * (state["f_contact"] + f_contact) * du, axis=0)]), axis=1)
+            0.5 * mass * dot3(v, v), 0.5 * dot3(state["f_int"] + f_int, du),
+            0.5 * dot3(state["f_contact"] + f_contact, du)]), axis=1)
         dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted, f_slipping = jnp.sum(jnp.stack([
             0.5 * jnp.sum((state["f_tangential"] + forces[:2]) * du_t, axis=0),
             0.5 * k_t * jnp.sum(stick * stick, axis=0), normal, forces[0], forces[1],

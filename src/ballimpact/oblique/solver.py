@@ -252,7 +252,9 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
             "energy_error_limit": float(options.energy_error_limit),
             "increment_factor": increment_factor(options.time_step_scale,
                                                  options.bulk_viscosity_linear),
-            "groups": [layer.material.constants() for layer in layers]}
+            "groups": [layer.material.constants() for layer in layers],
+            # arange(n_el) as data: `hexa.materialized`'s fusion boundary
+            "element_index": np.arange(geom.n_elements, dtype=np.int32)}
 
 
 def _contact_spring_factors(ball, target, kernel: Kernel, mass: np.ndarray,
