@@ -4,7 +4,8 @@ The thesis' oblique case (section 5.2.4: the universal ball at 37 m/s, 34 degree
 the thesis gives none): 34 degrees to the surface (the thesis' figure 2-1 measures incidence from
 the horizontal, so 56 degrees from the normal) in float64 and float32 arithmetic, each run twice
 (the first compiles, the second reuses the compiled program), and 34 degrees from the normal
-(float32, compiled), on a half model of about 20k hexahedra (24 divisions). Reference measured in
+(float32, compiled), on a half model of about 20k hexahedra (24 divisions), with the time JAX spent
+tracing, lowering and compiling in each run. Reference measured in
 the same run: the axisymmetric solver's normal impact of the same ball at the same normal speed
 (default mesh, compiled; the best of 3), and the ratio of the two engines' element updates per
 second (issue 28: within 3 times).
@@ -22,6 +23,7 @@ import platform
 import time
 
 import jax
+import jax.monitoring
 
 from ballimpact.fe import load_ball, simulate
 from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
@@ -29,7 +31,19 @@ from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
 SPEED_M_S, FRICTION = 37.0, 0.3
 
 
+#: JAX's compile events (s), summed over the process: tracing, lowering, XLA compilation
+COMPILE_EVENTS = {"/jax/core/compile/jaxpr_trace_duration": 0.0,
+                  "/jax/core/compile/jaxpr_to_mlir_module_duration": 0.0,
+                  "/jax/core/compile/backend_compile_duration": 0.0}
+
+
+def _count_compile(event: str, seconds: float, **kwargs) -> None:
+    if event in COMPILE_EVENTS:
+        COMPILE_EVENTS[event] += seconds
+
+
 def main() -> None:
+    jax.monitoring.register_event_duration_secs_listener(_count_compile)
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--divisions", type=int, default=24)
     args = parser.parse_args()
@@ -39,12 +53,15 @@ def main() -> None:
                              (56.0, "float32"), (34.0, "float32")):
         condition = ImpactCondition(SPEED_M_S, angle, 0.0, FRICTION)
         options = Options3D(divisions=args.divisions, precision=precision)
+        compiling = sum(COMPILE_EVENTS.values())
         started = time.perf_counter()
         r = simulate_oblique(ball, condition, options)
         wall = time.perf_counter() - started
+        compiling = sum(COMPILE_EVENTS.values()) - compiling
         compiled = any(r["precision"] == precision for r in runs)
         runs.append({"angle_from_normal_deg": angle, "precision": precision,
                      "includes_compilation": not compiled, "wall_time_s": wall,
+                     "tracing_lowering_compiling_s": compiling,
                      "per_step_ms": wall / r.steps * 1e3, "steps": r.steps,
                      "element_updates_per_s": r.elements * r.steps / wall,
                      "elements": r.elements, "normal_cor": r.normal_cor,
