@@ -47,7 +47,7 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
     top = mass[np.asarray(kernel.target["top"])]
     every_pair = dict(params, contact_spring_factor=np.full(
         len(s), 1.0 + np.max(mass[s]) / np.min(top)))
-    chunk, init = compiled_run(kernel, options.chunk_steps, False)
+    _, init = compiled_run(kernel, options.chunk_steps, False)
     out = []
     with jax.enable_x64(True):
         for p in (params, every_pair):
@@ -55,8 +55,7 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
             state = init(p, *(jnp.asarray(x, kernel.dtype) for x in (
                 condition.speed_m_s, math.radians(condition.angle_deg),
                 np.asarray(condition.spin_vector_rad_s))))
-            # the first chunk estimates the increment (`fe.kernel.ChunkedSteps.chunk`)
-            out.append(float(chunk(p, state)[0]["dt0"]))
+            out.append(float(state["dt"]))
     return out[0], out[1]
 
 

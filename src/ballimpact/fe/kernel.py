@@ -96,27 +96,19 @@ class ChunkedSteps:
     components first) and `contact_springs(params, v)` (its contact springs' K v)."""
 
     def chunk(self, params, state, n_steps: int):
-        """`n_steps` steps, after estimating the stable increment at the current state: before
-        the first chunk (`initial_state` leaves the increment 0) by `LANCZOS_STEPS` Lanczos steps
-        from the fixed start vector, before the others by `REFRESH_LANCZOS_STEPS` from the last
-        top Ritz vector. One compiled program holds both: the internal forces' derivative, the
-        costliest part to compile, is compiled once."""
-        first = state["dt0"] == 0.0
-        omega2, x_top = self.max_frequency_squared(
-            params, state["u"], state["x_top"], LANCZOS_STEPS,
-            active=jnp.where(first, LANCZOS_STEPS, REFRESH_LANCZOS_STEPS))
-        factor = params["increment_factor"]
-        start = factor / jnp.sqrt(omega2)
-        dt = jnp.where(first, start, shrunk_increment(state["dt"], state["dt0"], omega2, factor))
-        state = dict(state, dt=dt, dt0=jnp.where(first, start, state["dt0"]), x_top=x_top)
+        """`n_steps` steps, after re-estimating the stable increment at the current state."""
+        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
+                                                   REFRESH_LANCZOS_STEPS)
+        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
+        state = dict(state, dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
 
-    def max_frequency_squared(self, params, u, start, steps: int, active=None):
+    def max_frequency_squared(self, params, u, start, steps: int):
         """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
         (components first), with the instantaneous moduli and every contact spring active, by
-        `steps` Lanczos steps (`active` of them when given, traced) from `start` (flat; None: a
-        fixed vector, `lanczos_start`), and the top Ritz vector."""
+        `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
+        vector."""
         elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
                        bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
         mats = self.initial_materials(params)
@@ -136,13 +128,9 @@ class ChunkedSteps:
             return ((kv + self.contact_springs(params, v)) * scale * mask).reshape(-1)
 
         if start is None:
-            start = self.lanczos_start()
-        value, residual, vector = lanczos_largest(apply, start, steps, active)
+            start = alternating_start(mask, self.dtype)
+        value, residual, vector = lanczos_largest(apply, start, steps)
         return value + residual, vector
-
-    def lanczos_start(self):
-        """The fixed start vector of the first increment estimate (flat)."""
-        return alternating_start(self.frequency_mask(), self.dtype)
 
 
 def material_stresses(slices, energies, constants, C, mats, dt):
@@ -240,9 +228,10 @@ class Kernel(ChunkedSteps):
         zeros = self.zeros((2, n))
         inf = jnp.array(jnp.inf, self.dtype)
         scalar = partial(jnp.array, dtype=self.dtype)
-        # the increment is estimated by the first chunk (`ChunkedSteps.chunk`)
+        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
+        dt = params["increment_factor"] / jnp.sqrt(omega2)
         return {"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
-                "dt": scalar(0.0), "dt0": scalar(0.0), "x_top": self.lanczos_start(),
+                "dt": dt, "dt0": dt, "x_top": x_top,
                 "f_e": self.zero_corner_forces(), "f_contact": self.zeros(n), "mat": self.initial_materials(params),
                 "j0": jnp.ones(self.geom.n_elements, self.dtype),
                 "sigma_bv": self.zeros(self.geom.n_elements),

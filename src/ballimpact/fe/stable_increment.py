@@ -22,12 +22,10 @@ import jax
 import jax.numpy as jnp
 
 
-def lanczos_largest(apply, x0: jax.Array, steps: int,
-                    active=None) -> tuple[jax.Array, jax.Array, jax.Array]:
+def lanczos_largest(apply, x0: jax.Array, steps: int) -> tuple[jax.Array, jax.Array, jax.Array]:
     """Largest Ritz value of the symmetric operator `apply` after `steps` Lanczos steps (full
     reorthogonalisation) from the start vector x0 (flat), its residual bound and its Ritz vector
-    (a good start vector for the next estimate). `active` (traced, <= steps): only so many steps
-    are taken, in arrays sized for `steps` (one program for a first estimate and for refreshes)."""
+    (a good start vector for the next estimate)."""
     n = x0.shape[0]
     basis = jnp.zeros((steps, n), x0.dtype)
     alpha = jnp.zeros(steps, x0.dtype)
@@ -46,15 +44,10 @@ def lanczos_largest(apply, x0: jax.Array, steps: int,
 
     v0 = x0 / jnp.linalg.norm(x0)
     carry = (basis, alpha, beta, v0, jnp.zeros_like(v0), jnp.zeros((), x0.dtype))
-    count = steps if active is None else active
-    basis, alpha, beta, *_ = jax.lax.fori_loop(0, count, body, carry)
-    last = steps - 1 if active is None else active - 1
-    # the steps not taken leave zero rows: T is then block diagonal, T_active and zeros, once the
-    # coupling of the last step taken (its beta, the residual's) is left out
-    off = beta[:-1] if active is None else jnp.where(jnp.arange(steps - 1) < last, beta[:-1], 0.0)
-    tridiagonal = jnp.diag(alpha) + jnp.diag(off, 1) + jnp.diag(off, -1)
+    basis, alpha, beta, *_ = jax.lax.fori_loop(0, steps, body, carry)
+    tridiagonal = jnp.diag(alpha) + jnp.diag(beta[:-1], 1) + jnp.diag(beta[:-1], -1)
     values, vectors = jnp.linalg.eigh(tridiagonal)
-    return values[-1], jnp.abs(beta[last] * vectors[last, -1]), basis.T @ vectors[:, -1]
+    return values[-1], jnp.abs(beta[-1] * vectors[-1, -1]), basis.T @ vectors[:, -1]
 
 
 #: the increment shrinks in steps of 2^(-1/INCREMENT_LEVELS) below its start value

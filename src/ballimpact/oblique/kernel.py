@@ -30,7 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.kernel import ChunkedSteps, material_stresses
+from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses
 from ..fe.materials import Sym, energy_and_stress
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
                    determinant, fbar, first_piola, gather_nodal, materialized, right_cauchy_green)
@@ -219,11 +219,11 @@ class Kernel(ChunkedSteps):
         zeros = self.zeros((3, n))
         scalar = partial(jnp.array, dtype=self.dtype)
         inf = scalar(jnp.inf)
+        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
+        dt = params["increment_factor"] / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
-        # the increment is estimated by the first chunk (`ChunkedSteps.chunk`)
-        return {"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": scalar(0.0),
-                "dt0": scalar(0.0), "x_top": self.lanczos_start(), "f_int": zeros,
-                "f_contact": zeros,
+        return {"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
+                "x_top": x_top, "f_int": zeros, "f_contact": zeros,
                 "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
                 "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
                 "sigma_bv": self.zeros(n_el),
