@@ -147,6 +147,7 @@ def test_inverted_element_is_a_clear_error():
 
 @pytest.mark.parametrize("options, key", [
     (dict(element_size_m=-1.0), "element_size_m"),
+    (dict(element_size_m=float("inf")), r"element_size_m = inf: expected a finite number"),
     (dict(time_step_scale=2.5), "time_step_scale"),
     (dict(penalty_scale=0.0), "penalty_scale"),
     (dict(bulk_viscosity_linear=-0.1), "bulk_viscosity_linear"),

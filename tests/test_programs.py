@@ -131,3 +131,20 @@ def test_an_fe_run_from_a_kept_program_is_the_plain_run_bit_for_bit(folder, monk
         assert run.steps == plain.steps
         for name, values in plain.history.items():
             np.testing.assert_array_equal(run.history[name], values, err_msg=name)
+
+
+def test_materialized_values_are_the_same_bits():
+    """`oblique.hexa.materialized` (F and the hourglass terms computed once into memory by a
+    gather with a run-time index) changes no value: jitted with and without it, bit for bit."""
+    from ballimpact.oblique.hexa import materialized
+
+    x = jnp.asarray(np.random.default_rng(5).normal(size=(3, 257)))
+
+    def chain(x, index):
+        y = materialized(x * x - 1.5 * x, index)
+        return sum(y[i] * y[(i + 1) % 3] for i in range(3))
+
+    index = jnp.arange(257, dtype=jnp.int32)
+    with_it = jax.jit(chain)(x, index)
+    without = jax.jit(lambda x: chain(x, None))(x)
+    np.testing.assert_array_equal(with_it, without)

@@ -43,6 +43,12 @@ HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force
            "tangential_work_j", "stick_energy_j", "slipping_load_fraction")
 
 
+def dot3(a, b):
+    """Per node, a . b of two (3, n) arrays, the components summed one by one: XLA's CPU compiler
+    makes a reduction over the 3 components a pass of its own (a fifth of the step)."""
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
 @dataclass(frozen=True, eq=False)
 class Kernel(ChunkedSteps):
     """Static data of one mesh, model structure, contact kind and precision; traced by JAX."""
@@ -276,11 +282,6 @@ class Kernel(ChunkedSteps):
         k_t = params["stick_n_m"]
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
-        # per node, the components summed one by one: XLA's CPU compiler makes a reduction over
-        # the 3 components a pass of its own (a fifth of the step), the written sum fuses
-        def dot3(a, b):
-            return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
         kinetic, dw_int, dw_contact = jnp.sum(jnp.stack([
             0.5 * mass * dot3(v, v), 0.5 * dot3(state["f_int"] + f_int, du),
             0.5 * dot3(state["f_contact"] + f_contact, du)]), axis=1)
