@@ -262,6 +262,7 @@ def run(folder, *flags):
     (["--runs", "-5"], ["--runs -5"]),
     (["--workers", "0"], ["--workers 0", ">= 1"]),
     (["--batch-size", "0"], ["--batch-size 0"]),
+    (["--group-size", "0"], ["--group-size 0", ">= 1"]),
     (["--seed", "-1"], ["--seed -1", ">= 0"]),
     (["--range", "g1=0.5:0.2"], ["g1", "LOW < HIGH", "swapped"]),
     (["--range", "c10_pa=4e6:4e6"], ["c10_pa", "LOW < HIGH"]),
