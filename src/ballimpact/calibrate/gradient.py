@@ -36,7 +36,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from functools import cached_property, partial
+from functools import cached_property
 from typing import Any
 
 import jax
@@ -47,9 +47,13 @@ from jax.flatten_util import ravel_pytree
 from ..errors import InputError, InputWarning, SimulationError
 from ..identifiability import correlation_factor, identification_notes, standard_errors
 from ..comparison import max_shift_s
+from ..fe.driver import fixed_increment_run
+from ..fe.kernel import HISTORY
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
 CHUNK_STEPS = 100
+#: the history's columns the misfit reads: contact force (N), centre-of-mass velocity (m/s)
+COLUMNS = (HISTORY.index("contact_force_n"), HISTORY.index("centre_velocity_z_m_s"))
 #: the misfit's window, as a multiple of the test's contact time
 WINDOW = 1.25
 #: COR error counted like this fraction of force NRMSE (1: a COR error of 0.01 as 1% NRMSE)
@@ -137,7 +141,9 @@ class SmoothMisfit:
         def residuals(du, p0, jacobian):
             # du: the parameters' change (unit coordinates), then the pulses' time shift (s)
             params = unravel(p0 + jacobian @ du[:-1])
-            force, v_end = force_history(kernel, params, speed, dt, self.n_chunks)
+            force, v_cm = fixed_increment_run(kernel, params, [speed], dt, self.n_chunks,
+                                              CHUNK_STEPS, COLUMNS).T
+            v_end = v_cm[-1]
             out = []
             if use_force:
                 model = jnp.interp(times + du[-1], grid, jnp.concatenate([jnp.zeros(1), force]))
@@ -190,26 +196,6 @@ def central_differences(misfit: SmoothMisfit, u: np.ndarray, h: float = 1e-5) ->
         plus, minus = misfit.evaluate(u + e), misfit.evaluate(u - e)
         out.append((plus @ plus - minus @ minus) / (2 * h))
     return np.array(out)
-
-
-def force_history(kernel, params, speed, dt, n_chunks: int):
-    """Contact force (n_chunks x CHUNK_STEPS,) at t = (i + 1) dt and the final centre-of-mass
-    velocity (m/s, + away from the plane) of a run with a fixed increment; chunks checkpointed."""
-    state = kernel.initial_state(params, speed)
-    # the fixed increment replaces the stable-increment estimate (whose outputs go unused)
-    state = dict(state, dt=jnp.asarray(dt, kernel.dtype), dt0=jnp.asarray(dt, kernel.dtype),
-                 x_top=jnp.zeros_like(state["x_top"]))
-    step = partial(kernel.step, params, jnp.asarray(0.0, kernel.dtype))
-
-    @jax.checkpoint
-    def chunk(state, indices):
-        state, rows = jax.lax.scan(step, state, indices)
-        return state, rows[:, 1]
-
-    indices = jnp.arange(n_chunks * CHUNK_STEPS, dtype=kernel.dtype).reshape(n_chunks, -1)
-    state, force = jax.lax.scan(chunk, state, indices)
-    v_end = jnp.sum(params["mass_kg"] * state["v"][1]) / params["mass_total_kg"]
-    return force.reshape(-1), v_end
 
 
 def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:

@@ -21,10 +21,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
-from ..errors import InputError, InputWarning, SimulationError
+from ..errors import InputError, InputWarning
 from ..plausibility import FE_SPEED_RANGE_M_S, check_allow, check_fe_speed
 from ..records import ImpactRecord
 from .axisymmetric import geometry
@@ -32,7 +31,6 @@ from .kernel import (
     HISTORY,
     Kernel,
     ball_arrays,
-    cast,
     hertz_contact_radius_m,
     hertz_contact_time_s,
     time_limit_default,
@@ -42,7 +40,7 @@ from .materials.stability import drucker_warnings
 from ..checks import shown
 from .options import SolverOptions
 from .progress import RunEstimate
-from .programs import compiled_run
+from .driver import run_chunks
 
 __all__ = ["FE_SPEED_RANGE_M_S", "FEResult", "SolverOptions", "default_group_size",
            "estimate_run", "simulate", "simulate_batch"]
@@ -437,52 +435,15 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
     per_ball = [ball_arrays(b, geom, options) for b in balls]
     batched = len(balls) > 1
     params = _stack(per_ball) if batched else per_ball[0]
-    chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     limits = np.array([options.time_limit_s or time_limit_default(b, s)
                        for b, s in zip(balls, speeds)])
-    with jax.enable_x64(True), np.errstate(invalid="ignore"):
-        params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
-        state = init_fn(params, jnp.asarray(speeds if batched else speeds[0], kernel.dtype))
-        rows = []
-        failed: dict[int, str] = {}
-        while True:
-            state, chunk_rows = chunk_fn(params, state)
-            rows.append(np.asarray(chunk_rows, dtype=np.float64))
-            flags = {k: np.atleast_1d(np.asarray(state[k], dtype=np.float64))
-                     for k in ("t", "t_bad", "t_energy", "t_start", "t_separation")}
-            t = flags["t"]
-            t_start, t_sep = flags["t_start"], flags["t_separation"]
-            t_end = t_sep + options.end_margin * (t_sep - t_start)
-            done = np.isfinite(t_sep) & (t >= t_end)
-            # a failure counts only before the member's own end (members that are done keep
-            # stepping until the whole group is)
-            for i in range(len(balls)):
-                if i not in failed:
-                    reason = _failure(balls[i], flags["t_bad"][i], flags["t_energy"][i],
-                                      t_end[i] if done[i] else np.inf, options)
-                    if reason is not None:
-                        failed[i] = reason
-            if failed and on_failure == "raise":
-                raise SimulationError(failed[min(failed)])
-            if progress is not None:
-                progress(float(t.min()))
-            finished = done.copy()
-            finished[list(failed)] = True
-            if np.all(finished | (t >= limits)):
-                break
-        for i in np.flatnonzero(~finished):
-            failed[int(i)] = (f"ball {balls[i].name}: no separation within the time limit "
-                              f"{limits[i]:.4g} s")
-        if failed and on_failure == "raise":
-            raise SimulationError(failed[min(failed)])
-        final = {k: np.asarray(state[k], dtype=np.float64) for k in _FINAL}
+    run = run_chunks(kernel, params, [speeds], options, batched=batched, limits_s=limits,
+                     labels=[f"ball {b.name}" for b in balls], final_keys=_FINAL,
+                     refine="element size", progress=progress, on_failure=on_failure)
     wall = time.perf_counter() - start
-    history_all = np.concatenate(rows, axis=1 if batched else 0)
-    if not batched:
-        history_all = history_all[None]
-        final = {k: v[None] for k, v in final.items()}
+    failed, t_end = run.failed, run.t_end_s
     results = [FailedRun(ball.name, float(speed), failed[i]) if i in failed else
-               _result(ball, float(speed), history_all[i], {k: v[i] for k, v in final.items()},
+               _result(ball, float(speed), run.history[i], {k: v[i] for k, v in run.final.items()},
                        per_ball[i], t_end[i], kernel, options, wall / len(balls))
                for i, (ball, speed) in enumerate(zip(balls, speeds))]
     for result, ball in zip(results, balls):
@@ -495,22 +456,6 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
 
 
 _FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch_max")
-
-
-def _failure(ball, t_bad: float, t_energy: float, t_end: float, options) -> str | None:
-    """Why a run failed before `t_end`, or None."""
-    if t_bad < t_end and t_bad < t_energy:
-        return (
-            f"ball {ball.name}: inverted element or non-finite state at t = {t_bad:.4g} s "
-            "(try a smaller time_step_scale or element size)")
-    if t_energy < t_end:
-        return (
-            f"ball {ball.name}: energy balance error above energy_error_limit = "
-            f"{options.energy_error_limit:g} of the impact energy at t = {t_energy:.4g} s: the "
-            "run is unstable (an increment too large for the ball: time_step_scale = "
-            f"{options.time_step_scale:g}, 1 the stability limit; or elements crushed by a ball "
-            "too soft for the speed)")
-    return None
 
 
 def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:

@@ -20,13 +20,12 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
-from ..errors import InputError, InputWarning, SimulationError
-from ..fe.kernel import cast, hertz_contact_time_s, hertz_series_impact, time_limit_default
+from ..errors import InputError, InputWarning
+from ..fe.kernel import hertz_contact_time_s, hertz_series_impact, time_limit_default
 from ..fe.progress import RunEstimate
-from ..fe.programs import compiled_run
+from ..fe.driver import run_chunks
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
@@ -488,66 +487,34 @@ def simulate_oblique_batch(ball, conditions, options: Options3D = Options3D(), t
     per_run = [model_arrays(ball, target, kernel, options, c) for c in conditions]
     batched = len(conditions) > 1
     params = jax.tree_util.tree_map(lambda *xs: np.stack(xs), *per_run) if batched else per_run[0]
-    chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     speeds = np.array([c.speed_m_s for c in conditions])
     angles = np.radians([c.angle_deg for c in conditions])
     spins = np.array([c.spin_vector_rad_s for c in conditions])
-    normal = speeds * np.cos(angles)
     slack = 1.0 if target is None else 4.0
     limits = np.array([options.time_limit_s or slack * time_limit_default(ball, vn)
-                       for vn in normal])
+                       for vn in normal_speeds])
     frames: list = []
-    with jax.enable_x64(True), np.errstate(invalid="ignore"):
-        params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
-        args = [jnp.asarray(x if batched else x[0], kernel.dtype) for x in (speeds, angles, spins)]
-        state = init_fn(params, *args)
-        rows, n_chunks = [], 0
-        while True:
-            state, chunk_rows = chunk_fn(params, state)
-            n_chunks += 1
-            rows.append(np.asarray(chunk_rows, np.float64))
-            if options.frames and not batched and n_chunks % options.frames == 0:
-                frames.append(_frame(kernel, params, state))
-            flags = {k: np.atleast_1d(np.asarray(state[k], np.float64))
-                     for k in ("t", "t_bad", "t_energy", "t_start", "t_separation")}
-            t, t_sep = flags["t"], flags["t_separation"]
-            t_end = t_sep + options.end_margin * (t_sep - flags["t_start"])
-            done = np.isfinite(t_sep) & (t >= t_end)
-            for i in range(len(conditions)):
-                limit_end = t_end[i] if done[i] else np.inf
-                if flags["t_bad"][i] < limit_end and flags["t_bad"][i] <= flags["t_energy"][i]:
-                    raise SimulationError(
-                        f"ball {ball.name}, {conditions[i]}: inverted element or non-finite "
-                        f"state at t = {flags['t_bad'][i]:.4g} s (try a smaller "
-                        "time_step_scale or more divisions)")
-                if flags["t_energy"][i] < limit_end:
-                    raise SimulationError(
-                        f"ball {ball.name}, {conditions[i]}: energy balance error above "
-                        f"energy_error_limit = {options.energy_error_limit:g} at t = "
-                        f"{flags['t_energy'][i]:.4g} s: the run is unstable")
-            if progress is not None:
-                progress(float(t.min()))
-            if np.all(done):
-                break
-            if np.any(~done & (t >= limits)):
-                i = int(np.argmax(~done & (t >= limits)))
-                raise SimulationError(f"ball {ball.name}, {conditions[i]}: no separation within "
-                                      f"the time limit {limits[i]:.4g} s")
-        final = {k: np.atleast_1d(np.asarray(state[k], np.float64))
-                 for k in ("peak_force", "t_peak", "dt0", "dt", "stretch_min", "stretch_max",
-                           "ke0")}
+
+    def keep_frame(chunk: int, params, state) -> None:
+        if options.frames and not batched and chunk % options.frames == 0:
+            frames.append(_frame(kernel, params, state))
+
+    run = run_chunks(kernel, params, [speeds, angles, spins], options, batched=batched,
+                     limits_s=limits, labels=[f"ball {ball.name}, {c}" for c in conditions],
+                     final_keys=_FINAL, refine="more divisions", progress=progress,
+                     on_chunk=keep_frame)
     wall = time.perf_counter() - start
-    history = np.concatenate(rows, axis=1 if batched else 0)
-    if not batched:
-        history = history[None]
     out = []
     for i, c in enumerate(conditions):
         run_frames = frames if not batched else []
-        out.append(_result(ball, target, c, history[i], {k: v[i] if batched else v[0]
-                                                          for k, v in final.items()},
-                           per_run[i], t_end[i], kernel, mesh, half, wall / len(conditions),
-                           run_frames, options))
+        out.append(_result(ball, target, c, run.history[i],
+                           {k: v[i] for k, v in run.final.items()}, per_run[i], run.t_end_s[i],
+                           kernel, mesh, half, wall / len(conditions), run_frames, options))
     return out
+
+
+#: the state's values a result is made of
+_FINAL = ("peak_force", "t_peak", "dt0", "dt", "stretch_min", "stretch_max", "ke0")
 
 
 def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
