@@ -73,3 +73,52 @@ def test_fixed_increment_run_keeps_the_momentum_balance_and_differentiates(case,
     assert float(v_end) > 0.0
     assert float(slope) == pytest.approx(float(central), rel=0.01)
     assert float(slope) > 0.0
+
+
+# ---- one options class, one impact condition -----------------------------------------------
+SHARED = {"integration": "full", "hourglass_scale": 0.1, "bulk_viscosity_linear": 0.1,
+          "bulk_viscosity_quadratic": 1.0, "penalty_scale": 2.0, "contact_damping": 0.1,
+          "time_step_scale": 0.7, "energy_error_limit": 0.1, "precision": "float32",
+          "end_margin": 0.5, "time_limit_s": 0.01, "chunk_steps": 50}
+
+
+@pytest.mark.parametrize("name, value", [
+    ("hourglass_scale", 0.0), ("bulk_viscosity_linear", -0.1), ("penalty_scale", 101.0),
+    ("contact_damping", 1.5), ("time_step_scale", 2.5), ("energy_error_limit", 0.0),
+    ("end_margin", -1.0), ("time_limit_s", 11.0), ("chunk_steps", 0), ("chunk_steps", True),
+    ("precision", "float16"), ("integration", "selective")])
+def test_both_engines_refuse_a_shared_setting_with_one_message(name, value):
+    """The settings both engines share are one class (`ExplicitOptions`), checked one way: the
+    same bad value gets the same message from either engine's options."""
+    from ballimpact.errors import InputError
+    from ballimpact.fe.options import ExplicitOptions
+
+    messages = []
+    for options in (SolverOptions, Options3D):
+        assert issubclass(options, ExplicitOptions)
+        with pytest.raises(InputError) as error:
+            options(**{name: value})
+        messages.append(str(error.value))
+    assert messages[0] == messages[1] and messages[0].startswith(f"{name} = ")
+
+
+def test_shared_settings_reach_both_engines():
+    for options in (SolverOptions(**SHARED), Options3D(**SHARED)):
+        assert {k: getattr(options, k) for k in SHARED} == SHARED
+
+
+def test_the_axisymmetric_engine_takes_a_normal_impact_condition():
+    """`simulate` takes the 3D engine's `ImpactCondition`: a normal one runs as its speed does
+    (the same bits), an oblique or spinning one is refused, pointing to the 3D solver."""
+    from ballimpact.errors import InputError
+    from ballimpact.fe import simulate
+
+    options = SolverOptions(element_size_m=4e-3)
+    by_speed = simulate(BALL, SPEED_M_S, options)
+    by_condition = simulate(BALL, ImpactCondition(SPEED_M_S, friction=0.3), options)
+    np.testing.assert_array_equal(by_speed.history["contact_force_n"],
+                                  by_condition.history["contact_force_n"])
+    for condition in (ImpactCondition(SPEED_M_S, angle_deg=20.0),
+                      ImpactCondition(SPEED_M_S, spin_rad_s=100.0)):
+        with pytest.raises(InputError, match="normal impacts without spin.*simulate_oblique"):
+            simulate(BALL, condition, options)

@@ -10,9 +10,11 @@ from .ball import (
            universal_parameters,
 )
 from .compression import CompressionResult, compress
+from .options import ExplicitOptions, ImpactCondition
 from .progress import RunProgress
 from .solver import FailedRun, FEResult, SolverOptions, estimate_run, simulate, simulate_batch
 
-__all__ = ["PRESETS", "BallModel", "CompressionResult", "FailedRun", "FEResult", "Layer",
-           "RunProgress", "SolverOptions", "compress", "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
+__all__ = ["PRESETS", "BallModel", "CompressionResult", "ExplicitOptions", "FailedRun", "FEResult",
+           "ImpactCondition", "Layer", "RunProgress", "SolverOptions", "compress",
+           "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
            "universal_parameters"]

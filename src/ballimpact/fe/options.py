@@ -14,22 +14,75 @@ PRECISIONS = ("float64", "float32")
 
 
 @dataclass(frozen=True)
-class SolverOptions:
-    """Numerical settings (SI). Defaults follow ABAQUS/Explicit where it has one.
+class ImpactCondition:
+    """An impact on a flat surface, accepted by both engines (the axisymmetric one takes normal
+    impacts: angle 0, no spin; it models no friction).
+
+    - `speed_m_s`: speed of the ball's centre before impact (m/s).
+    - `angle_deg`: angle of the incoming velocity from the surface normal (0: normal impact).
+    - `spin_rad_s`: spin about the axis parallel to the surface and normal to the incoming
+      tangential velocity; positive is topspin, the sense of a ball rolling forward (its bottom
+      moving backward relative to its centre: a ball rolling at v_x has spin v_x / R).
+    - `friction`: Coulomb coefficient between ball and surface.
+    - `spin_x_rad_s`, `spin_z_rad_s`: out-of-plane spin, about the direction of the incoming
+      tangential velocity (x) and about the surface normal (z, upward), right-handed. Either
+      needs the full model (the half model's symmetry holds only without them).
+
+    Axes: x along the incoming tangential velocity, z the surface normal (up), y = z x x; the
+    in-plane spin `spin_rad_s` is about +y.
+    """
+
+    speed_m_s: float
+    angle_deg: float = 0.0
+    spin_rad_s: float = 0.0
+    friction: float = 0.0
+    spin_x_rad_s: float = 0.0
+    spin_z_rad_s: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_range("speed_m_s", self.speed_m_s, 0.0, 1e3, low_open=True)
+        check_range("angle_deg", self.angle_deg, 0.0, 89.0)
+        for name in ("spin_rad_s", "spin_x_rad_s", "spin_z_rad_s"):
+            check_range(name, getattr(self, name), -1e4, 1e4)
+        check_range("friction", self.friction, 0.0, 10.0)
+        for name in ("speed_m_s", "angle_deg", "spin_rad_s", "friction", "spin_x_rad_s",
+                     "spin_z_rad_s"):  # plain floats: no np.float64(...) in reprs and messages
+            object.__setattr__(self, name, float(getattr(self, name)))
+
+    @property
+    def symmetric(self) -> bool:
+        """Symmetric about the plane of incidence (a half model serves)."""
+        return self.spin_x_rad_s == 0.0 and self.spin_z_rad_s == 0.0
+
+    @property
+    def normal(self) -> bool:
+        """A normal impact without spin (what the axisymmetric engine runs)."""
+        return self.angle_deg == 0.0 and self.spin_vector_rad_s == (0.0, 0.0, 0.0)
+
+    @property
+    def spin_vector_rad_s(self) -> tuple[float, float, float]:
+        return (self.spin_x_rad_s, self.spin_rad_s, self.spin_z_rad_s)
+
+
+@dataclass(frozen=True)
+class ExplicitOptions:
+    """The settings both explicit engines share (SI), checked one way. Defaults follow
+    ABAQUS/Explicit where it has one.
 
     - `integration`: "reduced" (one point per element with stiffness hourglass control, as
-      CAX4R; the default) or "full" (2x2 points with F-bar).
+      CAX4R and C3D8R; the default) or "full" (2x2 or 2x2x2 points with F-bar).
     - `time_step_scale`: safety factor on the stable increment 2 / omega_max of the assembled
-      system (found by power iteration at the instantaneous moduli, contact springs included).
-      Above 1 the run is unstable in theory and is stopped by the energy check.
+      system (found by Lanczos at the instantaneous moduli, contact springs included). Above 1
+      the run is unstable in theory and is stopped by the energy check.
     - `energy_error_limit`: a run whose energy balance error exceeds this fraction of the initial
       kinetic energy stops with `SimulationError` (an unstable increment grows it exponentially).
     - `precision`: "float64" or "float32" arithmetic in the step.
+    - `end_margin`: simulated after separation, as a fraction of the contact time.
+    - `time_limit_s`: a run not separated by then fails (default: 6 times a Hertz estimate of
+      the contact time).
+    - `chunk_steps`: steps between the increment's re-estimates (and progress reports).
     """
 
-    element_size_m: float = 1.5e-3   # outer-surface element length; mean element side ~1.2 mm
-    pole_element_size_m: float | None = None   # refinement toward the contact pole
-    pole_zone_deg: float = 30.0
     integration: str = "reduced"
     hourglass_scale: float = 0.05     # k_e = scale mu V_e (dN/dX : dN/dX), reduced integration
     bulk_viscosity_linear: float = 0.06
@@ -42,16 +95,16 @@ class SolverOptions:
     end_margin: float = 0.25          # simulated after separation, as a fraction of contact time
     time_limit_s: float | None = None  # default: 6 times a Hertz estimate of the contact time
     chunk_steps: int = 200
-    mesh_radii_m: tuple[float, ...] = ()  # extra node circles (e.g. to mesh like another ball)
 
     def __post_init__(self) -> None:
-        # (upper bound, zero allowed)
-        checks = {"element_size_m": (math.inf, False), "hourglass_scale": (1.0, False),
-                  "bulk_viscosity_linear": (10.0, True), "bulk_viscosity_quadratic": (10.0, True),
-                  "penalty_scale": (100.0, False), "contact_damping": (1.0, True),
-                  "time_step_scale": (2.0, False), "energy_error_limit": (1.0, False),
-                  "end_margin": (10.0, True)}
-        for name, (high, zero_ok) in checks.items():
+        for name, high, zero_ok in (("hourglass_scale", 1.0, False),
+                                    ("bulk_viscosity_linear", 10.0, True),
+                                    ("bulk_viscosity_quadratic", 10.0, True),
+                                    ("penalty_scale", 100.0, False),
+                                    ("contact_damping", 1.0, True),
+                                    ("time_step_scale", 2.0, False),
+                                    ("energy_error_limit", 1.0, False),
+                                    ("end_margin", 10.0, True)):
             check_range(name, getattr(self, name), 0.0, high, low_open=not zero_ok)
         for name, value, allowed in (("integration", self.integration, INTEGRATIONS),
                                      ("precision", self.precision, PRECISIONS)):
@@ -60,8 +113,35 @@ class SolverOptions:
         if self.time_step_scale > 1.0:
             warnings.warn(f"time_step_scale = {self.time_step_scale:g} is above the stability "
                           "limit of the assembled system (1): expect the run to be stopped",
-                          InputWarning, stacklevel=3)
-        if self.time_limit_s is not None and not self.time_limit_s > 0:
-            raise InputError(f"time_limit_s = {shown(self.time_limit_s)}: must be > 0")
-        if not (isinstance(self.chunk_steps, int) and self.chunk_steps >= 1):
-            raise InputError(f"chunk_steps = {shown(self.chunk_steps)}: must be an integer >= 1")
+                          InputWarning, stacklevel=4)
+        if self.time_limit_s is not None:
+            check_range("time_limit_s", self.time_limit_s, 0.0, 10.0, low_open=True)
+        check_count("chunk_steps", self.chunk_steps, 1)
+
+
+def check_count(name: str, value, low: int) -> None:
+    """An integer setting >= `low`, or `InputError` naming it."""
+    if not (isinstance(value, int) and not isinstance(value, bool) and value >= low):
+        raise InputError(f"{name} = {shown(value)}: must be an integer >= {low}")
+
+
+@dataclass(frozen=True)
+class SolverOptions(ExplicitOptions):
+    """Settings of the axisymmetric engine (SI): the shared ones (`ExplicitOptions`) and its
+    mesh's.
+
+    - `element_size_m`: the outer surface's element length (the mean element side is ~1.2 mm
+      at the default 1.5 mm).
+    - `pole_element_size_m`, `pole_zone_deg`: a finer element size toward the contact pole,
+      within this angle of it.
+    - `mesh_radii_m`: extra node circles (e.g. to mesh like another ball).
+    """
+
+    element_size_m: float = 1.5e-3
+    pole_element_size_m: float | None = None
+    pole_zone_deg: float = 30.0
+    mesh_radii_m: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        check_range("element_size_m", self.element_size_m, 0.0, math.inf, low_open=True)
+        super().__post_init__()

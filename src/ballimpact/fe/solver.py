@@ -38,7 +38,7 @@ from .kernel import (
 from .mesh import estimate_mesh, layered_sphere_mesh
 from .materials.stability import drucker_warnings
 from ..checks import shown
-from .options import SolverOptions
+from .options import ImpactCondition, SolverOptions
 from .progress import RunEstimate
 from .driver import run_chunks
 
@@ -405,9 +405,12 @@ def simulate_batch(balls: Sequence, impact_speeds_m_s, options: SolverOptions = 
     return results
 
 
-def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptions(),
-             progress=None, *, allow=()) -> FEResult:
-    """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s).
+def simulate(ball, impact_speed_m_s: float | ImpactCondition,
+             options: SolverOptions = SolverOptions(), progress=None, *, allow=()) -> FEResult:
+    """Normal impact of one ball on a rigid plane at `impact_speed_m_s` (m/s), or as an
+    `ImpactCondition` (the 3D engine's): a normal one (angle 0, no spin), else `InputError`
+    pointing to `oblique.simulate_oblique`; its friction is not modelled here (a normal impact
+    slides only within the contact patch).
 
     A speed outside `FE_SPEED_RANGE_M_S` (m/s; the speeds the solver was checked at,
     docs/fe.md) raises `InputError` before anything is meshed or compiled; with
@@ -419,11 +422,22 @@ def simulate(ball, impact_speed_m_s: float, options: SolverOptions = SolverOptio
     (`contact_resolution_note`). `progress(t_s)` is called after every chunk of steps
     (`progress.RunProgress` prints the time reached and the time left).
     """
+    if isinstance(impact_speed_m_s, ImpactCondition):
+        impact_speed_m_s = normal_impact_speed(impact_speed_m_s)
     speeds = impact_speeds(impact_speed_m_s, 1, allow)
     check_run_memory([ball], speeds, options, allow)  # before anything is meshed
     warn_unresolved_contact([ball], speeds, options.pole_element_size_m or options.element_size_m)
     _warn_if_large(kernel_for(ball, options), [ball], speeds, options)
     return _simulate_group([ball], speeds, options, progress)[0]
+
+
+def normal_impact_speed(condition: ImpactCondition) -> float:
+    """The speed (m/s) of a normal impact without spin, or `InputError`."""
+    if not condition.normal:
+        raise InputError(f"{condition}: the axisymmetric solver runs normal impacts without spin "
+                         "(angle_deg 0, spins 0); oblique and spinning impacts are "
+                         "oblique.simulate_oblique (--solver 3d)")
+    return condition.speed_m_s
 
 
 def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
