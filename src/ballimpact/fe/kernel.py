@@ -89,6 +89,34 @@ def cast(tree, dtype):
         else np.asarray(x), tree)
 
 
+def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j, lam2_min,
+                lam2_max, energy_error_limit) -> dict:
+    """What a step of either kernel flags in its state at time t (s): the contact's start and
+    separation (the normal force `force` (N) gone while the centre moves away, `velocity_z`
+    (m/s) > 0; a new contact cancels a separation), the peak force with its time and
+    displacements `u`, the first non-finite or inverted state (`min_j` <= 0), the first energy
+    balance error above `energy_error_limit` of the initial kinetic energy, and the range of
+    principal stretches (from `lam2_min`, `lam2_max`: the step's extreme eigenvalues of C)."""
+    started = jnp.isfinite(state["t_start"])
+    separating = started & (force <= 0) & (velocity_z > 0) & jnp.isinf(state["t_separation"])
+    new_peak = force > state["peak_force"]
+    bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
+    ke0 = state["ke0"]
+    energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > energy_error_limit * ke0
+    return {"t_start": jnp.where(~started & (force > 0), t, state["t_start"]),
+            "t_separation": jnp.where(force > 0, jnp.inf,
+                                      jnp.where(separating, t, state["t_separation"])),
+            "peak_force": jnp.maximum(force, state["peak_force"]),
+            "t_peak": jnp.where(new_peak, t, state["t_peak"]),
+            "u_peak": jnp.where(new_peak, u, state["u_peak"]),
+            "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
+            "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
+                                  state["t_energy"]),
+            "stretch_min": jnp.minimum(state["stretch_min"],
+                                       jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
+            "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(lam2_max))}
+
+
 class ChunkedSteps:
     """What the explicit kernels share: chunks of steps, each after re-estimating the stable
     increment from the assembled system. A kernel provides `step`, `internal`,
@@ -337,27 +365,12 @@ class Kernel(ChunkedSteps):
         total = jnp.sum(normal)
         v_cm = momentum_z / params["mass_total_kg"]
         z_cm = moment_z / params["mass_total_kg"]
-        started = jnp.isfinite(state["t_start"])
-        t_start = jnp.where(~started & (total > 0), t, state["t_start"])
-        separating = started & (total <= 0) & (v_cm > 0) & jnp.isinf(state["t_separation"])
-        # a new contact (the ball touching again) cancels a separation
-        t_separation = jnp.where(total > 0, jnp.inf, jnp.where(separating, t, state["t_separation"]))
-        new_peak = total > state["peak_force"]
-        bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
-        ke0 = state["ke0"]
-        energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
         new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
                "x_top": state["x_top"], "f_e": f_e, "f_contact": f_contact, "mat": mats,
-               "j0": j0, "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact, "d_bv": d_bv,
-               "peak_force": jnp.maximum(total, state["peak_force"]),
-               "t_peak": jnp.where(new_peak, t, state["t_peak"]),
-               "u_peak": jnp.where(new_peak, u, state["u_peak"]),
-               "t_start": t_start, "t_separation": t_separation,
-               "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
-               "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
-                                     state["t_energy"]),
-               "stretch_min": jnp.minimum(state["stretch_min"], jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
-               "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(lam2_max))}
+               "j0": j0, "sigma_bv": sigma_bv, "ke0": state["ke0"], "w_int": w_int,
+               "w_contact": w_contact, "d_bv": d_bv,
+               **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
+                             lam2_min, lam2_max, params["energy_error_limit"])}
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
         return new, row
 

@@ -30,7 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses
+from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses, step_events
 from ..fe.materials import Sym, energy_and_stress
 from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
                    determinant, fbar, first_piola, gather_nodal, materialized, right_cauchy_green)
@@ -296,30 +296,15 @@ class Kernel(ChunkedSteps):
         w_tangential = state["w_tangential"] + dw_tangential
         d_bv = state["d_bv"] + dd_bv
         t = t0 + (i + 1) * dt
-        started = jnp.isfinite(state["t_start"])
-        t_start = jnp.where(~started & (f_n > 0), t, state["t_start"])
-        separating = started & (f_n <= 0) & (vcm[2] > 0) & jnp.isinf(state["t_separation"])
-        t_separation = jnp.where(f_n > 0, jnp.inf, jnp.where(separating, t, state["t_separation"]))
-        new_peak = f_n > state["peak_force"]
-        bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
-        ke0 = state["ke0"]
-        energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > params["energy_error_limit"] * ke0
         slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
         slipping_share = f_slipping / jnp.where(f_n > 0, f_n, 1.0)
         new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
                "x_top": state["x_top"], "f_int": f_int, "f_contact": f_contact,
                "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
-               "sigma_bv": sigma_bv, "ke0": ke0, "w_int": w_int, "w_contact": w_contact,
-               "w_tangential": w_tangential, "d_bv": d_bv,
-               "peak_force": jnp.maximum(f_n, state["peak_force"]),
-               "t_peak": jnp.where(new_peak, t, state["t_peak"]),
-               "u_peak": jnp.where(new_peak, u, state["u_peak"]),
-               "t_start": t_start, "t_separation": t_separation,
-               "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
-               "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
-                                     state["t_energy"]),
-               "stretch_min": jnp.minimum(state["stretch_min"], jnp.sqrt(jnp.maximum(lam_lo, 0.0))),
-               "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(-neg_hi))}
+               "sigma_bv": sigma_bv, "ke0": state["ke0"], "w_int": w_int,
+               "w_contact": w_contact, "w_tangential": w_tangential, "d_bv": d_bv,
+               **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
+                             lam_lo, -neg_hi, params["energy_error_limit"])}
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
                          w_tangential, e_stick, slipping_share])
