@@ -55,7 +55,7 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
             state = init(p, *(jnp.asarray(x, kernel.dtype) for x in (
                 condition.speed_m_s, math.radians(condition.angle_deg),
                 np.asarray(condition.spin_vector_rad_s))))
-            out.append(float(state["dt"]))
+            out.append(float(state.dt))
     return out[0], out[1]
 
 

@@ -53,7 +53,7 @@ def test_fixed_increment_run_keeps_the_momentum_balance_and_differentiates(case,
     with jax.enable_x64(True):
         p = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
         # 0.9 of the stable increment at the start, over 1.5 Hertz contact times
-        dt = 0.9 * float(jax.jit(kernel.initial_state)(p, *initial(SPEED_M_S))["dt0"])
+        dt = 0.9 * float(jax.jit(kernel.initial_state)(p, *initial(SPEED_M_S)).dt0)
         n_chunks = math.ceil(1.5 * hertz_contact_time_s(BALL, normal) / (dt * 100))
 
         @jax.jit

@@ -87,7 +87,8 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
             rows.append(np.asarray(chunk_rows, dtype=np.float64))
             if on_chunk is not None:
                 on_chunk(chunks, params, state)
-            flags = {k: np.atleast_1d(np.asarray(state[k], dtype=np.float64)) for k in FLAGS}
+            flags = {k: np.atleast_1d(np.asarray(getattr(state, k), dtype=np.float64))
+                     for k in FLAGS}
             t, t_start, t_sep = flags["t"], flags["t_start"], flags["t_separation"]
             t_end = t_sep + options.end_margin * (t_sep - t_start)
             done = np.isfinite(t_sep) & (t >= t_end)
@@ -111,7 +112,7 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
             failed[int(i)] = f"{labels[i]}: no separation within the time limit {limits_s[i]:.4g} s"
         if failed and on_failure == "raise":
             raise SimulationError(failed[min(failed)])
-        final = {k: np.asarray(state[k], dtype=np.float64) for k in final_keys}
+        final = {k: np.asarray(getattr(state, k), dtype=np.float64) for k in final_keys}
     history = np.concatenate(rows, axis=1 if batched else 0)
     if not batched:
         history = history[None]
@@ -131,7 +132,7 @@ def fixed_increment_run(kernel, params, initial: Sequence, increment_s, n_chunks
     state = kernel.initial_state(params, *initial)
     # the fixed increment replaces the stable-increment estimate (whose outputs go unused)
     dt = jnp.asarray(increment_s, kernel.dtype)
-    state = dict(state, dt=dt, dt0=dt, x_top=jnp.zeros_like(state["x_top"]))
+    state = state._replace(dt=dt, dt0=dt, x_top=jnp.zeros_like(state.x_top))
     step = partial(kernel.step, params, jnp.asarray(0.0, kernel.dtype))
     picked = jnp.asarray(columns)
 

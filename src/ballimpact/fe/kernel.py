@@ -21,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from functools import partial
-from typing import Any
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -89,6 +89,41 @@ def cast(tree, dtype):
         else np.asarray(x), tree)
 
 
+class AxiState(NamedTuple):
+    """The axisymmetric kernel's state between steps (SI; nodal arrays (2, n_nodes)). Fields in
+    alphabetical order: a pytree flattened as the dict it replaced was."""
+
+    a: Any  # nodal accelerations (m/s^2)
+    d_bv: Any  # bulk-viscous dissipation (J)
+    dt: Any  # the increment (s)
+    dt0: Any  # the first increment (s)
+    f_contact: Any  # contact forces on the nodes (N)
+    f_e: Any  # element corner forces (N), the last step's
+    j0: Any  # volume ratio J at the element centres
+    ke0: Any  # initial kinetic energy (J)
+    mat: Any  # material states per layer (viscoelastic branches)
+    peak_force: Any  # largest contact force so far (N)
+    sigma_bv: Any  # bulk-viscous pressure per element (Pa)
+    stretch_max: Any  # largest principal stretch so far
+    stretch_min: Any  # smallest principal stretch so far
+    t: Any  # time (s)
+    t_bad: Any  # first non-finite or inverted state (s; inf: none)
+    t_energy: Any  # first energy-balance error above the limit (s; inf: none)
+    t_peak: Any  # time of the peak force (s)
+    t_separation: Any  # separation (s; inf: none yet)
+    t_start: Any  # first contact (s; inf: none yet)
+    u: Any  # nodal displacements (m)
+    u_peak: Any  # displacements at the peak force (m)
+    v: Any  # nodal velocities (m/s)
+    w_contact: Any  # work of the contact forces (J)
+    w_int: Any  # internal work (J)
+    x_top: Any  # top Ritz vector of the last increment estimate
+
+
+jax.export.register_namedtuple_serialization(
+    AxiState, serialized_name="ballimpact.AxiState")  # kept programs (fe.programs)
+
+
 def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j, lam2_min,
                 lam2_max, energy_error_limit) -> dict:
     """What a step of either kernel flags in its state at time t (s): the contact's start and
@@ -97,24 +132,24 @@ def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j
     displacements `u`, the first non-finite or inverted state (`min_j` <= 0), the first energy
     balance error above `energy_error_limit` of the initial kinetic energy, and the range of
     principal stretches (from `lam2_min`, `lam2_max`: the step's extreme eigenvalues of C)."""
-    started = jnp.isfinite(state["t_start"])
-    separating = started & (force <= 0) & (velocity_z > 0) & jnp.isinf(state["t_separation"])
-    new_peak = force > state["peak_force"]
+    started = jnp.isfinite(state.t_start)
+    separating = started & (force <= 0) & (velocity_z > 0) & jnp.isinf(state.t_separation)
+    new_peak = force > state.peak_force
     bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
-    ke0 = state["ke0"]
+    ke0 = state.ke0
     energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > energy_error_limit * ke0
-    return {"t_start": jnp.where(~started & (force > 0), t, state["t_start"]),
+    return {"t_start": jnp.where(~started & (force > 0), t, state.t_start),
             "t_separation": jnp.where(force > 0, jnp.inf,
-                                      jnp.where(separating, t, state["t_separation"])),
-            "peak_force": jnp.maximum(force, state["peak_force"]),
-            "t_peak": jnp.where(new_peak, t, state["t_peak"]),
-            "u_peak": jnp.where(new_peak, u, state["u_peak"]),
-            "t_bad": jnp.where(bad & jnp.isinf(state["t_bad"]), t, state["t_bad"]),
-            "t_energy": jnp.where(energy_bad & jnp.isinf(state["t_energy"]), t,
-                                  state["t_energy"]),
-            "stretch_min": jnp.minimum(state["stretch_min"],
+                                      jnp.where(separating, t, state.t_separation)),
+            "peak_force": jnp.maximum(force, state.peak_force),
+            "t_peak": jnp.where(new_peak, t, state.t_peak),
+            "u_peak": jnp.where(new_peak, u, state.u_peak),
+            "t_bad": jnp.where(bad & jnp.isinf(state.t_bad), t, state.t_bad),
+            "t_energy": jnp.where(energy_bad & jnp.isinf(state.t_energy), t,
+                                  state.t_energy),
+            "stretch_min": jnp.minimum(state.stretch_min,
                                        jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
-            "stretch_max": jnp.maximum(state["stretch_max"], jnp.sqrt(lam2_max))}
+            "stretch_max": jnp.maximum(state.stretch_max, jnp.sqrt(lam2_max))}
 
 
 class ChunkedSteps:
@@ -125,12 +160,12 @@ class ChunkedSteps:
 
     def chunk(self, params, state, n_steps: int):
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
-        omega2, x_top = self.max_frequency_squared(params, state["u"], state["x_top"],
+        omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
                                                    REFRESH_LANCZOS_STEPS)
-        dt = shrunk_increment(state["dt"], state["dt0"], omega2, params["increment_factor"])
-        state = dict(state, dt=dt, x_top=x_top)
+        dt = shrunk_increment(state.dt, state.dt0, omega2, params["increment_factor"])
+        state = state._replace(dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
-        return jax.lax.scan(partial(self.step, params, state["t"]), state, steps)
+        return jax.lax.scan(partial(self.step, params, state.t), state, steps)
 
     def max_frequency_squared(self, params, u, start, steps: int):
         """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
@@ -258,7 +293,7 @@ class Kernel(ChunkedSteps):
         scalar = partial(jnp.array, dtype=self.dtype)
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params["increment_factor"] / jnp.sqrt(omega2)
-        return {"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
+        return AxiState(**{"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
                 "dt": dt, "dt0": dt, "x_top": x_top,
                 "f_e": self.zero_corner_forces(), "f_contact": self.zeros(n), "mat": self.initial_materials(params),
                 "j0": jnp.ones(self.geom.n_elements, self.dtype),
@@ -267,7 +302,7 @@ class Kernel(ChunkedSteps):
                 "w_int": scalar(0.0), "w_contact": scalar(0.0), "d_bv": scalar(0.0),
                 "peak_force": scalar(0.0), "t_peak": scalar(0.0), "u_peak": zeros,
                 "t_start": inf, "t_separation": inf, "t_bad": inf, "t_energy": inf,
-                "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)}
+                "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)})
 
     # ---- forces ------------------------------------------------------------------------------
     def internal(self, params, u, mats, j0_prev, dt):
@@ -327,50 +362,50 @@ class Kernel(ChunkedSteps):
     # ---- the step ----------------------------------------------------------------------------
     def step(self, params, t0, state, i):
         g = self.geom
-        dt = state["dt"]
+        dt = state.dt
         mass = params["mass_kg"]
         off_axis = g.nodes_m[:, 0] > 0.0  # radial motion is zero on the axis
-        v_half = state["v"] + 0.5 * dt * state["a"]
-        u = state["u"] + dt * v_half
+        v_half = state.v + 0.5 * dt * state.a
+        u = state.u + dt * v_half
         f_int, mats, j0, stored, e_hg, sigma_bv, J, lam2_min, lam2_max, f_e = self.internal(
-            params, u, state["mat"], state["j0"], dt)
+            params, u, state.mat, state.j0, dt)
         normal = self.contact(params, u, v_half)
         f_contact = self.zeros(len(g.nodes_m)).at[g.surface_nodes].set(normal)
         a = (-f_int).at[1].add(f_contact) / mass
         a = a.at[0].multiply(off_axis)
         v = v_half + 0.5 * dt * a
-        du = u - state["u"]
+        du = u - state.u
         # Internal work summed over elements (the same as over nodes): the corner forces then
         # have a second reader besides the nodal gather, so XLA computes them once into memory
         # instead of fusing their whole computation into the gather (4x slower).
         corners = element_corners if self.reduced else element_values
-        new_u, old_u = corners(g, u), corners(g, state["u"])
-        work_e = 0.5 * sum((state["f_e"][c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a])
+        new_u, old_u = corners(g, u), corners(g, state.u)
+        work_e = 0.5 * sum((state.f_e[c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a])
                            for c in range(2) for a in range(4))
         # bulk-viscous work by the trapezoidal rule, as the internal work (power = sigma dJ/dt V)
-        bv_e = 0.5 * (state["sigma_bv"] + sigma_bv) * (j0 - state["j0"]) * g.element_volume_m3
+        bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (j0 - state.j0) * g.element_volume_m3
         # every sum and extremum of the step in three reductions (each is a pass of its own)
         stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
         height = g.nodes_m[:, 1] - g.nodes_m[:, 1].min() + u[1]
         kinetic, momentum_z, moment_z, dw_contact = jnp.sum(jnp.stack([
             0.5 * mass * (v[0] * v[0] + v[1] * v[1]), mass * v[1], mass * height,
-            0.5 * (state["f_contact"] + f_contact) * du[1]]), axis=1)
+            0.5 * (state.f_contact + f_contact) * du[1]]), axis=1)
         min_j, lam2_min, neg_lam2_max = jnp.min(jnp.stack([
             jnp.min(J, axis=0), jnp.min(lam2_min, axis=0), -jnp.max(lam2_max, axis=0)]), axis=1)
         lam2_max = -neg_lam2_max
-        w_int = state["w_int"] + dw_int
-        w_contact = state["w_contact"] + dw_contact
-        d_bv = state["d_bv"] + dd_bv
+        w_int = state.w_int + dw_int
+        w_contact = state.w_contact + dw_contact
+        d_bv = state.d_bv + dd_bv
         t = t0 + (i + 1) * dt  # not a running sum over the whole run: accurate in float32 too
         total = jnp.sum(normal)
         v_cm = momentum_z / params["mass_total_kg"]
         z_cm = moment_z / params["mass_total_kg"]
-        new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
-               "x_top": state["x_top"], "f_e": f_e, "f_contact": f_contact, "mat": mats,
-               "j0": j0, "sigma_bv": sigma_bv, "ke0": state["ke0"], "w_int": w_int,
+        new = AxiState(**{"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state.dt0,
+               "x_top": state.x_top, "f_e": f_e, "f_contact": f_contact, "mat": mats,
+               "j0": j0, "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
                "w_contact": w_contact, "d_bv": d_bv,
                **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
-                             lam2_min, lam2_max, params["energy_error_limit"])}
+                             lam2_min, lam2_max, params["energy_error_limit"])})
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
         return new, row
 

@@ -472,7 +472,7 @@ def _simulate_group(balls: list, speeds: np.ndarray, options: SolverOptions,
 _FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch_max")
 
 
-def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:
+def _result(ball, speed: float, history: np.ndarray, end_state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:
     n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
     h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
     mass = float(np.sum(arrays["mass_kg"]))
@@ -493,16 +493,16 @@ def _result(ball, speed: float, history: np.ndarray, state: dict, arrays: dict, 
     return FEResult(
         ball_name=ball.name, impact_speed_m_s=speed, history=h,
         cor=float(h["centre_velocity_z_m_s"][-1] / speed),
-        peak_force_n=float(state["peak_force"]), time_of_peak_s=float(state["t_peak"]),
+        peak_force_n=float(end_state["peak_force"]), time_of_peak_s=float(end_state["t_peak"]),
         contact_time_s=contact_end_time(h["time_s"], h["contact_force_n"]),
         energy_balance_error=float(np.max(np.abs(balance)) / ke0),
-        stable_time_increment_s=float(state["dt0"]),
-        final_time_increment_s=float(state["dt"]), steps=n, elements=geom.n_elements,
+        stable_time_increment_s=float(end_state["dt0"]),
+        final_time_increment_s=float(end_state["dt"]), steps=n, elements=geom.n_elements,
         nodes=len(geom.nodes_m), mass_kg=mass,
-        stretch_range=(float(state["stretch_min"]), float(state["stretch_max"])),
+        stretch_range=(float(end_state["stretch_min"]), float(end_state["stretch_max"])),
         outer_radius_m=ball.outer_radius_m,
         moduli=tuple(layer.material.moduli for layer in ball.layers),
         nodes_m=np.asarray(geom.nodes_m, np.float64), elements_connectivity=geom.elements,
-        layer_slices=geom.layer_slices, displacement_at_peak_m=state["u_peak"].T,
+        layer_slices=geom.layer_slices, displacement_at_peak_m=end_state["u_peak"].T,
         wall_time_s=wall, energies_j=final, integration=options.integration,
         precision=options.precision)

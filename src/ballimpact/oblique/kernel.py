@@ -24,7 +24,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from functools import partial
-from typing import Any
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -47,6 +47,44 @@ def dot3(a, b):
     """Per node, a . b of two (3, n) arrays, the components summed one by one: XLA's CPU compiler
     makes a reduction over the 3 components a pass of its own (a fifth of the step)."""
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+class HexState(NamedTuple):
+    """The hexahedral kernel's state between steps (SI; nodal arrays (3, n_nodes)). Fields in
+    alphabetical order: a pytree flattened as the dict it replaced was."""
+
+    a: Any  # nodal accelerations (m/s^2)
+    d_bv: Any  # bulk-viscous dissipation (J)
+    dt: Any  # the increment (s)
+    dt0: Any  # the first increment (s)
+    f_contact: Any  # contact forces on the nodes (N)
+    f_int: Any  # internal nodal forces (N), the last step's
+    f_tangential: Any  # friction forces on the contact nodes (N)
+    j0: Any  # volume ratio J at the element centres
+    ke0: Any  # initial kinetic energy (J)
+    mat: Any  # material states per layer (viscoelastic branches)
+    peak_force: Any  # largest contact force so far (N)
+    sigma_bv: Any  # bulk-viscous pressure per element (Pa)
+    stick: Any  # friction stick-spring extensions (m)
+    stretch_max: Any  # largest principal stretch so far
+    stretch_min: Any  # smallest principal stretch so far
+    t: Any  # time (s)
+    t_bad: Any  # first non-finite or inverted state (s; inf: none)
+    t_energy: Any  # first energy-balance error above the limit (s; inf: none)
+    t_peak: Any  # time of the peak force (s)
+    t_separation: Any  # separation (s; inf: none yet)
+    t_start: Any  # first contact (s; inf: none yet)
+    u: Any  # nodal displacements (m)
+    u_peak: Any  # displacements at the peak force (m)
+    v: Any  # nodal velocities (m/s)
+    w_contact: Any  # work of the contact forces (J)
+    w_int: Any  # internal work (J)
+    w_tangential: Any  # work of the friction forces (J)
+    x_top: Any  # top Ritz vector of the last increment estimate
+
+
+jax.export.register_namedtuple_serialization(
+    HexState, serialized_name="ballimpact.HexState")  # kept programs (fe.programs)
 
 
 @dataclass(frozen=True, eq=False)
@@ -228,7 +266,7 @@ class Kernel(ChunkedSteps):
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params["increment_factor"] / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
-        return {"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
+        return HexState(**{"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
                 "x_top": x_top, "f_int": zeros, "f_contact": zeros,
                 "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
                 "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
@@ -237,7 +275,7 @@ class Kernel(ChunkedSteps):
                 "w_int": scalar(0.0), "w_contact": scalar(0.0), "w_tangential": scalar(0.0),
                 "d_bv": scalar(0.0), "peak_force": scalar(0.0), "t_peak": scalar(0.0),
                 "u_peak": zeros, "t_start": inf, "t_separation": inf, "t_bad": inf,
-                "t_energy": inf, "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)}
+                "t_energy": inf, "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)})
 
     # ---- the step ----------------------------------------------------------------------------
     def rigid_body(self, params, u, v):
@@ -266,45 +304,45 @@ class Kernel(ChunkedSteps):
 
     def step(self, params, t0, state, i):
         g = self.geom
-        dt = state["dt"]
+        dt = state.dt
         mass = params["mass_kg"]
-        v_half = state["v"] + 0.5 * dt * state["a"]
-        u = state["u"] + dt * v_half
+        v_half = state.v + 0.5 * dt * state.a
+        u = state.u + dt * v_half
         f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi = self.internal(
-            params, u, state["mat"], state["j0"], dt)
-        forces, stick, where, rel, slipping = self.contact(params, u, v_half, state["stick"], dt)
+            params, u, state.mat, state.j0, dt)
+        forces, stick, where, rel, slipping = self.contact(params, u, v_half, state.stick, dt)
         f_contact = self.nodal_contact(forces, where)
         a = (f_contact - f_int) / mass * self.free_dof
         v = v_half + 0.5 * dt * a
-        du = u - state["u"]
-        bv_e = 0.5 * (state["sigma_bv"] + sigma_bv) * (J - state["j0"]) * g.volume_m3
+        du = u - state.u
+        bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (J - state.j0) * g.volume_m3
         stored, e_hg, dd_bv = jnp.sum(jnp.stack([stored, e_hg, bv_e]), axis=1)
         k_t = params["stick_n_m"]
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
         kinetic, dw_int, dw_contact = jnp.sum(jnp.stack([
-            0.5 * mass * dot3(v, v), 0.5 * dot3(state["f_int"] + f_int, du),
-            0.5 * dot3(state["f_contact"] + f_contact, du)]), axis=1)
+            0.5 * mass * dot3(v, v), 0.5 * dot3(state.f_int + f_int, du),
+            0.5 * dot3(state.f_contact + f_contact, du)]), axis=1)
         dw_tangential, e_stick, f_n, f_x, f_y, slip_weighted, f_slipping = jnp.sum(jnp.stack([
-            0.5 * jnp.sum((state["f_tangential"] + forces[:2]) * du_t, axis=0),
+            0.5 * jnp.sum((state.f_tangential + forces[:2]) * du_t, axis=0),
             0.5 * k_t * jnp.sum(stick * stick, axis=0), normal, forces[0], forces[1],
             normal * rel[0], normal * slipping]), axis=1)
         min_j, lam_lo, neg_hi = jnp.min(jnp.stack([J, lam_lo, -lam_hi]), axis=1)
         cm, vcm, omega = self.rigid_body(params, u, v)
-        w_int = state["w_int"] + dw_int
-        w_contact = state["w_contact"] + dw_contact
-        w_tangential = state["w_tangential"] + dw_tangential
-        d_bv = state["d_bv"] + dd_bv
+        w_int = state.w_int + dw_int
+        w_contact = state.w_contact + dw_contact
+        w_tangential = state.w_tangential + dw_tangential
+        d_bv = state.d_bv + dd_bv
         t = t0 + (i + 1) * dt
         slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
         slipping_share = f_slipping / jnp.where(f_n > 0, f_n, 1.0)
-        new = {"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state["dt0"],
-               "x_top": state["x_top"], "f_int": f_int, "f_contact": f_contact,
+        new = HexState(**{"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state.dt0,
+               "x_top": state.x_top, "f_int": f_int, "f_contact": f_contact,
                "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
-               "sigma_bv": sigma_bv, "ke0": state["ke0"], "w_int": w_int,
+               "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
                "w_contact": w_contact, "w_tangential": w_tangential, "d_bv": d_bv,
                **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
-                             lam_lo, -neg_hi, params["energy_error_limit"])}
+                             lam_lo, -neg_hi, params["energy_error_limit"])})
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
                          w_tangential, e_stick, slipping_share])

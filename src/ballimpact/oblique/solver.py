@@ -524,11 +524,11 @@ def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
     key = ("stress", id(kernel))
     if key not in _STRESS:
         _STRESS[key] = jax.jit(kernel.cauchy_stress)
-    return {"time_s": float(state["t"]),
-            "displacement_m": np.asarray(state["u"], np.float64),
-            "velocity_m_s": np.asarray(state["v"], np.float64),
-            "stress_pa": np.asarray(_STRESS[key](params, state["u"], state["mat"]), np.float64),
-            "contact_force_n": np.asarray(state["f_contact"], np.float64)}
+    return {"time_s": float(state.t),
+            "displacement_m": np.asarray(state.u, np.float64),
+            "velocity_m_s": np.asarray(state.v, np.float64),
+            "stress_pa": np.asarray(_STRESS[key](params, state.u, state.mat), np.float64),
+            "contact_force_n": np.asarray(state.f_contact, np.float64)}
 
 
 def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh, half, wall,
