@@ -43,9 +43,9 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
     _, half, options = solver._checked(ball, [condition], options, target)
     kernel, _ = solver.kernel_for(ball, target, options, half)
     params = solver.model_arrays(ball, target, kernel, options, condition)
-    mass, s = params["mass_kg"], np.asarray(kernel.contact_nodes)
+    mass, s = params.mass_kg, np.asarray(kernel.contact_nodes)
     top = mass[np.asarray(kernel.target["top"])]
-    every_pair = dict(params, contact_spring_factor=np.full(
+    every_pair = params._replace(contact_spring_factor=np.full(
         len(s), 1.0 + np.max(mass[s]) / np.min(top)))
     _, init = compiled_run(kernel, options.chunk_steps, False)
     out = []

@@ -25,7 +25,7 @@ def axisymmetric_case():
     options = SolverOptions(element_size_m=4e-3)
     kernel = kernel_for(BALL, options)
     params = ball_arrays(BALL, kernel.geom, options)
-    return (kernel, params, lambda speed: [speed], float(np.sum(params["mass_kg"])), SPEED_M_S,
+    return (kernel, params, lambda speed: [speed], float(np.sum(params.mass_kg)), SPEED_M_S,
             AXI_HISTORY.index("contact_force_n"))
 
 
@@ -35,7 +35,7 @@ def hexahedral_case():
     kernel, _ = solver3d.kernel_for(BALL, None, options, True)
     params = solver3d.model_arrays(BALL, None, kernel, options, condition)
     angle, spin = math.radians(30.0), np.array(condition.spin_vector_rad_s)
-    return (kernel, params, lambda speed: [speed, angle, spin], float(params["ball_mass_kg"]),
+    return (kernel, params, lambda speed: [speed, angle, spin], float(params.ball_mass_kg),
             SPEED_M_S * math.cos(angle), HEX_HISTORY.index("normal_force_n"))
 
 

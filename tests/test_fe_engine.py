@@ -38,11 +38,11 @@ def test_lanczos_increment_matches_arpack(integration):
             params, zeros, None, 40)
         # the same operator assembled independently: K v by forward differences of the forces
         mats = kernel.initial_materials(params)
-        elastic = dict(params, bv_linear_pa_s=0 * params["bv_linear_pa_s"],
-                       bv_quadratic_pa_s2=0 * params["bv_quadratic_pa_s2"])
+        elastic = params._replace(bv_linear_pa_s=0 * params.bv_linear_pa_s,
+                                  bv_quadratic_pa_s2=0 * params.bv_quadratic_pa_s2)
         forces = jax.jit(lambda u: kernel.internal(elastic, u, mats, jnp.ones(
             kernel.geom.n_elements), 1e-18)[0])
-        scale = 1.0 / np.sqrt(np.asarray(params["mass_kg"]))
+        scale = 1.0 / np.sqrt(np.asarray(params.mass_kg))
         mask = np.stack([kernel.geom.nodes_m[:, 0] > 0, np.ones(n, bool)]).astype(float)
         s = kernel.geom.surface_nodes
         eps = 1e-9
@@ -50,7 +50,7 @@ def test_lanczos_increment_matches_arpack(integration):
         def apply(x):
             v = x.reshape(2, n) * scale * mask
             kv = np.array((forces(jnp.asarray(eps * v)) - forces(jnp.asarray(-eps * v))) / (2 * eps))
-            kv[1, s] += np.asarray(params["penalty_n_m"]) * v[1, s]
+            kv[1, s] += np.asarray(params.penalty_n_m) * v[1, s]
             return (kv * scale * mask).reshape(-1)
 
         reference = sla.eigsh(sla.LinearOperator((2 * n, 2 * n), matvec=apply), k=1,

@@ -348,7 +348,8 @@ def test_large_run_warns_before_compiling(monkeypatch):
 
     def refuse(*args):
         raise RuntimeError("compiled")
-    monkeypatch.setattr(oblique_solver, "compiled_run", refuse)
+    from ballimpact.fe import driver
+    monkeypatch.setattr(driver, "compiled_run", refuse)
     with pytest.warns(InputWarning, match="^large run: about .* element updates"), \
             pytest.raises(RuntimeError, match="compiled"):
         simulate_oblique(_ball(), ImpactCondition(5.0), COARSE)
@@ -495,7 +496,7 @@ def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
         for options in (Options3D(divisions=8), Options3D(divisions=8, slab_depth_growth=1.2)):
             _, half, options = _checked(ball, [condition], options, target)
             kernel, mesh = kernel_for(ball, target, options, half)
-            mass = model_arrays(ball, target, kernel, options, condition)["mass_kg"]
+            mass = model_arrays(ball, target, kernel, options, condition).mass_kg
             factors = _contact_spring_factors(ball, target, kernel, mass, condition, options)
             if target is None:
                 assert np.all(factors == 1.0)

@@ -203,13 +203,13 @@ def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps:
                             / layer.material.shear_modulus_pa() for layer in ball.layers])
         element_layer = np.concatenate([np.full(b - a, i) for i, (a, b)
                                         in enumerate(kernel.geom.layer_slices)])
-        arrays["hourglass_n_m"] = arrays["hourglass_n_m"] * relaxed[element_layer]
+        arrays = arrays._replace(hourglass_n_m=arrays.hourglass_n_m * relaxed[element_layer])
     mu = min(layer.material.shear_modulus_pa(False) for layer in ball.layers)
     force_scale = mu * ball.outer_radius_m ** 2
     target = float(deflection_m)
     with jax.enable_x64(True):
         params = jax.tree_util.tree_map(jnp.asarray, cast(arrays, np.float64))
-        solver = _Solver(kernel, system, params, np.asarray(arrays["penalty_n_m"]), force_scale)
+        solver = _Solver(kernel, system, params, np.asarray(arrays.penalty_n_m), force_scale)
         mats = kernel.initial_materials(params)
         compile_start = time.perf_counter()
         solver.warm_up(mats)

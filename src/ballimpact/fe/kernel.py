@@ -56,7 +56,7 @@ LANCZOS_STEPS = 40
 REFRESH_LANCZOS_STEPS = 8
 
 
-def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
+def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
     """Per-ball parameters of the step (NumPy, float64): masses, contact springs, hourglass and
     bulk-viscosity factors, increment factor, material constants."""
     layers = ball.layers
@@ -71,7 +71,7 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
     m_surface = mass[geom.surface_nodes]
     penalty = (options.penalty_scale * m_surface
                * (c_d[geom.surface_layer] / geom.surface_length_m) ** 2)
-    return {"mass_kg": mass, "mass_total_kg": np.sum(mass), "penalty_n_m": penalty,
+    return AxiParams(**{"mass_kg": mass, "mass_total_kg": np.sum(mass), "penalty_n_m": penalty,
             "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
             "hourglass_n_m": options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
             "bv_linear_pa_s": options.bulk_viscosity_linear * rho_el * c_el * length,
@@ -79,7 +79,7 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> dict[str, Any]:
             "energy_error_limit": np.float64(options.energy_error_limit),
             "increment_factor": np.float64(increment_factor(options.time_step_scale,
                                                             options.bulk_viscosity_linear)),
-            "layers": [layer.material.constants() for layer in layers]}
+            "layers": [layer.material.constants() for layer in layers]})
 
 
 def cast(tree, dtype):
@@ -87,6 +87,22 @@ def cast(tree, dtype):
     return jax.tree_util.tree_map(
         lambda x: np.asarray(x, dtype) if np.issubdtype(np.asarray(x).dtype, np.floating)
         else np.asarray(x), tree)
+
+
+class AxiParams(NamedTuple):
+    """The axisymmetric kernel's per-ball parameters (SI; NumPy float64 from `ball_arrays`). Fields in
+    alphabetical order: a pytree flattened as the dict it replaced was."""
+
+    bv_linear_pa_s: Any  # linear bulk-viscosity coefficient per element (Pa s)
+    bv_quadratic_pa_s2: Any  # quadratic bulk-viscosity coefficient per element (Pa s^2)
+    contact_damping_n_s_m: Any  # contact dashpots (N s/m)
+    energy_error_limit: Any  # energy-balance limit (fraction of the initial kinetic energy)
+    hourglass_n_m: Any  # hourglass stiffness per element (N/m)
+    increment_factor: Any  # stable increment = factor / omega_max
+    layers: Any  # material constants per layer
+    mass_kg: Any  # nodal masses (kg)
+    mass_total_kg: Any  # the ball's mass (kg)
+    penalty_n_m: Any  # contact penalty springs per surface node (N/m)
 
 
 class AxiState(NamedTuple):
@@ -120,8 +136,10 @@ class AxiState(NamedTuple):
     x_top: Any  # top Ritz vector of the last increment estimate
 
 
-jax.export.register_namedtuple_serialization(
-    AxiState, serialized_name="ballimpact.AxiState")  # kept programs (fe.programs)
+# kept programs (fe.programs) serialize the arguments' and results' structure
+for _tuple in (AxiParams, AxiState):
+    jax.export.register_namedtuple_serialization(
+        _tuple, serialized_name=f"ballimpact.{_tuple.__name__}")
 
 
 def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j, lam2_min,
@@ -162,7 +180,7 @@ class ChunkedSteps:
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
         omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
                                                    REFRESH_LANCZOS_STEPS)
-        dt = shrunk_increment(state.dt, state.dt0, omega2, params["increment_factor"])
+        dt = shrunk_increment(state.dt, state.dt0, omega2, params.increment_factor)
         state = state._replace(dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state.t), state, steps)
@@ -172,8 +190,8 @@ class ChunkedSteps:
         (components first), with the instantaneous moduli and every contact spring active, by
         `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
         vector."""
-        elastic = dict(params, bv_linear_pa_s=jnp.zeros_like(params["bv_linear_pa_s"]),
-                       bv_quadratic_pa_s2=jnp.zeros_like(params["bv_quadratic_pa_s2"]))
+        elastic = params._replace(bv_linear_pa_s=jnp.zeros_like(params.bv_linear_pa_s),
+                       bv_quadratic_pa_s2=jnp.zeros_like(params.bv_quadratic_pa_s2))
         mats = self.initial_materials(params)
         ones = jnp.ones(self.geom.n_elements, self.dtype)
         # an increment far below any relaxation time: the tangent at the instantaneous moduli
@@ -182,7 +200,7 @@ class ChunkedSteps:
         def forces(u):
             return self.internal(elastic, u, mats, ones, tiny_dt)[0]
 
-        scale = 1.0 / jnp.sqrt(params["mass_kg"])
+        scale = 1.0 / jnp.sqrt(params.mass_kg)
         mask = self.frequency_mask()
 
         def apply(x):
@@ -276,7 +294,7 @@ class Kernel(ChunkedSteps):
     def initial_materials(self, params) -> list[dict]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.layer_slices, self.bulk_relaxation,
-                                        params["layers"]):
+                                        params.layers):
             shape = (4, self.n_points, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at the points
             n_terms = consts["prony_g"].shape[-1]
             n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
@@ -292,13 +310,13 @@ class Kernel(ChunkedSteps):
         inf = jnp.array(jnp.inf, self.dtype)
         scalar = partial(jnp.array, dtype=self.dtype)
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
-        dt = params["increment_factor"] / jnp.sqrt(omega2)
+        dt = params.increment_factor / jnp.sqrt(omega2)
         return AxiState(**{"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
                 "dt": dt, "dt0": dt, "x_top": x_top,
                 "f_e": self.zero_corner_forces(), "f_contact": self.zeros(n), "mat": self.initial_materials(params),
                 "j0": jnp.ones(self.geom.n_elements, self.dtype),
                 "sigma_bv": self.zeros(self.geom.n_elements),
-                "ke0": 0.5 * params["mass_total_kg"] * speed * speed,
+                "ke0": 0.5 * params.mass_total_kg * speed * speed,
                 "w_int": scalar(0.0), "w_contact": scalar(0.0), "d_bv": scalar(0.0),
                 "peak_force": scalar(0.0), "t_peak": scalar(0.0), "u_peak": zeros,
                 "t_start": inf, "t_separation": inf, "t_bad": inf, "t_energy": inf,
@@ -326,17 +344,17 @@ class Kernel(ChunkedSteps):
             (Fb2, Fbh), pull, J = jax.vjp(kinematics, u_e, has_aux=True)
         C = right_cauchy_green(Fb2, Fbh)
         weight = self.point_volume_m3
-        S, new_mats, density = material_stresses(g.layer_slices, self.energies, params["layers"],
+        S, new_mats, density = material_stresses(g.layer_slices, self.energies, params.layers,
                                                  C[:4], mats, dt)
         stored = jnp.sum(density * weight, axis=0)
         j0 = J[-1]  # at the centre (the last of the F-bar points; the only reduced one)
         rate = (j0 - j0_prev) / (dt * j0)  # volumetric strain rate at the centre (1/s)
-        sigma_bv = rate * (params["bv_linear_pa_s"]
-                           + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
+        sigma_bv = rate * (params.bv_linear_pa_s
+                           + params.bv_quadratic_pa_s2 * jnp.maximum(-rate, 0.0))
         P2, Ph = first_piola(Fb2, Fbh, S, sigma_bv * j0)
         if self.reduced:
             f_p = centre_forces(g, P2, Ph, g.element_volume_m3)
-            f_hg, e_hg = hourglass(g, u_e, params["hourglass_n_m"])  # e_hg per element
+            f_hg, e_hg = hourglass(g, u_e, params.hourglass_n_m)  # e_hg per element
             f_e = tuple(tuple(f_p[c][a] + f_hg[c][a] for a in range(4)) for c in range(2))
         else:
             (f_e,) = pull((tuple(p * weight for p in P2), Ph * weight))
@@ -355,15 +373,15 @@ class Kernel(ChunkedSteps):
         """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0."""
         s = self.geom.surface_nodes
         penetration = jnp.maximum(-(self.surface_height_m + u[1, s]), 0.0)
-        normal = params["penalty_n_m"] * penetration \
-            - params["contact_damping_n_s_m"] * v_half[1, s] * (penetration > 0)
+        normal = params.penalty_n_m * penetration \
+            - params.contact_damping_n_s_m * v_half[1, s] * (penetration > 0)
         return jnp.maximum(normal, 0.0)
 
     # ---- the step ----------------------------------------------------------------------------
     def step(self, params, t0, state, i):
         g = self.geom
         dt = state.dt
-        mass = params["mass_kg"]
+        mass = params.mass_kg
         off_axis = g.nodes_m[:, 0] > 0.0  # radial motion is zero on the axis
         v_half = state.v + 0.5 * dt * state.a
         u = state.u + dt * v_half
@@ -398,14 +416,14 @@ class Kernel(ChunkedSteps):
         d_bv = state.d_bv + dd_bv
         t = t0 + (i + 1) * dt  # not a running sum over the whole run: accurate in float32 too
         total = jnp.sum(normal)
-        v_cm = momentum_z / params["mass_total_kg"]
-        z_cm = moment_z / params["mass_total_kg"]
+        v_cm = momentum_z / params.mass_total_kg
+        z_cm = moment_z / params.mass_total_kg
         new = AxiState(**{"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state.dt0,
                "x_top": state.x_top, "f_e": f_e, "f_contact": f_contact, "mat": mats,
                "j0": j0, "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
                "w_contact": w_contact, "d_bv": d_bv,
                **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
-                             lam2_min, lam2_max, params["energy_error_limit"])})
+                             lam2_min, lam2_max, params.energy_error_limit)})
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
         return new, row
 
@@ -419,7 +437,7 @@ class Kernel(ChunkedSteps):
     def contact_springs(self, params, v):
         """K_contact v (2, n_nodes): every surface node's normal spring active."""
         s = self.geom.surface_nodes
-        return self.zeros(v.shape).at[1, s].set(params["penalty_n_m"] * v[1, s])
+        return self.zeros(v.shape).at[1, s].set(params.penalty_n_m * v[1, s])
 
 
 def _branch_energy(q, s0, g, modulus):

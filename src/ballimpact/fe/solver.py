@@ -475,7 +475,7 @@ _FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch
 def _result(ball, speed: float, history: np.ndarray, end_state: dict, arrays: dict, t_end: float, kernel: Kernel, options: SolverOptions, wall: float) -> FEResult:
     n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
     h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
-    mass = float(np.sum(arrays["mass_kg"]))
+    mass = float(np.sum(arrays.mass_kg))
     ke0 = 0.5 * mass * speed ** 2
     balance = h["kinetic_energy_j"] + h["internal_work_j"] - h["contact_work_j"] - ke0
     h["viscous_dissipation_j"] = (h["internal_work_j"] - h["strain_energy_j"]

@@ -49,6 +49,27 @@ def dot3(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
+class HexParams(NamedTuple):
+    """The hexahedral kernel's per-run parameters (SI; NumPy float64 from `oblique.solver.model_arrays`). Fields in
+    alphabetical order: a pytree flattened as the dict it replaced was."""
+
+    ball_mass_kg: Any  # the ball's mass (kg; of the model: half for a half model)
+    bv_linear_pa_s: Any  # linear bulk-viscosity coefficient per element (Pa s)
+    bv_quadratic_pa_s2: Any  # quadratic bulk-viscosity coefficient per element (Pa s^2)
+    contact_damping_n_s_m: Any  # contact dashpots (N s/m)
+    contact_spring_factor: Any  # stable-increment factor of each contact spring (a slab's node beneath)
+    element_index: Any  # arange of the elements as data (`hexa.materialized`'s fusion boundary)
+    energy_error_limit: Any  # energy-balance limit (fraction of the initial kinetic energy)
+    friction: Any  # Coulomb coefficient
+    groups: Any  # material constants per element group (ball layers, slab layers)
+    hourglass_n_m: Any  # hourglass stiffness per element (N/m)
+    increment_factor: Any  # stable increment = factor / omega_max
+    mass_kg: Any  # nodal masses (kg)
+    outer_radius_m: Any  # the ball's outer radius (m)
+    penalty_n_m: Any  # contact penalty springs per surface node (N/m)
+    stick_n_m: Any  # friction stick springs per contact node (N/m)
+
+
 class HexState(NamedTuple):
     """The hexahedral kernel's state between steps (SI; nodal arrays (3, n_nodes)). Fields in
     alphabetical order: a pytree flattened as the dict it replaced was."""
@@ -83,8 +104,10 @@ class HexState(NamedTuple):
     x_top: Any  # top Ritz vector of the last increment estimate
 
 
-jax.export.register_namedtuple_serialization(
-    HexState, serialized_name="ballimpact.HexState")  # kept programs (fe.programs)
+# kept programs (fe.programs) serialize the arguments' and results' structure
+for _tuple in (HexParams, HexState):
+    jax.export.register_namedtuple_serialization(
+        _tuple, serialized_name=f"ballimpact.{_tuple.__name__}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -118,7 +141,7 @@ class Kernel(ChunkedSteps):
     def initial_materials(self, params) -> list[dict]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.group_slices, self.bulk_relaxation,
-                                        params["groups"]):
+                                        params.groups):
             shape = (6,) + self.point_shape + (b - a,)
             n_terms = consts["prony_g"].shape[-1]
             mats.append({"s0_dev": self.zeros(shape),
@@ -134,7 +157,7 @@ class Kernel(ChunkedSteps):
         g = self.geom
         # F computed once into memory (`hexa.materialized`; XLA would recompute it in every
         # consumer it fuses it into). The corner values are gathers, which XLA keeps as they are.
-        index = params["element_index"]
+        index = params.element_index
         u_e = corners(g, u)
         if self.reduced:
             F = materialized(deformation_gradient(g, u_e), index)
@@ -143,14 +166,14 @@ class Kernel(ChunkedSteps):
             F, pull, J = jax.vjp(lambda ue: fbar(g, ue), u_e, has_aux=True)
         C = right_cauchy_green(F)
         S, new_mats, density = material_stresses(g.group_slices, self.energies,
-                                                 params["groups"], C, mats, dt)
+                                                 params.groups, C, mats, dt)
         rate = (J - j_prev) / (dt * J)
-        sigma_bv = rate * (params["bv_linear_pa_s"]
-                           + params["bv_quadratic_pa_s2"] * jnp.maximum(-rate, 0.0))
+        sigma_bv = rate * (params.bv_linear_pa_s
+                           + params.bv_quadratic_pa_s2 * jnp.maximum(-rate, 0.0))
         if self.reduced:
             stored = density * g.volume_m3
             P = first_piola(F, S, cofactor(F), sigma_bv)
-            f_e, e_hg = corner_forces(g, P, F, u_e, params["hourglass_n_m"], index)
+            f_e, e_hg = corner_forces(g, P, F, u_e, params.hourglass_n_m, index)
         else:
             weight = g.point_volume_m3
             stored = jnp.sum(density * weight, axis=0)
@@ -180,7 +203,7 @@ class Kernel(ChunkedSteps):
         F = deformation_gradient(g, u_e) if self.reduced else fbar(g, u_e)[0]
         J = determinant(F, cofactor(F))
         parts = []
-        for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params["groups"],
+        for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params.groups,
                                                mats):
             (_, s_dev), (_, s_vol) = energy_and_stress(
                 energy, Sym(*(c[..., a:b] for c in right_cauchy_green(F))), consts)
@@ -223,13 +246,13 @@ class Kernel(ChunkedSteps):
         height, rel, where = self.surface(u, v_half)
         penetration = jnp.maximum(-height, 0.0)
         touching = penetration > 0
-        normal = jnp.maximum(params["penalty_n_m"] * penetration
-                             - params["contact_damping_n_s_m"] * rel[2] * touching, 0.0)
+        normal = jnp.maximum(params.penalty_n_m * penetration
+                             - params.contact_damping_n_s_m * rel[2] * touching, 0.0)
         trial = jnp.where(touching, stick + dt * rel[:2], 0.0)
-        k_t = params["stick_n_m"]
+        k_t = params.stick_n_m
         f_trial = -k_t * trial
         size = jnp.sqrt(f_trial[0] ** 2 + f_trial[1] ** 2)
-        limit = params["friction"] * normal
+        limit = params.friction * normal
         scale = jnp.where(size > limit, limit / jnp.where(size > 0, size, 1.0), 1.0)
         f_t = f_trial * scale
         new_stick = -f_t / k_t
@@ -253,7 +276,7 @@ class Kernel(ChunkedSteps):
         n = self.n_nodes
         X = self.geom.nodes_m.T
         ball = self.ball_nodes.astype(self.dtype)
-        centre = jnp.array([0.0, 0.0, 1.0], self.dtype) * params["outer_radius_m"]
+        centre = jnp.array([0.0, 0.0, 1.0], self.dtype) * params.outer_radius_m
         r = X - centre[:, None]
         wx, wy, wz = spin_rad_s[0], spin_rad_s[1], spin_rad_s[2]
         v = jnp.stack([speed * jnp.sin(angle_rad) + wy * r[2] - wz * r[1],
@@ -264,14 +287,14 @@ class Kernel(ChunkedSteps):
         scalar = partial(jnp.array, dtype=self.dtype)
         inf = scalar(jnp.inf)
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
-        dt = params["increment_factor"] / jnp.sqrt(omega2)
+        dt = params.increment_factor / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
         return HexState(**{"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
                 "x_top": x_top, "f_int": zeros, "f_contact": zeros,
                 "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
                 "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
                 "sigma_bv": self.zeros(n_el),
-                "ke0": 0.5 * jnp.sum(params["mass_kg"] * jnp.sum(v * v, axis=0)),
+                "ke0": 0.5 * jnp.sum(params.mass_kg * jnp.sum(v * v, axis=0)),
                 "w_int": scalar(0.0), "w_contact": scalar(0.0), "w_tangential": scalar(0.0),
                 "d_bv": scalar(0.0), "peak_force": scalar(0.0), "t_peak": scalar(0.0),
                 "u_peak": zeros, "t_start": inf, "t_separation": inf, "t_bad": inf,
@@ -281,9 +304,9 @@ class Kernel(ChunkedSteps):
     def rigid_body(self, params, u, v):
         """Ball centre-of-mass position and velocity (3,) and angular velocity (3,) (rad/s),
         from the nodes' momenta about the centre of mass and the current inertia tensor."""
-        mass = params["mass_kg"] * self.ball_nodes
+        mass = params.mass_kg * self.ball_nodes
         x = self.geom.nodes_m.T + u
-        m_total = params["ball_mass_kg"]
+        m_total = params.ball_mass_kg
         sums = jnp.sum(jnp.stack([
             mass * x[0], mass * x[1], mass * x[2], mass * v[0], mass * v[1], mass * v[2],
             mass * (x[1] * v[2] - x[2] * v[1]), mass * (x[2] * v[0] - x[0] * v[2]),
@@ -305,7 +328,7 @@ class Kernel(ChunkedSteps):
     def step(self, params, t0, state, i):
         g = self.geom
         dt = state.dt
-        mass = params["mass_kg"]
+        mass = params.mass_kg
         v_half = state.v + 0.5 * dt * state.a
         u = state.u + dt * v_half
         f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi = self.internal(
@@ -317,7 +340,7 @@ class Kernel(ChunkedSteps):
         du = u - state.u
         bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (J - state.j0) * g.volume_m3
         stored, e_hg, dd_bv = jnp.sum(jnp.stack([stored, e_hg, bv_e]), axis=1)
-        k_t = params["stick_n_m"]
+        k_t = params.stick_n_m
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
         kinetic, dw_int, dw_contact = jnp.sum(jnp.stack([
@@ -342,7 +365,7 @@ class Kernel(ChunkedSteps):
                "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
                "w_contact": w_contact, "w_tangential": w_tangential, "d_bv": d_bv,
                **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
-                             lam_lo, -neg_hi, params["energy_error_limit"])})
+                             lam_lo, -neg_hi, params.energy_error_limit)})
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
                          w_tangential, e_stick, slipping_share])
@@ -357,8 +380,8 @@ class Kernel(ChunkedSteps):
         active, tied to the ground; `contact_spring_factor` allows for lighter target nodes at
         their other end."""
         s = self.contact_nodes
-        springs = params["contact_spring_factor"] * jnp.stack(
-            [params["stick_n_m"], params["stick_n_m"], params["penalty_n_m"]])
+        springs = params.contact_spring_factor * jnp.stack(
+            [params.stick_n_m, params.stick_n_m, params.penalty_n_m])
         return self.zeros(v.shape).at[:, s].set(springs * v[:, s])
 
 

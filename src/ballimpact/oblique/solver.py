@@ -32,7 +32,7 @@ from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
 from . import kernel as kernel_module
 from .hexa import geometry
-from .kernel import HISTORY, Kernel
+from .kernel import HISTORY, HexParams, Kernel
 from .mesh import (HexMesh, _graded_line, ball_mesh, combine, estimate_ball_mesh, graded_depths_m,
                    pole_cell_growth, pole_spacing_m, slab_mesh, uniform_depths_m)
 from .contact_grading import grading_for_contact
@@ -222,7 +222,7 @@ def kernel_for(ball, target, options: Options3D, half: bool) -> tuple[Kernel, He
 
 
 def model_arrays(ball, target, kernel: Kernel, options: Options3D,
-                 condition: ImpactCondition) -> dict:
+                 condition: ImpactCondition) -> HexParams:
     """Per-run parameters (NumPy float64)."""
     geom = kernel.geom
     layers = list(ball.layers) + (list(target.layers) if target is not None else [])
@@ -237,7 +237,7 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
     length = np.asarray(geom.characteristic_length_m, np.float64)
     penalty = options.penalty_scale * m_s * (c_d[len(ball.layers) - 1]
                                              / np.asarray(geom.node_length_m, np.float64)[s]) ** 2
-    return {"mass_kg": mass, "ball_mass_kg": float(np.sum(mass[kernel.ball_nodes])),
+    return HexParams(**{"mass_kg": mass, "ball_mass_kg": float(np.sum(mass[kernel.ball_nodes])),
             "outer_radius_m": float(ball.outer_radius_m),
             "penalty_n_m": penalty, "stick_n_m": options.stick_scale * penalty,
             "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
@@ -253,7 +253,7 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
                                                  options.bulk_viscosity_linear),
             "groups": [layer.material.constants() for layer in layers],
             # arange(n_el) as data: `hexa.materialized`'s fusion boundary
-            "element_index": np.arange(geom.n_elements, dtype=np.int32)}
+            "element_index": np.arange(geom.n_elements, dtype=np.int32)})
 
 
 def _contact_spring_factors(ball, target, kernel: Kernel, mass: np.ndarray,
@@ -539,7 +539,7 @@ def _result(ball, target, condition, history, final, arrays, t_end, kernel, mesh
     for name in HISTORY:
         if name.endswith("_n") or name.endswith("_j"):
             h[name] = factor * h[name]
-    mass = factor * float(arrays["ball_mass_kg"])
+    mass = factor * float(arrays.ball_mass_kg)
     v, theta, w = condition.speed_m_s, math.radians(condition.angle_deg), condition.spin_rad_s
     vx, vz = v * math.sin(theta), -v * math.cos(theta)
     ke0 = factor * float(final["ke0"])
