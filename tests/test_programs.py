@@ -133,6 +133,29 @@ def test_an_fe_run_from_a_kept_program_is_the_plain_run_bit_for_bit(folder, monk
             np.testing.assert_array_equal(run.history[name], values, err_msg=name)
 
 
+@pytest.mark.slow  # 38 s on 2 cores: three compilations of the 3D programs
+def test_a_3d_run_keeps_its_programs_and_reads_them_back(folder, monkeypatch):
+    """The hexahedral kernel's programs (its named parameters and state serialized too) are
+    kept and read back, and the run read back is the plain one, bit for bit."""
+    from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
+
+    ball = load_ball("cricket-universal", impact_speed_m_s=20.0)
+    condition, options = ImpactCondition(20.0, 30.0, 0.0, 0.3), Options3D(divisions=4)
+    programs.use_folder(None)
+    plain = simulate_oblique(ball, condition, options)
+    programs.use_folder(folder)
+    programs._COMPILED.clear()
+    simulate_oblique(ball, condition, options)
+    assert sorted(p.name.split("-")[0] for p in folder.glob("*.jaxexport")) == [
+        "chunk", "initial_state"]
+    programs._COMPILED.clear()
+    exports = _count_exports(monkeypatch)
+    read = simulate_oblique(ball, condition, options)
+    assert exports == []
+    for name, values in plain.history.items():
+        np.testing.assert_array_equal(read.history[name], values, err_msg=name)
+
+
 def test_materialized_values_are_the_same_bits():
     """`oblique.hexa.materialized` (F and the hourglass terms computed once into memory by a
     gather with a run-time index) changes no value: jitted with and without it, bit for bit."""
