@@ -27,7 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ballimpact import fe
-from ballimpact.fe.kernel import cast
+from ballimpact.fe.steps import cast
 from ballimpact.fe.programs import compiled_run
 from ballimpact.oblique import ImpactCondition, Options3D, Target, simulate_oblique
 from ballimpact.oblique import solver

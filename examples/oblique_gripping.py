@@ -44,7 +44,7 @@ import time
 import numpy as np
 
 from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.kernel import hertz_contact_radius_m
+from ballimpact.fe.estimates import hertz_contact_radius_m
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique_batch
 from ballimpact.oblique.elastic_reference import ElasticSphere, oblique_impact

@@ -10,8 +10,8 @@ from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.contact_grading import grading_for_contact
-from ballimpact.oblique.mesh import pole_spacing_m
-from ballimpact.oblique.mesh import ball_mesh
+from ballimpact.fe.hex.mesh import pole_spacing_m
+from ballimpact.fe.hex.mesh import ball_mesh
 from ballimpact.oblique.solver import estimate_oblique
 
 BALL = BallModel("sphere", (Layer("sphere", 0.036, 800.0, material_from_dict(

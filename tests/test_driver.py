@@ -11,11 +11,13 @@ import pytest
 
 from ballimpact.fe import SolverOptions, load_ball
 from ballimpact.fe.driver import fixed_increment_run
-from ballimpact.fe.kernel import HISTORY as AXI_HISTORY, cast, hertz_contact_time_s
+from ballimpact.fe.axi.kernel import HISTORY as AXI_HISTORY
+from ballimpact.fe.steps import cast
+from ballimpact.fe.estimates import hertz_contact_time_s
 from ballimpact.fe.solver import ball_arrays, kernel_for
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique import solver as solver3d
-from ballimpact.oblique.kernel import HISTORY as HEX_HISTORY
+from ballimpact.fe.hex.kernel import HISTORY as HEX_HISTORY
 
 SPEED_M_S = 20.0
 BALL = load_ball("cricket-universal", impact_speed_m_s=SPEED_M_S)

@@ -9,7 +9,8 @@ import scipy.sparse.linalg as sla
 
 from ballimpact.errors import InputWarning, SimulationError
 from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.kernel import ball_arrays, cast
+from ballimpact.fe.axi.kernel import ball_arrays
+from ballimpact.fe.steps import cast
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.fe.solver import SolverOptions, kernel_for, simulate, simulate_batch
 

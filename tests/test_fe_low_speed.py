@@ -10,7 +10,7 @@ import pytest
 from ballimpact.errors import InputWarning
 from ballimpact.fe import SolverOptions, load_ball, simulate
 from ballimpact.fe import solver as fe_solver
-from ballimpact.fe.kernel import hertz_contact_radius_m
+from ballimpact.fe.estimates import hertz_contact_radius_m
 from ballimpact.closedform import hertz_impact
 
 E_PA, NU, RADIUS_M, DENSITY = 1.0e7, 0.3, 0.036, 1000.0

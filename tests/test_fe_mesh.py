@@ -1,4 +1,4 @@
-"""The layered-sphere O-grid mesh (`ballimpact.fe.mesh`): valid counter-clockwise quads, nodes on
+"""The layered-sphere O-grid mesh (`ballimpact.fe.axi.mesh`): valid counter-clockwise quads, nodes on
 every layer circle, correct layers, second-order area and volume, pole refinement sizes, inputs."""
 
 import math
@@ -9,7 +9,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from ballimpact.errors import InputError
-from ballimpact.fe.mesh import AxisymmetricMesh, layered_sphere_mesh, quad_quality
+from ballimpact.fe.axi.mesh import AxisymmetricMesh, layered_sphere_mesh, quad_quality
 
 R = 0.036
 SINGLE, TWO, THREE = (R,), (0.02, R), (0.02, 0.031, R)
@@ -289,8 +289,8 @@ def test_estimate_mesh_counts_without_meshing(radii, size, pole):
     """The memory guard's element count (`estimate_mesh`, no node built) against the mesh:
     exact without pole refinement, within 2% with it; the smallest element's length within a
     factor 2.5 on the small side (the steps estimate stays on the high side)."""
-    from ballimpact.fe.axisymmetric import geometry
-    from ballimpact.fe.mesh import estimate_mesh
+    from ballimpact.fe.axi.element import geometry
+    from ballimpact.fe.axi.mesh import estimate_mesh
 
     mesh = layered_sphere_mesh(radii, size, pole)
     estimate = estimate_mesh(radii, size, pole)
@@ -306,7 +306,7 @@ def test_estimate_mesh_of_a_millimetre_ball_is_instant():
     """36.6 m (a radius in mm as m) at 1.5 mm: 1.5e9 elements counted, nothing built."""
     import time
 
-    from ballimpact.fe.mesh import estimate_mesh
+    from ballimpact.fe.axi.mesh import estimate_mesh
 
     start = time.perf_counter()
     estimate = estimate_mesh((36.6,), 1.5e-3)

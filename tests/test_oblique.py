@@ -19,9 +19,9 @@ from ballimpact.fe.materials import Sym, energy_and_stress, material_from_dict
 from ballimpact.fe.solver import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, rigid_oblique_impact,
                                 simulate_oblique, simulate_oblique_batch)
-from ballimpact.oblique import hexa
+from ballimpact.fe.hex import element as hexa
 from ballimpact.oblique import solver as oblique_solver
-from ballimpact.oblique.mesh import ball_mesh, centre_jacobian_det, graded_depths_m, slab_mesh
+from ballimpact.fe.hex.mesh import ball_mesh, centre_jacobian_det, graded_depths_m, slab_mesh
 from ballimpact.oblique.output import animate_section, write_series
 
 R, RHO = 0.036, 800.0
@@ -424,8 +424,8 @@ def test_xdmf_series(tmp_path):
 def test_estimate_ball_mesh_counts_without_meshing(radii, divisions, half):
     """The memory guard's hexahedron count (no node built) is the mesh's; the smallest
     element's length on the small side, within a factor 2."""
-    from ballimpact.oblique.hexa import geometry
-    from ballimpact.oblique.mesh import ball_mesh, estimate_ball_mesh
+    from ballimpact.fe.hex.element import geometry
+    from ballimpact.fe.hex.mesh import ball_mesh, estimate_ball_mesh
 
     mesh = ball_mesh(radii, divisions, 2.0, half=half)
     elements, smallest = estimate_ball_mesh(radii, divisions, 2.0, half)
@@ -449,7 +449,7 @@ def test_slab_cells_are_counted_before_meshing():
     assert -top[1] < 0.6 * -top[0]       # the graded slab's surface cells are finer
     # matched in plane: the centre cell about the ball's pole spacing (not under it), growing
     # as the ball's cells do from the pole
-    from ballimpact.oblique.mesh import pole_cell_growth, pole_spacing_m
+    from ballimpact.fe.hex.mesh import pole_cell_growth, pole_spacing_m
 
     pole = pole_spacing_m(R, 8, 2.0)
     xs = np.unique(graded.nodes_m[~graded.ball_nodes, 0])
@@ -513,7 +513,7 @@ def test_hertz_in_series_halves_the_modulus_for_a_target_of_the_balls_material()
     """`hertz_series_impact` against the closed form: a sphere on a half-space of its own
     material is Hertz with E* halved (approach (15 m v^2 / (16 E* sqrt R))^0.4, contact time
     2.94328 y_max / v); on a rigid plane it is the ball's own E*."""
-    from ballimpact.fe.kernel import hertz_series_impact
+    from ballimpact.fe.estimates import hertz_series_impact
 
     ball, v, nu = _ball(), 3.0, 0.3
     material = material_from_dict(ELASTIC)

@@ -157,9 +157,9 @@ def test_a_3d_run_keeps_its_programs_and_reads_them_back(folder, monkeypatch):
 
 
 def test_materialized_values_are_the_same_bits():
-    """`oblique.hexa.materialized` (F and the hourglass terms computed once into memory by a
+    """`fe.hex.element.materialized` (F and the hourglass terms computed once into memory by a
     gather with a run-time index) changes no value: jitted with and without it, bit for bit."""
-    from ballimpact.oblique.hexa import materialized
+    from ballimpact.fe.hex.element import materialized
 
     x = jnp.asarray(np.random.default_rng(5).normal(size=(3, 257)))
 

@@ -218,8 +218,3 @@ def sweep_figure(sweeps: Sequence[Sweep], *, overlays: bool = False, title: str 
     if title:
         figure.suptitle(title)
     return figure
-
-
-def save_figure(figure, path: str | Path) -> str:
-    figure.savefig(path, dpi=120)
-    return str(path)

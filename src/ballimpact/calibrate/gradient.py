@@ -48,7 +48,7 @@ from ..errors import InputError, InputWarning, SimulationError
 from ..identifiability import correlation_factor, identification_notes, standard_errors
 from ..comparison import max_shift_s
 from ..fe.driver import fixed_increment_run
-from ..fe.kernel import HISTORY
+from ..fe.axi.kernel import HISTORY
 from .problem import CalibrationProblem, CalibrationTest, sub_ball
 
 CHUNK_STEPS = 100
@@ -95,7 +95,7 @@ class SmoothMisfit:
                          allow=self.problem.allow)
 
     def _flat_params(self, u) -> np.ndarray:
-        from ..fe.kernel import ball_arrays
+        from ..fe.axi.kernel import ball_arrays
 
         arrays = ball_arrays(self._ball(u), self.kernel.geom, self.options)
         return np.asarray(ravel_pytree(arrays)[0], np.float64)
@@ -123,7 +123,7 @@ class SmoothMisfit:
         if "residuals" in self._fn:
             return self._fn["residuals"]
         kernel = self.kernel
-        from ..fe.kernel import ball_arrays
+        from ..fe.axi.kernel import ball_arrays
 
         template = ball_arrays(self._ball(self.problem.start_unit()), kernel.geom, self.options)
         unravel = ravel_pytree(template)[1]

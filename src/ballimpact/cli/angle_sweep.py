@@ -101,7 +101,7 @@ def gripping_reference(ball, target, condition, psi_max: float,
     at the ball's small-strain Poisson's ratio, with a note; or (None, why not)."""
     import numpy as np
 
-    from ..fe.kernel import hertz_contact_radius_m
+    from ..fe.estimates import hertz_contact_radius_m
     from ..oblique.elastic_reference import normalised_curves
 
     obstacle = reference_obstacle(ball, target, condition)

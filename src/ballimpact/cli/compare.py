@@ -71,14 +71,8 @@ def check_balls(specs: list[str]) -> list[str]:
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import RunProgress, estimate_run
     from ..fe.solver import default_group_size
-    from ..sweep import (
-        compare_rows,
-        run_sweep,
-        save_figure,
-        sweep_balls,
-        sweep_figure,
-        write_table,
-    )
+    from ..plotting import save_and_close
+    from ..sweep import compare_rows, run_sweep, sweep_balls, sweep_figure, write_table
 
     # every check on the input, every ball loaded, before anything is meshed
     check_plot_path(args.plot)
@@ -116,9 +110,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.table is not None:
         out["table"] = write_table(rows, args.table)
     if args.plot is not None:
-        out["plot"] = save_figure(sweep_figure(sweeps, overlays=True,
-                                               title="compare: FE impacts on a rigid plane"),
-                                  args.plot)
+        figure = sweep_figure(sweeps, overlays=True, title="compare: FE impacts on a rigid plane")
+        out["plot"] = str(save_and_close(figure, args.plot))
     if not args.json:
         _print(out)
     return out

@@ -117,18 +117,13 @@ def write_curve(path: Path, result) -> str:
 
 def plot_curve(result, path: Path) -> Path:
     """Force (N) against deflection (mm), one PNG."""
-    import matplotlib
+    from ..plotting import save_and_close, subplots
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    figure, axis = plt.subplots(figsize=(5.5, 4.2), layout="constrained")
+    figure, axis = subplots(figsize=(5.5, 4.2), layout="constrained")
     axis.plot(result.deflection_m * 1e3, result.force_n, "o-", ms=3)
     axis.set_xlabel("deflection (platen approach), mm")
     axis.set_ylabel("force, N")
     curve = (f"{result.rate_m_s:g} m/s" if result.rate_m_s is not None else "long-term")
     axis.set_title(f"{result.ball_name} between two platens\n({curve})", fontsize=10)
     axis.grid(alpha=0.3)
-    figure.savefig(path, dpi=120)
-    plt.close(figure)
-    return Path(path)
+    return save_and_close(figure, path)

@@ -144,12 +144,11 @@ def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
         write_table(args.table, rows)
         result["table_csv"] = str(args.table)
     if args.plot:
-        from ..plotting import plt  # matplotlib (Agg) only when a plot is asked for
+        from ..plotting import save_and_close, subplots  # matplotlib only for a plot
 
-        figure, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
+        figure, ax = subplots(figsize=(7.5, 4.5), layout="constrained")
         repeats.plot_pulse_bands(ax, repeats.pulse_bands(processed, groups))
-        figure.savefig(args.plot, dpi=120)
-        plt.close(figure)
+        save_and_close(figure, args.plot)
         result["plot"] = str(args.plot)
     if not args.json:
         print_groups(result)

@@ -309,7 +309,8 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
 
     from ..fe import RunProgress, estimate_run
     from ..fe.solver import default_group_size
-    from ..sweep import run_sweep, save_figure, sweep_balls, sweep_figure, write_table
+    from ..plotting import save_and_close
+    from ..sweep import run_sweep, sweep_balls, sweep_figure, write_table
 
     if args.solver == "3d":
         raise InputError("--speed-m-s: a list of speeds (a sweep) runs with the axisymmetric "
@@ -342,8 +343,8 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
     if args.table is not None:
         out["table"] = write_table(rows, args.table)
     if args.plot is not None:
-        out["plot"] = save_figure(sweep_figure([sweep], title=f"{args.ball}: speed sweep (FE, "
-                                                               "rigid plane)"), args.plot)
+        figure = sweep_figure([sweep], title=f"{args.ball}: speed sweep (FE, rigid plane)")
+        out["plot"] = str(save_and_close(figure, args.plot))
     if not args.json:
         _print_sweep(args.ball, out)
     return out

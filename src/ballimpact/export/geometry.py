@@ -1,8 +1,8 @@
 """The ball as a deck sees it: nodes, elements per layer, the outer-surface faces, the node sets
 of its boundary conditions, and the mesh's own mass (NumPy only).
 
-The meshes are the solvers' own (`fe.mesh.layered_sphere_mesh` for the axisymmetric ball,
-`oblique.mesh.ball_mesh` for the 3D one), so an exported ball is the ball that `simulate` runs.
+The meshes are the solvers' own (`fe.axi.mesh.layered_sphere_mesh` for the axisymmetric ball,
+`fe.hex.mesh.ball_mesh` for the 3D one), so an exported ball is the ball that `simulate` runs.
 Placement: the contact (south) pole at the origin, the ball above the plane y = 0 (axisymmetric,
 (r, z) written as (x, y) with y the axis, as ABAQUS and CalculiX expect) or z = 0 (3D).
 Element faces are numbered as ABAQUS numbers them (CAX4: S1 = nodes 1-2 ... S4 = 4-1; C3D8: S1
@@ -18,10 +18,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..fe.ball import BallModel
-from ..fe.mesh import estimate_mesh, layered_sphere_mesh
+from ..fe.axi.mesh import estimate_mesh, layered_sphere_mesh
 from ..fe.options import SolverOptions
-from ..oblique.hexa import geometry
-from ..oblique.mesh import ball_mesh, estimate_ball_mesh
+from ..fe.hex.element import geometry
+from ..fe.hex.mesh import ball_mesh, estimate_ball_mesh
 from ..oblique.options import Options3D
 
 SOLVERS = ("axisymmetric", "3d")
@@ -87,7 +87,7 @@ def estimate_elements(ball: BallModel, solver: str = "axisymmetric", *,
                       element_size_m: float | None = None, divisions: int | None = None,
                       pole_grading: float | None = None, half: bool = False) -> int:
     """The element count of `ball_geometry` with these arguments, without meshing (the mesh's
-    counting rules: `fe.mesh.estimate_mesh`, `oblique.mesh.estimate_ball_mesh`); arguments are
+    counting rules: `fe.axi.mesh.estimate_mesh`, `fe.hex.mesh.estimate_ball_mesh`); arguments are
     checked as there."""
     options = _mesh_options(solver, element_size_m, divisions, pole_grading)
     if solver == "axisymmetric":

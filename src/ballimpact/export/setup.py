@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 from ..errors import InputError
 from ..fe.ball import BallModel
-from ..fe.kernel import hertz_contact_time_s
+from ..fe.estimates import hertz_contact_time_s
 from ..checks import check_range
 
 

@@ -36,7 +36,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError, InputWarning, SimulationError
-from .kernel import Kernel, ball_arrays, cast
+from .axi.kernel import Kernel, ball_arrays
+from .steps import cast
 from .materials.stability import drucker_warnings
 from ..checks import shown
 from .options import SolverOptions

@@ -1,8 +1,8 @@
 """The run loop both explicit engines share (axisymmetric `fe.solver`, hexahedral
 `oblique.solver`).
 
-A kernel (`fe.kernel.ChunkedSteps`: the axisymmetric `fe.kernel.Kernel` or the hexahedral
-`oblique.kernel.Kernel`) gives an initial state and a chunk of steps, compiled once per process
+A kernel (`fe.steps.ChunkedSteps`: the axisymmetric `fe.axi.kernel.Kernel` or the hexahedral
+`fe.hex.kernel.Kernel`) gives an initial state and a chunk of steps, compiled once per process
 by `programs.compiled_run`. `run_chunks` steps the members of a vmapped group chunk by chunk and
 decides, between chunks and on the host, what the kernels flag in their state: the time reached
 `t`, the first non-finite or inverted state `t_bad`, the first energy-balance error above the
@@ -23,7 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import SimulationError
-from .kernel import cast
+from .steps import cast
 from .programs import compiled_run
 
 #: the state's scalars the loop reads between chunks

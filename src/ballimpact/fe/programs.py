@@ -37,7 +37,7 @@ def use_folder(folder: str | os.PathLike | None) -> None:
 
 
 def compiled_run(kernel, n_steps: int, batched: bool) -> tuple[Callable, Callable]:
-    """(chunk of `n_steps` steps, initial state) of a kernel (`fe.kernel.ChunkedSteps`): jitted,
+    """(chunk of `n_steps` steps, initial state) of a kernel (`fe.steps.ChunkedSteps`): jitted,
     vmapped over a leading batch axis when `batched`, kept for the process."""
     key = (id(kernel), n_steps, batched)
     if key not in _COMPILED:

@@ -26,16 +26,10 @@ import numpy as np
 from ..errors import InputError, InputWarning
 from ..plausibility import FE_SPEED_RANGE_M_S, check_allow, check_fe_speed
 from ..records import ImpactRecord
-from .axisymmetric import geometry
-from .kernel import (
-    HISTORY,
-    Kernel,
-    ball_arrays,
-    hertz_contact_radius_m,
-    hertz_contact_time_s,
-    time_limit_default,
-)
-from .mesh import estimate_mesh, layered_sphere_mesh
+from .axi.element import geometry
+from .axi.kernel import HISTORY, Kernel, ball_arrays
+from .estimates import hertz_contact_radius_m, hertz_contact_time_s, time_limit_default
+from .axi.mesh import estimate_mesh, layered_sphere_mesh
 from .materials.stability import drucker_warnings
 from ..checks import shown
 from .options import ImpactCondition, SolverOptions

@@ -1,7 +1,7 @@
 """Mesh grading to the contact: the pole grading that puts a given number of elements across the
 Hertz contact radius expected for an impact.
 
-The contact radius is `fe.kernel.hertz_contact_radius_m`'s: Hertz's on a rigid plane at the
+The contact radius is `fe.estimates.hertz_contact_radius_m`'s: Hertz's on a rigid plane at the
 impact's normal speed, with the softest layer's long-term plane-strain modulus (exact for a
 homogeneous elastic ball; the widest patch of a layered or viscoelastic one, and a target
 widens it further, so the mesh is then at least as fine as asked).
@@ -10,8 +10,8 @@ widens it further, so the mesh is then at least as fine as asked).
 from __future__ import annotations
 
 from ..errors import InputError
-from ..fe.kernel import hertz_contact_radius_m
-from .mesh import GRADING_RANGE, pole_spacing_m
+from ..fe.estimates import hertz_contact_radius_m
+from ..fe.hex.mesh import GRADING_RANGE, pole_spacing_m
 
 
 def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..checks import check_range, shown
 from ..errors import InputError
 from ..fe.options import ExplicitOptions, ImpactCondition, check_count
-from .mesh import GRADING_RANGE
+from ..fe.hex.mesh import GRADING_RANGE
 
 __all__ = ["ImpactCondition", "Options3D"]
 

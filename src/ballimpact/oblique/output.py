@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .hexa import _FACES
+from ..fe.hex.element import FACES
 
 
 def _need_frames(result) -> None:
@@ -34,7 +34,7 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
 
 def _surface_quads(elements: np.ndarray, node_set: np.ndarray) -> np.ndarray:
     """Element faces (n, 4) whose four nodes are all in `node_set` (bool per node)."""
-    faces = np.concatenate([elements[:, list(f)] for f in _FACES])
+    faces = np.concatenate([elements[:, list(f)] for f in FACES])
     return faces[np.all(node_set[faces], axis=1)]
 
 
@@ -104,7 +104,7 @@ def _section(result):
     nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
     on_plane = np.abs(nodes[:, 1]) < 1e-9 * result.outer_radius_m
     faces, owners = [], []
-    for f in _FACES:
+    for f in FACES:
         quad = elements[:, list(f)]
         keep = np.all(on_plane[quad], axis=1)
         faces.append(quad[keep])
@@ -125,25 +125,33 @@ def _draw(ax, result, frame, faces, owners, norm):
     return coll
 
 
-def section_figure(result, frame_index: int = -1, path=None):
-    """The mid-plane section of one frame, coloured by von Mises stress (MPa); PNG if `path`."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def _stress_scale(result):
+    """One colour scale for every frame: 0 to the run's peak von Mises stress (MPa)."""
     from matplotlib.colors import Normalize
 
+    return Normalize(0, max(np.max(von_mises(f["stress_pa"])) for f in result.frames) / 1e6)
+
+
+def draw_section(ax, result, frame_index: int = -1):
+    """The mid-plane section of one kept frame on the matplotlib Axes `ax` (mm), coloured by
+    von Mises stress (MPa, on the run's scale) with a colour bar. Returns `ax`."""
     _need_frames(result)
     faces, owners = _section(result)
     frame = result.frames[frame_index]
-    peak = max(np.max(von_mises(f["stress_pa"])) for f in result.frames) / 1e6
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    coll = _draw(ax, result, frame, faces, owners, Normalize(0, peak))
+    coll = _draw(ax, result, frame, faces, owners, _stress_scale(result))
     _frame_axes(ax, result, frame["time_s"])
-    fig.colorbar(coll, ax=ax, label="von Mises stress (MPa)")
+    ax.figure.colorbar(coll, ax=ax, label="von Mises stress (MPa)")
+    return ax
+
+
+def section_figure(result, frame_index: int = -1, path=None):
+    """A matplotlib `Figure` (no pyplot) of `draw_section`; PNG if `path`."""
+    from ..plotting import subplots
+
+    fig, ax = subplots(figsize=(6, 4.5))
+    draw_section(ax, result, frame_index)
     if path is not None:
         fig.savefig(path, dpi=120, bbox_inches="tight")
-        plt.close(fig)
     return fig
 
 
@@ -167,9 +175,6 @@ def check_animation_path(path) -> None:
     if path.suffix.lower() not in (".gif", ".mp4"):
         raise InputError(f"--animate {path}: the file must end in .gif or .mp4")
     if path.suffix.lower() == ".mp4":
-        import matplotlib
-
-        matplotlib.use("Agg")
         from matplotlib import animation
 
         if not animation.FFMpegWriter.isAvailable():
@@ -178,21 +183,17 @@ def check_animation_path(path) -> None:
 
 def animate_section(result, path, fps: int = 12) -> Path:
     """An animation of the mid-plane section over the kept frames: GIF, or MP4 (ffmpeg)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib import animation
-    from matplotlib.colors import Normalize
+
+    from ..plotting import subplots
 
     _need_frames(result)
     path = Path(path)
     if path.suffix.lower() not in (".gif", ".mp4"):
         raise InputError(f"--animate {path}: the file must end in .gif or .mp4")
     faces, owners = _section(result)
-    peak = max(np.max(von_mises(f["stress_pa"])) for f in result.frames) / 1e6
-    norm = Normalize(0, peak)
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    norm = _stress_scale(result)
+    fig, ax = subplots(figsize=(6, 4.5))
     coll = _draw(ax, result, result.frames[0], faces, owners, norm)
     fig.colorbar(coll, ax=ax, label="von Mises stress (MPa)")
 
@@ -210,5 +211,4 @@ def animate_section(result, path, fps: int = 12) -> Path:
         if not animation.FFMpegWriter.isAvailable():
             raise InputError(f"--animate {path}: MP4 needs ffmpeg; write a .gif instead")
         anim.save(path, writer=animation.FFMpegWriter(fps=fps), dpi=100)
-    plt.close(fig)
     return path

@@ -1,5 +1,8 @@
 """Plots of 3D oblique impacts: histories of one run, and a sweep of incidence against the
-rigid-body lines (and, in the gripping regime, the elastic-sphere reference)."""
+rigid-body lines (and, in the gripping regime, the elastic-sphere reference).
+
+Each panel is a `draw_*(ax, ...)` function on a matplotlib Axes the caller gives (returned); the
+`plot_*` functions lay the panels out and write a file. Nothing here chooses a backend."""
 
 from __future__ import annotations
 
@@ -8,45 +11,76 @@ import numpy as np
 from .rigid_body import (HOMOGENEOUS_K2, normalised_incidence, normalised_spin, rigid_lines)
 
 
-def _pyplot():
+def _run_colors(results) -> list[str]:
+    """A colour per run from the property cycle, the same in every panel of `plot_oblique`."""
     import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
+    cycle = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]
+    return [cycle[i % len(cycle)] for i in range(len(results))]
+
+
+def _label(run) -> str:
+    c = run.condition
+    return f"{c.speed_m_s:g} m/s, {c.angle_deg:g} deg, mu {c.friction:g}"
+
+
+def _finish_panel(ax, xlabel: str, ylabel: str) -> None:
+    ax.set(xlabel=xlabel, ylabel=ylabel)
+    ax.legend(fontsize=7)
+    ax.grid(alpha=0.3)
+
+
+def draw_oblique_forces(ax, results):
+    """Normal (solid) and tangential (dashed) contact force against time of 3D runs on `ax`
+    (ms, kN), a colour per run. Returns `ax`."""
+    for r, color in zip(results, _run_colors(results)):
+        h = r.history
+        t = h["time_s"] * 1e3
+        ax.plot(t, h["normal_force_n"] / 1e3, color=color, label=f"normal ({_label(r)})")
+        ax.plot(t, h["tangential_force_x_n"] / 1e3, "--", color=color, label="tangential")
+    _finish_panel(ax, "time (ms)", "contact force (kN)")
+    return ax
+
+
+def draw_oblique_spin(ax, results):
+    """Spin about y against time of 3D runs on `ax` (rad/s, + topspin), a colour per run; for
+    one run also its contact-point slip velocity, on a twin axis at the right. Returns `ax`."""
+    for r, color in zip(results, _run_colors(results)):
+        h = r.history
+        ax.plot(h["time_s"] * 1e3, h["spin_y_rad_s"], color=color, label=f"spin ({_label(r)})")
+    if len(results) == 1:  # several runs' slip velocities would crowd the panel
+        h = results[0].history
+        twin = ax.twinx()
+        twin.plot(h["time_s"] * 1e3, h["contact_slip_velocity_m_s"], ":", color="C3")
+        twin.set_ylabel("contact-point slip velocity (m/s)", color="C3")
+    _finish_panel(ax, "time (ms)", "spin about y (rad/s, + topspin)")
+    return ax
+
+
+def draw_oblique_energy(ax, results):
+    """The energy account against time of 3D runs on `ax` (J): kinetic, viscous and frictional
+    dissipation, strain energy (a line style each, a colour per run). Returns `ax`."""
+    for r, color in zip(results, _run_colors(results)):
+        h = r.history
+        for name, style in (("kinetic_energy_j", "-"), ("viscous_dissipation_j", "--"),
+                            ("frictional_dissipation_j", ":"), ("strain_energy_j", "-.")):
+            ax.plot(h["time_s"] * 1e3, h[name], style, color=color,
+                    label=name.replace("_j", "").replace("_", " ") if r is results[0] else None)
+    _finish_panel(ax, "time (ms)", "energy (J)")
+    return ax
 
 
 def plot_oblique(results, path) -> None:
-    """Normal and tangential contact force, spin and contact-point slip velocity against time,
-    and the energy account, for one or more runs."""
-    plt = _pyplot()
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
-    for r in results:
-        h = r.history
-        t = h["time_s"] * 1e3
-        c = r.condition
-        label = f"{c.speed_m_s:g} m/s, {c.angle_deg:g} deg, mu {c.friction:g}"
-        line, = axes[0].plot(t, h["normal_force_n"] / 1e3, label=f"normal ({label})")
-        axes[0].plot(t, h["tangential_force_x_n"] / 1e3, "--", color=line.get_color(),
-                     label="tangential")
-        axes[1].plot(t, h["spin_y_rad_s"], color=line.get_color(), label=f"spin ({label})")
-        ax2 = axes[1].twinx() if len(results) == 1 else None
-        if ax2 is not None:
-            ax2.plot(t, h["contact_slip_velocity_m_s"], ":", color="C3")
-            ax2.set_ylabel("contact-point slip velocity (m/s)", color="C3")
-        for name, style in (("kinetic_energy_j", "-"), ("viscous_dissipation_j", "--"),
-                            ("frictional_dissipation_j", ":"), ("strain_energy_j", "-.")):
-            axes[2].plot(t, h[name], style, label=name.replace("_j", "").replace("_", " ")
-                         if r is results[0] else None, color=line.get_color())
-    axes[0].set(xlabel="time (ms)", ylabel="contact force (kN)")
-    axes[1].set(xlabel="time (ms)", ylabel="spin about y (rad/s, + topspin)")
-    axes[2].set(xlabel="time (ms)", ylabel="energy (J)")
-    for ax in axes:
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
+    """Write a PNG of one or more runs: `draw_oblique_forces`, `draw_oblique_spin` and
+    `draw_oblique_energy` side by side."""
+    from ..plotting import save_and_close, subplots
+
+    fig, axes = subplots(1, 3, figsize=(14, 4))
+    draw_oblique_forces(axes[0], results)
+    draw_oblique_spin(axes[1], results)
+    draw_oblique_energy(axes[2], results)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_and_close(fig, path)
 
 
 def sweep_points(results) -> dict[str, np.ndarray]:
@@ -73,39 +107,67 @@ def _psi_top(psi) -> float:
     return max(12.0, 1.1 * finite.max()) if finite.size else 12.0
 
 
-def _finish(fig, axes, path, title: str, transition: float, legends=None) -> None:
-    """The rigid-body transition (dashed), legends (on `legends`, default every panel), grids,
-    the title; saved and closed."""
-    for ax in axes:
-        ax.axvline(transition, color="0.6", lw=0.8, ls="--")
-        if legends is None or ax in legends:
-            ax.legend(fontsize=8)
-        ax.grid(alpha=0.3)
+def _save(fig, path, title: str) -> None:
+    """The title (small: it can be long) above tightly laid out panels; saved and closed."""
+    from ..plotting import save_and_close
+
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    _pyplot().close(fig)
+    save_and_close(fig, path)
+
+
+def _finish_sweep_panel(ax, transition: float) -> None:
+    """The rigid-body transition (dashed), a legend and a grid."""
+    ax.axvline(transition, color="0.6", lw=0.8, ls="--")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+
+
+def _rigid_sweep_lines(psi):
+    """The rigid-body lines (k^2 = 0.4) over the Psi axis of the runs `psi`."""
+    psi_line = np.linspace(0, _psi_top(psi), 300)
+    return (psi_line, *rigid_lines(psi_line, HOMOGENEOUS_K2))
+
+
+# the rigid transition Psi = 2 (1 + k^2) / k^2 is 7 at k^2 = 0.4
+_SWEEP_TRANSITION = 7.0
+
+
+def draw_sweep_spin(ax, results):
+    """Normalised rebound spin against normalised incidence of runs without initial spin on
+    `ax`, with the rigid-body line (k^2 = 0.4). Returns `ax`."""
+    pts = sweep_points(results)
+    psi_line, spin_line, _ = _rigid_sweep_lines(pts["psi"])
+    ax.plot(psi_line, spin_line, "k-", label="rigid body (rolling, then sliding)")
+    ax.plot(pts["psi"], pts["spin"], "o", label="3D FE")
+    ax.set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
+           ylabel="normalised spin w' R / (mu (1 + e_n) v_n)")
+    _finish_sweep_panel(ax, _SWEEP_TRANSITION)
+    return ax
+
+
+def draw_sweep_tangential(ax, results):
+    """Normalised tangential velocity change against normalised incidence of runs without
+    initial spin on `ax`, with the rigid-body line (k^2 = 0.4). Returns `ax`."""
+    pts = sweep_points(results)
+    psi_line, _, dv_line = _rigid_sweep_lines(pts["psi"])
+    ax.plot(psi_line, dv_line, "k-", label="rigid body")
+    ax.plot(pts["psi"], pts["tangential_change"], "o", label="3D FE")
+    ax.set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
+           ylabel="(v_x - v_x') / (mu (1 + e_n) v_n)")
+    _finish_sweep_panel(ax, _SWEEP_TRANSITION)
+    return ax
 
 
 def plot_sweep(results, path, title: str = "") -> None:
-    """Normalised rebound spin and tangential velocity change against normalised incidence,
-    with the rigid-body lines (k^2 = 0.4)."""
-    plt = _pyplot()
-    pts = sweep_points(results)
-    psi_line = np.linspace(0, _psi_top(pts["psi"]), 300)
-    spin_line, dv_line = rigid_lines(psi_line, HOMOGENEOUS_K2)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    axes[0].plot(psi_line, spin_line, "k-", label="rigid body (rolling, then sliding)")
-    axes[0].plot(pts["psi"], pts["spin"], "o", label="3D FE")
-    axes[0].set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
-                ylabel="normalised spin w' R / (mu (1 + e_n) v_n)")
-    axes[1].plot(psi_line, dv_line, "k-", label="rigid body")
-    axes[1].plot(pts["psi"], pts["tangential_change"], "o", label="3D FE")
-    axes[1].set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
-                ylabel="(v_x - v_x') / (mu (1 + e_n) v_n)")
-    # the rigid transition Psi = 2 (1 + k^2) / k^2 is 7 at k^2 = 0.4
-    _finish(fig, axes, path, title, 7.0)
+    """Write `draw_sweep_spin` and `draw_sweep_tangential` side by side."""
+    from ..plotting import subplots
+
+    fig, axes = subplots(1, 2, figsize=(11, 4))
+    draw_sweep_spin(axes[0], results)
+    draw_sweep_tangential(axes[1], results)
+    _save(fig, path, title)
 
 
 def rigid_gripping_lines(psi, k2: float = HOMOGENEOUS_K2) -> dict[str, np.ndarray]:
@@ -139,32 +201,42 @@ GRIPPING_PANELS = (("normalised_spin", "normalised spin Omega = w' R / (mu (1 + 
                    ("contact_point_cor", "contact-point COR e_cp = -(v_x' - w' R) / v_x"))
 
 
-def plot_gripping(results, path, reference=None, title: str = "", *,
-                  k2: float = HOMOGENEOUS_K2, poissons_ratio: float | None = None) -> None:
-    """Normalised spin Omega, tangential COR of the centre e_t and contact-point COR e_cp against
-    the normalised incidence Psi (Maw, Barber & Fawcett's axes), three panels: the FE runs
-    (without initial spin; each normalised with its own e_n), the rigid-body lines for `k2`
-    (rolling, then sliding; dashed at the transition Psi = 2 (1 + k^2) / k^2) and, when given,
-    the elastic-sphere reference `reference` (the dict of `elastic_reference.normalised_curves`,
-    labelled with `poissons_ratio`)."""
-    plt = _pyplot()
+def draw_gripping(ax, results, key: str = "normalised_spin", reference=None, *,
+                  k2: float = HOMOGENEOUS_K2, poissons_ratio: float | None = None):
+    """One of the gripping axes against the normalised incidence Psi on `ax`: `key` of
+    `GRIPPING_PANELS` (Omega, e_t or e_cp; Maw, Barber & Fawcett's axes) of the FE runs (without
+    initial spin; each normalised with its own e_n), the rigid-body line for `k2` (rolling, then
+    sliding; dashed at the transition Psi = 2 (1 + k^2) / k^2) and, when given, the
+    elastic-sphere reference `reference` (the dict of `elastic_reference.normalised_curves`,
+    labelled with `poissons_ratio`). The Omega panel carries the legend. Returns `ax`."""
     pts = gripping_points(results)
     top = _psi_top(pts["psi"])
     if reference is not None:  # the whole reference shown (the CLI's grid ends at this top)
         top = max(top, float(np.nanmax(reference["psi"])))
     psi_line = np.linspace(0.02, top, 400)  # e_t and e_cp are 0/0 at Psi = 0
-    rigid = rigid_gripping_lines(psi_line, k2)
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.2))
-    nu = "" if poissons_ratio is None else f", nu = {poissons_ratio:.3g}"
-    for ax, (key, ylabel) in zip(axes, GRIPPING_PANELS):
-        ax.plot(psi_line, rigid[key], "k-", lw=1.2,
-                label=f"rigid body (rolling, then sliding; k^2 = {k2:.3g})")
-        if reference is not None:
-            ax.plot(reference["psi"], reference[key], "-", color="C1", lw=1.5,
-                    label=f"elastic sphere, Mindlin-Deresiewicz (Maw et al.){nu}")
-        ax.plot(pts["psi"], pts[key], "o", color="C0", label="3D FE")
-        if key == "normalised_spin":  # one legend (the panels share their lines), out of the way
-            ax.legend(fontsize=8, loc="lower right")
-        ax.axhline(0.0, color="0.8", lw=0.6)
-        ax.set(xlabel=_PSI_LABEL, ylabel=ylabel, xlim=(0.0, top))
-    _finish(fig, axes, path, title, 2.0 * (1.0 + k2) / k2, legends=())
+    ax.plot(psi_line, rigid_gripping_lines(psi_line, k2)[key], "k-", lw=1.2,
+            label=f"rigid body (rolling, then sliding; k^2 = {k2:.3g})")
+    if reference is not None:
+        nu = "" if poissons_ratio is None else f", nu = {poissons_ratio:.3g}"
+        ax.plot(reference["psi"], reference[key], "-", color="C1", lw=1.5,
+                label=f"elastic sphere, Mindlin-Deresiewicz (Maw et al.){nu}")
+    ax.plot(pts["psi"], pts[key], "o", color="C0", label="3D FE")
+    if key == "normalised_spin":  # one legend (the panels share their lines), out of the way
+        ax.legend(fontsize=8, loc="lower right")
+    ax.axhline(0.0, color="0.8", lw=0.6)
+    ax.set(xlabel=_PSI_LABEL, ylabel=dict(GRIPPING_PANELS)[key], xlim=(0.0, top))
+    ax.axvline(2.0 * (1.0 + k2) / k2, color="0.6", lw=0.8, ls="--")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def plot_gripping(results, path, reference=None, title: str = "", *,
+                  k2: float = HOMOGENEOUS_K2, poissons_ratio: float | None = None) -> None:
+    """Write `draw_gripping` of each of the three `GRIPPING_PANELS` side by side: normalised
+    spin Omega, tangential COR of the centre e_t and contact-point COR e_cp against Psi."""
+    from ..plotting import subplots
+
+    fig, axes = subplots(1, 3, figsize=(15, 4.2))
+    for ax, (key, _) in zip(axes, GRIPPING_PANELS):
+        draw_gripping(ax, results, key, reference, k2=k2, poissons_ratio=poissons_ratio)
+    _save(fig, path, title)

@@ -23,18 +23,28 @@ import jax
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from ..fe.kernel import hertz_contact_time_s, hertz_series_impact, time_limit_default
+from ..fe.estimates import hertz_contact_time_s, hertz_series_impact, time_limit_default
 from ..fe.progress import RunEstimate
 from ..fe.driver import run_chunks
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
 from ..records import ImpactRecord
-from . import kernel as kernel_module
-from .hexa import geometry
-from .kernel import HISTORY, HexParams, Kernel
-from .mesh import (HexMesh, _graded_line, ball_mesh, combine, estimate_ball_mesh, graded_depths_m,
-                   pole_cell_growth, pole_spacing_m, slab_mesh, uniform_depths_m)
+from ..fe.hex import kernel as kernel_module
+from ..fe.hex.element import geometry
+from ..fe.hex.kernel import HISTORY, HexParams, Kernel
+from ..fe.hex.mesh import (
+    HexMesh,
+    graded_line,
+    ball_mesh,
+    combine,
+    estimate_ball_mesh,
+    graded_depths_m,
+    pole_cell_growth,
+    pole_spacing_m,
+    slab_mesh,
+    uniform_depths_m,
+)
 from .contact_grading import grading_for_contact
 from .options import ImpactCondition, Options3D
 from .target import check_target_width
@@ -194,7 +204,7 @@ def _mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float
                                             options.pole_grading, half)
     if target is not None:
         cells, grading, depths = _slab_layout(ball, target, options)
-        centre = float(_graded_line(target.half_width_m, cells, grading)[1])
+        centre = float(graded_line(target.half_width_m, cells, grading)[1])
         elements += (2 * cells) * (cells if half else 2 * cells) * (len(depths) - 1)
         smallest = min(smallest, centre, float(np.min(np.diff(depths))))
     return elements, smallest
@@ -252,7 +262,7 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
             "increment_factor": increment_factor(options.time_step_scale,
                                                  options.bulk_viscosity_linear),
             "groups": [layer.material.constants() for layer in layers],
-            # arange(n_el) as data: `hexa.materialized`'s fusion boundary
+            # arange(n_el) as data: `element.materialized`'s fusion boundary
             "element_index": np.arange(geom.n_elements, dtype=np.int32)})
 
 

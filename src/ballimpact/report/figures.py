@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from ..plotting import plt
+from ..plotting import subplots
 from .inputs import ReportTest
 from .models import ModelRun
 from .tables import Table
@@ -20,10 +20,9 @@ _SHOWN = {"Pa": (1e-6, "MPa"), "s": (1e6, "us"), "N/m": (1e-6, "MN/m"), "kg": (1
 
 
 def svg(figure) -> str:
-    """The figure as SVG text (no XML prolog, so it can sit inside HTML); closes it."""
+    """The figure as SVG text (no XML prolog, so it can sit inside HTML)."""
     out = io.StringIO()
     figure.savefig(out, format="svg", bbox_inches="tight")
-    plt.close(figure)
     text = out.getvalue()
     return text[text.index("<svg"):]
 
@@ -37,8 +36,8 @@ def force_overlays(tests: list[ReportTest], runs: list[ModelRun]):
     n = len(tests)
     columns = min(n, 2)
     rows = math.ceil(n / columns)
-    figure, axes = plt.subplots(rows, columns, figsize=(6.2 * columns, 3.9 * rows),
-                                constrained_layout=True, squeeze=False)
+    figure, axes = subplots(rows, columns, figsize=(6.2 * columns, 3.9 * rows),
+                            layout="constrained", squeeze=False)
     for ax, test in zip(axes.flat, tests):
         f = test.processed.features
         ax.plot(f.time_s * 1e3, f.force_n / 1e3, color="k", lw=2.2, alpha=0.45, label="test")
@@ -59,7 +58,7 @@ def versus_speed(tests: list[ReportTest], runs: list[ModelRun], key: str, label:
     """`key` a feature (P17 COR, P1 contact time, P6 peak force) of the tests (markers) and of
     each model (lines) against the impact speed."""
     colors = _colors(runs)
-    figure, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
+    figure, ax = subplots(figsize=(6.4, 4.0), layout="constrained")
     ax.plot([t.speed_m_s for t in tests], [t.processed.features.values[key] * scale for t in tests],
             "ko", ms=7, label="tests")
     for model, color in colors.items():
@@ -74,7 +73,7 @@ def versus_speed(tests: list[ReportTest], runs: list[ModelRun], key: str, label:
 
 def nrmse_bars(tests: list[ReportTest], runs: list[ModelRun]):
     colors = _colors(runs)
-    figure, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
+    figure, ax = subplots(figsize=(6.4, 4.0), layout="constrained")
     width = 0.8 / len(colors)
     for j, (model, color) in enumerate(colors.items()):
         values = {r.test: r.comparison["force_nrmse"] * 100 for r in runs if r.model == model}
@@ -92,7 +91,7 @@ def cost_bars(cost: Table):
     models = [row[0] for row in cost.rows]
     identification = [row[2] for row in cost.rows]
     run = [row[3] for row in cost.rows]
-    figure, ax = plt.subplots(figsize=(6.4, 0.6 * len(models) + 1.6), constrained_layout=True)
+    figure, ax = subplots(figsize=(6.4, 0.6 * len(models) + 1.6), layout="constrained")
     y = np.arange(len(models))
     ax.barh(y - 0.2, [v if v > 0 else np.nan for v in identification], 0.4, color="C1",
             label="identification per test (fit, network)")
@@ -113,8 +112,8 @@ def parameters_vs_speed(model: str, runs: list[ModelRun]):
     names = list(mine[0].parameters)
     columns = min(len(names), 4)
     rows = math.ceil(len(names) / columns)
-    figure, axes = plt.subplots(rows, columns, figsize=(3.3 * columns, 2.7 * rows),
-                                constrained_layout=True, squeeze=False)
+    figure, axes = subplots(rows, columns, figsize=(3.3 * columns, 2.7 * rows),
+                            layout="constrained", squeeze=False)
     speeds = [r.impact_speed_m_s for r in mine]
     for ax, name in zip(axes.flat, names):
         si_unit = mine[0].units.get(name, "")

@@ -24,8 +24,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.assembly import corner_tables, gather_nodal as gather_corners
-from ..fe.fastmath import cube_root
+from ..assembly import corner_tables, gather_nodal as gather_corners
+from ..fastmath import cube_root
 from .mesh import HEX_CORNERS, HexMesh
 
 _GAUSS = HEX_CORNERS / np.sqrt(3.0)     # 2 x 2 x 2 points (weight 1), for volumes and masses
@@ -68,7 +68,7 @@ class HexGeometry:
         return len(self.elements)
 
 
-_FACES = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
+FACES = ((0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 
 
 def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
@@ -100,7 +100,7 @@ def geometry(mesh: HexMesh, n_groups: int) -> tuple[HexGeometry, np.ndarray]:
     moment = np.einsum("ma,ead->emd", _MODES, xe)
     face_area = np.stack([np.linalg.norm(np.cross(xe[:, f[2]] - xe[:, f[0]],
                                                   xe[:, f[3]] - xe[:, f[1]]), axis=1) / 2
-                          for f in _FACES])
+                          for f in FACES])
     length = volume / face_area.max(axis=0)
 
     n_nodes = len(X)

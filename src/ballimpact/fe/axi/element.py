@@ -24,9 +24,9 @@ from dataclasses import dataclass
 import jax
 import numpy as np
 
-from .assembly import corner_tables, gather_nodal as gather_corners
-from .fastmath import cube_root
-from .materials import Sym
+from ..assembly import corner_tables, gather_nodal as gather_corners
+from ..fastmath import cube_root
+from ..materials import Sym
 from .mesh import AxisymmetricMesh
 
 _G = 1.0 / np.sqrt(3.0)

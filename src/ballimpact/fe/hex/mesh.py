@@ -23,8 +23,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
-from ..checks import shown
+from ...errors import InputError
+from ...checks import shown
 
 #: corner signs of the reference hexahedron, VTK order (bottom face, then top face)
 HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -253,7 +253,7 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
                    symmetry_nodes=symmetry, half=half, outer_radius_m=float(outer))
 
 
-def _graded_line(half_width: float, cells_half: int, grading: float) -> np.ndarray:
+def graded_line(half_width: float, cells_half: int, grading: float) -> np.ndarray:
     """Coordinates over [0, half_width], spacing growing geometrically by `grading` overall."""
     ratio = grading ** (1.0 / max(cells_half - 1, 1))
     steps = ratio ** np.arange(cells_half)
@@ -290,7 +290,7 @@ def slab_mesh(layer_thicknesses_m, half_width_m: float, cells_half: int, cells_p
     its base is fixed. Through the depth: `cells_per_layer` equal cells in each layer, or the
     cell boundaries `depths_m` (`graded_depths_m`). `target` holds the top surface's node grid
     for contact."""
-    line = _graded_line(half_width_m, cells_half, grading)
+    line = graded_line(half_width_m, cells_half, grading)
     xs = np.concatenate([-line[:0:-1], line])
     ys = line if half else xs
     if depths_m is None:

@@ -31,8 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
-from ..checks import shown
+from ...errors import InputError
+from ...checks import shown
 
 #: half-side a of the central half-square block over the innermost layer radius: the block corners
 #: sit at 0.81 x that radius, well inside it, and the ring between block and circle is thick enough

@@ -3,8 +3,8 @@ flat surface (pure JAX).
 
 The ball's south pole touches the surface z = 0 at t = 0, moving at (v sin theta, 0, -v cos theta)
 and spinning at omega about the y axis. Central difference (velocity form) with lumped masses;
-internal forces from `hexa` (one-point hexahedra with hourglass control) and the materials'
-strain energies with Simo's Prony update, the same as the axisymmetric `fe.kernel`; linear and
+internal forces from `element` (one-point hexahedra with hourglass control) and the materials'
+strain energies with Simo's Prony update, the same as the axisymmetric `fe.axi.kernel`; linear and
 quadratic bulk viscosity; node-to-surface penalty contact with Coulomb friction.
 
 Friction: each contacting ball node carries a tangential stick spring of stiffness k_t
@@ -30,10 +30,21 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..fe.kernel import LANCZOS_STEPS, ChunkedSteps, material_stresses, step_events
-from ..fe.materials import Sym, energy_and_stress
-from .hexa import (HexGeometry, cofactor, corner_forces, corners, deformation_gradient,
-                   determinant, fbar, first_piola, gather_nodal, materialized, right_cauchy_green)
+from ..steps import LANCZOS_STEPS, ChunkedSteps, material_stresses, step_events
+from ..materials import Sym, energy_and_stress
+from .element import (
+    HexGeometry,
+    cofactor,
+    corner_forces,
+    corners,
+    deformation_gradient,
+    determinant,
+    fbar,
+    first_piola,
+    gather_nodal,
+    materialized,
+    right_cauchy_green,
+)
 
 HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force_y_n",
            "centre_x_m", "centre_z_m", "centre_velocity_x_m_s", "centre_velocity_y_m_s",
@@ -50,15 +61,16 @@ def dot3(a, b):
 
 
 class HexParams(NamedTuple):
-    """The hexahedral kernel's per-run parameters (SI; NumPy float64 from `oblique.solver.model_arrays`). Fields in
-    alphabetical order: a pytree flattened as the dict it replaced was."""
+    """The hexahedral kernel's per-run parameters (SI; NumPy float64 from
+    `oblique.solver.model_arrays`). Fields in alphabetical order: a pytree flattened as the
+    dict it replaced was."""
 
     ball_mass_kg: Any  # the ball's mass (kg; of the model: half for a half model)
     bv_linear_pa_s: Any  # linear bulk-viscosity coefficient per element (Pa s)
     bv_quadratic_pa_s2: Any  # quadratic bulk-viscosity coefficient per element (Pa s^2)
     contact_damping_n_s_m: Any  # contact dashpots (N s/m)
     contact_spring_factor: Any  # stable-increment factor of each contact spring (a slab's node beneath)
-    element_index: Any  # arange of the elements as data (`hexa.materialized`'s fusion boundary)
+    element_index: Any  # arange of the elements (`element.materialized`'s fusion boundary)
     energy_error_limit: Any  # energy-balance limit (fraction of the initial kinetic energy)
     friction: Any  # Coulomb coefficient
     groups: Any  # material constants per element group (ball layers, slab layers)
@@ -155,7 +167,7 @@ class Kernel(ChunkedSteps):
         stored and hourglass energies (J), the bulk-viscous stress (Pa) and bounds on C's
         eigenvalues (per element)."""
         g = self.geom
-        # F computed once into memory (`hexa.materialized`; XLA would recompute it in every
+        # F computed once into memory (`element.materialized`; XLA would recompute it in every
         # consumer it fuses it into). The corner values are gathers, which XLA keeps as they are.
         index = params.element_index
         u_e = corners(g, u)

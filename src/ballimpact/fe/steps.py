@@ -1,0 +1,157 @@
+"""What the explicit kernels of both geometries share (pure JAX): chunks of steps with the
+stable increment re-estimated before each (`ChunkedSteps`), the step's events
+(`step_events`), the materials' stresses with Simo's Prony update (`material_stresses`), and
+the cast of a kernel's parameters to its precision (`cast`).
+
+The kernels: `fe.axi.kernel.Kernel` (axisymmetric quads) and `fe.hex.kernel.Kernel`
+(hexahedra); the run loop that drives them is `fe.driver`.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .materials import Sym, energy_and_stress, prony_update
+from .stable_increment import alternating_start, lanczos_largest, shrunk_increment
+
+#: Lanczos steps for the largest eigenvalue of the assembled system at the start (the estimate
+#: agrees with ARPACK's to 1e-12 on the default meshes; tests/test_fe_engine.py) and for the
+#: re-estimate before each chunk, started from the previous top Ritz vector
+LANCZOS_STEPS = 40
+REFRESH_LANCZOS_STEPS = 8
+
+
+def cast(tree, dtype):
+    """Floating arrays of a pytree (NumPy) in `dtype`."""
+    return jax.tree_util.tree_map(
+        lambda x: np.asarray(x, dtype) if np.issubdtype(np.asarray(x).dtype, np.floating)
+        else np.asarray(x), tree)
+
+
+def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j, lam2_min,
+                lam2_max, energy_error_limit) -> dict:
+    """What a step of either kernel flags in its state at time t (s): the contact's start and
+    separation (the normal force `force` (N) gone while the centre moves away, `velocity_z`
+    (m/s) > 0; a new contact cancels a separation), the peak force with its time and
+    displacements `u`, the first non-finite or inverted state (`min_j` <= 0), the first energy
+    balance error above `energy_error_limit` of the initial kinetic energy, and the range of
+    principal stretches (from `lam2_min`, `lam2_max`: the step's extreme eigenvalues of C)."""
+    started = jnp.isfinite(state.t_start)
+    separating = started & (force <= 0) & (velocity_z > 0) & jnp.isinf(state.t_separation)
+    new_peak = force > state.peak_force
+    bad = ~jnp.isfinite(kinetic) | (min_j <= 0.0)
+    ke0 = state.ke0
+    energy_bad = jnp.abs(kinetic + w_int - w_contact - ke0) > energy_error_limit * ke0
+    return {"t_start": jnp.where(~started & (force > 0), t, state.t_start),
+            "t_separation": jnp.where(force > 0, jnp.inf,
+                                      jnp.where(separating, t, state.t_separation)),
+            "peak_force": jnp.maximum(force, state.peak_force),
+            "t_peak": jnp.where(new_peak, t, state.t_peak),
+            "u_peak": jnp.where(new_peak, u, state.u_peak),
+            "t_bad": jnp.where(bad & jnp.isinf(state.t_bad), t, state.t_bad),
+            "t_energy": jnp.where(energy_bad & jnp.isinf(state.t_energy), t,
+                                  state.t_energy),
+            "stretch_min": jnp.minimum(state.stretch_min,
+                                       jnp.sqrt(jnp.maximum(lam2_min, 0.0))),
+            "stretch_max": jnp.maximum(state.stretch_max, jnp.sqrt(lam2_max))}
+
+
+class ChunkedSteps:
+    """What the explicit kernels share: chunks of steps, each after re-estimating the stable
+    increment from the assembled system. A kernel provides `step`, `internal`,
+    `initial_materials`, `zeros`, `dtype`, `frequency_mask()` (its free degrees of freedom,
+    components first) and `contact_springs(params, v)` (its contact springs' K v)."""
+
+    def chunk(self, params, state, n_steps: int):
+        """`n_steps` steps, after re-estimating the stable increment at the current state."""
+        omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
+                                                   REFRESH_LANCZOS_STEPS)
+        dt = shrunk_increment(state.dt, state.dt0, omega2, params.increment_factor)
+        state = state._replace(dt=dt, x_top=x_top)
+        steps = jnp.arange(n_steps, dtype=self.dtype)
+        return jax.lax.scan(partial(self.step, params, state.t), state, steps)
+
+    def max_frequency_squared(self, params, u, start, steps: int):
+        """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
+        (components first), with the instantaneous moduli and every contact spring active, by
+        `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
+        vector."""
+        elastic = params._replace(bv_linear_pa_s=jnp.zeros_like(params.bv_linear_pa_s),
+                       bv_quadratic_pa_s2=jnp.zeros_like(params.bv_quadratic_pa_s2))
+        mats = self.initial_materials(params)
+        ones = jnp.ones(self.geom.n_elements, self.dtype)
+        # an increment far below any relaxation time: the tangent at the instantaneous moduli
+        tiny_dt = jnp.asarray(1e-15, self.dtype)
+
+        def forces(u):
+            return self.internal(elastic, u, mats, ones, tiny_dt)[0]
+
+        scale = 1.0 / jnp.sqrt(params.mass_kg)
+        mask = self.frequency_mask()
+
+        def apply(x):
+            v = x.reshape(u.shape) * scale * mask
+            _, kv = jax.jvp(forces, (u,), (v,))
+            return ((kv + self.contact_springs(params, v)) * scale * mask).reshape(-1)
+
+        if start is None:
+            start = alternating_start(mask, self.dtype)
+        value, residual, vector = lanczos_largest(apply, start, steps)
+        return value + residual, vector
+
+
+def material_stresses(slices, energies, constants, C, mats, dt):
+    """Second Piola-Kirchhoff stresses, new Prony states and stored energy densities of every
+    point, layer by layer (`slices` of the last, element axis).
+
+    C: components (4 for axisymmetric states, 6 in 3D), each (..., n_el). Returns the stress
+    components (elements last), the new material states and the density (J/m^3, (..., n_el)):
+    the long-term strain energy plus the energy held in the Maxwell branches."""
+    stresses, new_mats, densities = [], [], []
+    for (a, b), energy, consts, mat in zip(slices, energies, constants, mats):
+        (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
+            energy, Sym(*(c[..., a:b] for c in C)), consts)
+        s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
+        tau = consts["prony_tau_s"]
+        q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
+        if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
+            q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+        else:
+            q_vol = mat["q_vol"]
+        # sums over the Prony terms written out (a reduction is a slow pass of its own)
+        stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
+        new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
+                         "q_dev": q_dev, "q_vol": q_vol})
+        density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
+                   + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
+        density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
+                                           2.0 * consts["shear_modulus_pa"])
+        if q_vol.shape[0]:
+            density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
+                                               3.0 * consts["bulk_modulus_pa"])
+        densities.append(density)
+    return tuple(jnp.concatenate(stresses, axis=-1)), new_mats, jnp.concatenate(densities, axis=-1)
+
+
+def _branch_energy(q, s0, g, modulus):
+    """Energy density (J/m^3, per point) stored in the Maxwell branches, exact for small strains.
+
+    Branch i carries the stress h_i = g_i S0 - Q_i (Q_i (n_terms, n_comps, ...) is the part of
+    the stress already relaxed; components xx, yy, zz, then the shear ones) and stores
+    h_i:h_i / (2 M_i) per unit volume, with M_i = g_i 2 mu (deviatoric; `modulus` = 2 mu) or
+    k_i 3 K (bulk; `modulus` = 3 K). Relaxed branches store nothing, so at the end of an impact
+    this term is small whatever its accuracy.
+    """
+    if q.shape[0] == 0:
+        return 0.0
+    h = g.reshape((-1,) + (1,) * (q.ndim - 1)) * s0 - q
+    hh = h[:, 0] ** 2 + h[:, 1] ** 2 + h[:, 2] ** 2
+    for k in range(3, h.shape[1]):
+        hh = hh + 2.0 * h[:, k] ** 2
+    stiffness = g * modulus
+    scale = jnp.where(stiffness > 0, 0.5 / jnp.where(stiffness > 0, stiffness, 1.0), 0.0)
+    return sum(scale[i] * hh[i] for i in range(q.shape[0]))
