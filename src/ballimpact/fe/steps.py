@@ -9,6 +9,7 @@ The kernels: `fe.axi.kernel.Kernel` (axisymmetric quads) and `fe.hex.kernel.Kern
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from functools import partial
 
 import jax
@@ -60,11 +61,41 @@ def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j
             "stretch_max": jnp.maximum(state.stretch_max, jnp.sqrt(lam2_max))}
 
 
-class ChunkedSteps:
-    """What the explicit kernels share: chunks of steps, each after re-estimating the stable
-    increment from the assembled system. A kernel provides `step`, `internal`,
-    `initial_materials`, `zeros`, `dtype`, `frequency_mask()` (its free degrees of freedom,
-    components first) and `contact_springs(params, v)` (its contact springs' K v)."""
+class ChunkedSteps(ABC):
+    """The abstract explicit kernel: chunks of steps, each after re-estimating the stable
+    increment from the assembled system. A geometry's kernel (a frozen dataclass holding what
+    its compiled programs depend on, with a `geom` and a `dtype`) provides the methods below;
+    its parameters and state are NamedTuples with at least the fields these methods read
+    (`mass_kg`, `increment_factor`, `bv_linear_pa_s`, `bv_quadratic_pa_s2`; `u`, `t`, `dt`,
+    `dt0`, `x_top` and the events of `step_events`)."""
+
+    @abstractmethod
+    def initial_state(self, params, *condition):
+        """The state at first touch, the stable increment estimated (`LANCZOS_STEPS`)."""
+
+    @abstractmethod
+    def step(self, params, t0, state, i):
+        """(new state, history row) of step i of a chunk started at t0 (s)."""
+
+    @abstractmethod
+    def internal(self, params, u, mats, j0_prev, dt):
+        """Internal nodal forces first, then what the step needs of the elements."""
+
+    @abstractmethod
+    def initial_materials(self, params) -> list:
+        """The material states at rest, per layer or element group."""
+
+    @abstractmethod
+    def zeros(self, shape):
+        """Zeros of the kernel's dtype."""
+
+    @abstractmethod
+    def frequency_mask(self):
+        """The free degrees of freedom (components first), 1 or 0."""
+
+    @abstractmethod
+    def contact_springs(self, params, v):
+        """The contact springs' K v, every spring active (components first)."""
 
     def chunk(self, params, state, n_steps: int):
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
