@@ -26,6 +26,14 @@ LANCZOS_STEPS = 40
 REFRESH_LANCZOS_STEPS = 8
 
 
+def exportable(*tuples) -> None:
+    """Register a kernel's parameter and state NamedTuples with `jax.export`: the programs kept
+    on disk (`fe.programs`) serialize their arguments' and results' structure."""
+    for cls in tuples:
+        jax.export.register_namedtuple_serialization(
+            cls, serialized_name=f"ballimpact.{cls.__name__}")
+
+
 def cast(tree, dtype):
     """Floating arrays of a pytree (NumPy) in `dtype`."""
     return jax.tree_util.tree_map(

@@ -28,7 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..stable_increment import increment_factor
-from ..steps import LANCZOS_STEPS, ChunkedSteps, material_stresses, step_events
+from ..steps import LANCZOS_STEPS, ChunkedSteps, exportable, material_stresses, step_events
 from .element import (
     AxiGeometry,
     centre_deformation,
@@ -121,10 +121,7 @@ class AxiState(NamedTuple):
     x_top: Any  # top Ritz vector of the last increment estimate
 
 
-# kept programs (fe.programs) serialize the arguments' and results' structure
-for _tuple in (AxiParams, AxiState):
-    jax.export.register_namedtuple_serialization(
-        _tuple, serialized_name=f"ballimpact.{_tuple.__name__}")
+exportable(AxiParams, AxiState)
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..steps import LANCZOS_STEPS, ChunkedSteps, material_stresses, step_events
+from ..steps import LANCZOS_STEPS, ChunkedSteps, exportable, material_stresses, step_events
 from ..materials import Sym, energy_and_stress
 from .element import (
     HexGeometry,
@@ -116,10 +116,7 @@ class HexState(NamedTuple):
     x_top: Any  # top Ritz vector of the last increment estimate
 
 
-# kept programs (fe.programs) serialize the arguments' and results' structure
-for _tuple in (HexParams, HexState):
-    jax.export.register_namedtuple_serialization(
-        _tuple, serialized_name=f"ballimpact.{_tuple.__name__}")
+exportable(HexParams, HexState)
 
 
 @dataclass(frozen=True, eq=False)
