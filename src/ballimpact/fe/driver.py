@@ -34,7 +34,7 @@ FLAGS = ("t", "t_bad", "t_energy", "t_start", "t_separation")
 class RunOutcome:
     """What `run_chunks` returns, per member of the group (the leading axis of each array):
     `history` (members, rows, columns of the kernel's HISTORY), `final` (state name -> value at
-    the end), `t_end_s` (s; the member's end, NaN without separation) and `failed` (member ->
+    the end), `t_end_s` (s; the member's end, not finite without separation) and `failed` (member ->
     reason)."""
 
     history: np.ndarray
