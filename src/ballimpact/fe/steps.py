@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from functools import partial
+from typing import Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -26,12 +27,45 @@ LANCZOS_STEPS = 40
 REFRESH_LANCZOS_STEPS = 8
 
 
-def exportable(*tuples) -> None:
-    """Register a kernel's parameter and state NamedTuples with `jax.export`: the programs kept
-    on disk (`fe.programs`) serialize their arguments' and results' structure."""
-    for cls in tuples:
-        jax.export.register_namedtuple_serialization(
-            cls, serialized_name=f"ballimpact.{cls.__name__}")
+#: the parameters every kernel has (SI), and what they hold
+PARAMS = {"bv_linear_pa_s": "linear bulk-viscosity coefficient per element (Pa s)",
+          "bv_quadratic_pa_s2": "quadratic bulk-viscosity coefficient per element (Pa s^2)",
+          "contact_damping_n_s_m": "contact dashpots (N s/m)",
+          "energy_error_limit": "energy-balance limit (fraction of the initial kinetic energy)",
+          "hourglass_n_m": "hourglass stiffness per element (N/m)",
+          "increment_factor": "stable increment = factor / omega_max",
+          "mass_kg": "nodal masses (kg)",
+          "penalty_n_m": "contact penalty springs per contact node (N/m)"}
+#: the state every kernel has between steps (SI), and what it holds
+STATE = {"a": "nodal accelerations (m/s^2)", "d_bv": "bulk-viscous dissipation (J)",
+         "dt": "the increment (s)", "dt0": "the first increment (s)",
+         "f_contact": "contact forces on the nodes (N)",
+         "j0": "volume ratio J at the element centres", "ke0": "initial kinetic energy (J)",
+         "mat": "material states per layer or group (the Prony branches)",
+         "peak_force": "largest contact force so far (N)",
+         "sigma_bv": "bulk-viscous pressure per element (Pa)",
+         "stretch_max": "largest principal stretch so far",
+         "stretch_min": "smallest principal stretch so far", "t": "time (s)",
+         "t_bad": "first non-finite or inverted state (s; inf: none)",
+         "t_energy": "first energy-balance error above the limit (s; inf: none)",
+         "t_peak": "time of the peak force (s)", "t_separation": "separation (s; inf: none yet)",
+         "t_start": "first contact (s; inf: none yet)", "u": "nodal displacements (m)",
+         "u_peak": "displacements at the peak force (m)", "v": "nodal velocities (m/s)",
+         "w_contact": "work of the contact forces (J)", "w_int": "internal work (J)",
+         "x_top": "top Ritz vector of the last increment estimate"}
+
+
+def named_tuple(name: str, module: str, doc: str, shared: dict, own: dict) -> type:
+    """A kernel's parameters or state: a NamedTuple of the `shared` and the geometry's `own`
+    fields (name -> what it holds) in alphabetical order, so that it flattens as the dict it
+    replaced did, registered with `jax.export` (the programs kept on disk, `fe.programs`,
+    serialize their arguments' and results' structure)."""
+    fields = {**shared, **own}
+    cls = NamedTuple(name, [(field, Any) for field in sorted(fields)])
+    cls.__module__ = module
+    cls.__doc__ = doc + "\n\n" + "\n".join(f"- `{f}`: {fields[f]}" for f in sorted(fields))
+    jax.export.register_namedtuple_serialization(cls, serialized_name=f"ballimpact.{name}")
+    return cls
 
 
 def cast(tree, dtype):

@@ -21,14 +21,15 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from functools import partial
-from typing import Any, NamedTuple
+from typing import Any
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ..stable_increment import increment_factor
-from ..steps import LANCZOS_STEPS, ChunkedSteps, exportable, material_stresses, step_events
+from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple,
+                     step_events)
 from .element import (
     AxiGeometry,
     centre_deformation,
@@ -74,54 +75,13 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
             "layers": [layer.material.constants() for layer in layers]})
 
 
-class AxiParams(NamedTuple):
-    """The axisymmetric kernel's per-ball parameters (SI; NumPy float64 from `ball_arrays`).
-    Fields in alphabetical order: a pytree flattened as the dict it replaced was."""
-
-    bv_linear_pa_s: Any  # linear bulk-viscosity coefficient per element (Pa s)
-    bv_quadratic_pa_s2: Any  # quadratic bulk-viscosity coefficient per element (Pa s^2)
-    contact_damping_n_s_m: Any  # contact dashpots (N s/m)
-    energy_error_limit: Any  # energy-balance limit (fraction of the initial kinetic energy)
-    hourglass_n_m: Any  # hourglass stiffness per element (N/m)
-    increment_factor: Any  # stable increment = factor / omega_max
-    layers: Any  # material constants per layer
-    mass_kg: Any  # nodal masses (kg)
-    mass_total_kg: Any  # the ball's mass (kg)
-    penalty_n_m: Any  # contact penalty springs per surface node (N/m)
-
-
-class AxiState(NamedTuple):
-    """The axisymmetric kernel's state between steps (SI; nodal arrays (2, n_nodes)). Fields
-    in alphabetical order: a pytree flattened as the dict it replaced was."""
-
-    a: Any  # nodal accelerations (m/s^2)
-    d_bv: Any  # bulk-viscous dissipation (J)
-    dt: Any  # the increment (s)
-    dt0: Any  # the first increment (s)
-    f_contact: Any  # contact forces on the nodes (N)
-    f_e: Any  # element corner forces (N), the last step's
-    j0: Any  # volume ratio J at the element centres
-    ke0: Any  # initial kinetic energy (J)
-    mat: Any  # material states per layer (viscoelastic branches)
-    peak_force: Any  # largest contact force so far (N)
-    sigma_bv: Any  # bulk-viscous pressure per element (Pa)
-    stretch_max: Any  # largest principal stretch so far
-    stretch_min: Any  # smallest principal stretch so far
-    t: Any  # time (s)
-    t_bad: Any  # first non-finite or inverted state (s; inf: none)
-    t_energy: Any  # first energy-balance error above the limit (s; inf: none)
-    t_peak: Any  # time of the peak force (s)
-    t_separation: Any  # separation (s; inf: none yet)
-    t_start: Any  # first contact (s; inf: none yet)
-    u: Any  # nodal displacements (m)
-    u_peak: Any  # displacements at the peak force (m)
-    v: Any  # nodal velocities (m/s)
-    w_contact: Any  # work of the contact forces (J)
-    w_int: Any  # internal work (J)
-    x_top: Any  # top Ritz vector of the last increment estimate
-
-
-exportable(AxiParams, AxiState)
+AxiParams = named_tuple(
+    "AxiParams", __name__, "The axisymmetric kernel's per-ball parameters (SI; NumPy float64 "
+    "from `ball_arrays`).", PARAMS, {"layers": "material constants per layer",
+                                     "mass_total_kg": "the ball's mass (kg)"})
+AxiState = named_tuple(
+    "AxiState", __name__, "The axisymmetric kernel's state between steps (SI; nodal arrays "
+    "(2, n_nodes)).", STATE, {"f_e": "element corner forces (N), the last step's"})
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,13 +24,14 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from functools import partial
-from typing import Any, NamedTuple
+from typing import Any
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..steps import LANCZOS_STEPS, ChunkedSteps, exportable, material_stresses, step_events
+from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple,
+                     step_events)
 from ..materials import Sym, energy_and_stress
 from .element import (
     HexGeometry,
@@ -60,63 +61,24 @@ def dot3(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-class HexParams(NamedTuple):
-    """The hexahedral kernel's per-run parameters (SI; NumPy float64 from
-    `oblique.solver.model_arrays`). Fields in alphabetical order: a pytree flattened as the
-    dict it replaced was."""
-
-    ball_mass_kg: Any  # the ball's mass (kg; of the model: half for a half model)
-    bv_linear_pa_s: Any  # linear bulk-viscosity coefficient per element (Pa s)
-    bv_quadratic_pa_s2: Any  # quadratic bulk-viscosity coefficient per element (Pa s^2)
-    contact_damping_n_s_m: Any  # contact dashpots (N s/m)
-    contact_spring_factor: Any  # stable-increment factor of each contact spring (a slab's node beneath)
-    element_index: Any  # arange of the elements (`element.materialized`'s fusion boundary)
-    energy_error_limit: Any  # energy-balance limit (fraction of the initial kinetic energy)
-    friction: Any  # Coulomb coefficient
-    groups: Any  # material constants per element group (ball layers, slab layers)
-    hourglass_n_m: Any  # hourglass stiffness per element (N/m)
-    increment_factor: Any  # stable increment = factor / omega_max
-    mass_kg: Any  # nodal masses (kg)
-    outer_radius_m: Any  # the ball's outer radius (m)
-    penalty_n_m: Any  # contact penalty springs per surface node (N/m)
-    stick_n_m: Any  # friction stick springs per contact node (N/m)
-
-
-class HexState(NamedTuple):
-    """The hexahedral kernel's state between steps (SI; nodal arrays (3, n_nodes)). Fields in
-    alphabetical order: a pytree flattened as the dict it replaced was."""
-
-    a: Any  # nodal accelerations (m/s^2)
-    d_bv: Any  # bulk-viscous dissipation (J)
-    dt: Any  # the increment (s)
-    dt0: Any  # the first increment (s)
-    f_contact: Any  # contact forces on the nodes (N)
-    f_int: Any  # internal nodal forces (N), the last step's
-    f_tangential: Any  # friction forces on the contact nodes (N)
-    j0: Any  # volume ratio J at the element centres
-    ke0: Any  # initial kinetic energy (J)
-    mat: Any  # material states per layer (viscoelastic branches)
-    peak_force: Any  # largest contact force so far (N)
-    sigma_bv: Any  # bulk-viscous pressure per element (Pa)
-    stick: Any  # friction stick-spring extensions (m)
-    stretch_max: Any  # largest principal stretch so far
-    stretch_min: Any  # smallest principal stretch so far
-    t: Any  # time (s)
-    t_bad: Any  # first non-finite or inverted state (s; inf: none)
-    t_energy: Any  # first energy-balance error above the limit (s; inf: none)
-    t_peak: Any  # time of the peak force (s)
-    t_separation: Any  # separation (s; inf: none yet)
-    t_start: Any  # first contact (s; inf: none yet)
-    u: Any  # nodal displacements (m)
-    u_peak: Any  # displacements at the peak force (m)
-    v: Any  # nodal velocities (m/s)
-    w_contact: Any  # work of the contact forces (J)
-    w_int: Any  # internal work (J)
-    w_tangential: Any  # work of the friction forces (J)
-    x_top: Any  # top Ritz vector of the last increment estimate
-
-
-exportable(HexParams, HexState)
+HexParams = named_tuple(
+    "HexParams", __name__, "The hexahedral kernel's per-run parameters (SI; NumPy float64 from "
+    "`oblique.solver.model_arrays`).", PARAMS,
+    {"ball_mass_kg": "the ball's mass (kg; of the model: half for a half model)",
+     "contact_spring_factor": "stable-increment factor of each contact spring (a slab's node "
+                              "beneath)",
+     "element_index": "arange of the elements (`element.materialized`'s fusion boundary)",
+     "friction": "Coulomb coefficient",
+     "groups": "material constants per element group (ball layers, slab layers)",
+     "outer_radius_m": "the ball's outer radius (m)",
+     "stick_n_m": "friction stick springs per contact node (N/m)"})
+HexState = named_tuple(
+    "HexState", __name__, "The hexahedral kernel's state between steps (SI; nodal arrays "
+    "(3, n_nodes)).", STATE,
+    {"f_int": "internal nodal forces (N), the last step's",
+     "f_tangential": "friction forces on the contact nodes (N)",
+     "stick": "friction stick-spring extensions (m)",
+     "w_tangential": "work of the friction forces (J)"})
 
 
 @dataclass(frozen=True, eq=False)
