@@ -43,6 +43,31 @@ class RunOutcome:
     failed: dict[int, str]
 
 
+@dataclass(frozen=True, eq=False)
+class RunFigures:
+    """What a run of either engine reports (SI), the base of `fe.solver.FEResult` and
+    `oblique.solver.ObliqueResult`: histories per step (name -> values), the peak contact force
+    (N; the whole ball's), its time and the contact time (s), the largest energy balance error
+    (fraction of the impact energy), the stable increment at the start and at the end (s), the
+    steps, the mesh's elements and nodes, the ball's mass (kg) and outer radius (m), and the
+    range of principal stretches that occurred."""
+
+    ball_name: str
+    history: dict[str, np.ndarray]
+    peak_force_n: float
+    time_of_peak_s: float
+    contact_time_s: float
+    energy_balance_error: float
+    stable_time_increment_s: float   # at the start; shrinks as the ball stiffens
+    final_time_increment_s: float
+    steps: int
+    elements: int
+    nodes: int
+    mass_kg: float
+    outer_radius_m: float
+    stretch_range: tuple[float, float]
+
+
 def failure(label: str, t_bad: float, t_energy: float, t_end: float, options,
             refine: str) -> str | None:
     """Why a member (`label`, e.g. "ball NAME") failed before `t_end` (s), or None. `refine`:

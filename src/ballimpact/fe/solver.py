@@ -34,32 +34,19 @@ from .materials.stability import drucker_warnings
 from ..checks import shown
 from .options import ImpactCondition, SolverOptions
 from .progress import RunEstimate
-from .driver import run_chunks
+from .driver import RunFigures, run_chunks
 
 __all__ = ["FE_SPEED_RANGE_M_S", "FEResult", "SolverOptions", "default_group_size",
            "estimate_run", "simulate", "simulate_batch"]
 
 
 @dataclass(frozen=True, eq=False)
-class FEResult:
-    """One simulated impact (SI). Histories are per step; `record` is an `ImpactRecord`."""
+class FEResult(RunFigures):
+    """One simulated normal impact (SI; `RunFigures` and the below). Histories are per step;
+    `record` is an `ImpactRecord`."""
 
-    ball_name: str
     impact_speed_m_s: float
-    history: dict[str, np.ndarray]
     cor: float
-    peak_force_n: float
-    time_of_peak_s: float
-    contact_time_s: float
-    energy_balance_error: float
-    stable_time_increment_s: float   # at the start; shrinks as the ball stiffens
-    final_time_increment_s: float
-    steps: int
-    elements: int
-    nodes: int
-    mass_kg: float
-    stretch_range: tuple[float, float]
-    outer_radius_m: float
     moduli: tuple[str, ...]
     nodes_m: np.ndarray = field(repr=False)
     elements_connectivity: np.ndarray = field(repr=False)

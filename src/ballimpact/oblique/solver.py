@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError, InputWarning
 from ..fe.estimates import hertz_contact_time_s, hertz_series_impact, time_limit_default
 from ..fe.progress import RunEstimate
-from ..fe.driver import run_chunks
+from ..fe.driver import RunFigures, run_chunks
 from ..fe.solver import contact_end_time, impact_speeds, warn_unresolved_contact
 from ..plausibility import check_allow
 from ..fe.stable_increment import increment_factor
@@ -53,34 +53,21 @@ __all__ = ["ObliqueResult", "estimate_oblique", "simulate_oblique", "simulate_ob
 
 
 @dataclass(frozen=True, eq=False)
-class ObliqueResult:
-    """One simulated oblique impact (SI; forces and energies of the whole ball)."""
+class ObliqueResult(RunFigures):
+    """One simulated oblique impact (SI; `fe.driver.RunFigures` and the below; forces and
+    energies of the whole ball)."""
 
-    ball_name: str
     condition: ImpactCondition
-    history: dict[str, np.ndarray]
     normal_cor: float
     tangential_cor: float
     contact_point_tangential_cor: float
     rebound_angle_deg: float
     rebound_spin_rad_s: float
     rebound_speed_m_s: float
-    peak_force_n: float
-    time_of_peak_s: float
-    contact_time_s: float
-    energy_balance_error: float
     energies_j: dict[str, float]
-    stable_time_increment_s: float
-    final_time_increment_s: float
-    steps: int
-    elements: int
-    nodes: int
-    mass_kg: float
-    outer_radius_m: float
     half_model: bool
     target: str
     wall_time_s: float
-    stretch_range: tuple[float, float]
     pole_grading: float = float("nan")       # the mesh's (set by `contact_elements` if given)
     pole_spacing_m: float = float("nan")     # arc spacing of the elements at the contact pole
     frames: list = field(default_factory=list, repr=False)   # `_frame` dicts (single runs)
