@@ -134,30 +134,30 @@ def _rigid_sweep_lines(psi):
 _SWEEP_TRANSITION = 7.0
 
 
+def _draw_sweep_panel(ax, results, line: int, key: str, line_label: str, ylabel: str):
+    """One normalised quantity (`key` of `sweep_points`) against normalised incidence on `ax`,
+    with rigid-body line `line` of `_rigid_sweep_lines` (1 spin, 2 tangential change)."""
+    pts = sweep_points(results)
+    lines = _rigid_sweep_lines(pts["psi"])
+    ax.plot(lines[0], lines[line], "k-", label=line_label)
+    ax.plot(pts["psi"], pts[key], "o", label="3D FE")
+    ax.set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))", ylabel=ylabel)
+    _finish_sweep_panel(ax, _SWEEP_TRANSITION)
+    return ax
+
+
 def draw_sweep_spin(ax, results):
     """Normalised rebound spin against normalised incidence of runs without initial spin on
     `ax`, with the rigid-body line (k^2 = 0.4). Returns `ax`."""
-    pts = sweep_points(results)
-    psi_line, spin_line, _ = _rigid_sweep_lines(pts["psi"])
-    ax.plot(psi_line, spin_line, "k-", label="rigid body (rolling, then sliding)")
-    ax.plot(pts["psi"], pts["spin"], "o", label="3D FE")
-    ax.set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
-           ylabel="normalised spin w' R / (mu (1 + e_n) v_n)")
-    _finish_sweep_panel(ax, _SWEEP_TRANSITION)
-    return ax
+    return _draw_sweep_panel(ax, results, 1, "spin", "rigid body (rolling, then sliding)",
+                             "normalised spin w' R / (mu (1 + e_n) v_n)")
 
 
 def draw_sweep_tangential(ax, results):
     """Normalised tangential velocity change against normalised incidence of runs without
     initial spin on `ax`, with the rigid-body line (k^2 = 0.4). Returns `ax`."""
-    pts = sweep_points(results)
-    psi_line, _, dv_line = _rigid_sweep_lines(pts["psi"])
-    ax.plot(psi_line, dv_line, "k-", label="rigid body")
-    ax.plot(pts["psi"], pts["tangential_change"], "o", label="3D FE")
-    ax.set(xlabel="normalised incidence 2 tan(theta) / (mu (1 + e_n))",
-           ylabel="(v_x - v_x') / (mu (1 + e_n) v_n)")
-    _finish_sweep_panel(ax, _SWEEP_TRANSITION)
-    return ax
+    return _draw_sweep_panel(ax, results, 2, "tangential_change", "rigid body",
+                             "(v_x - v_x') / (mu (1 + e_n) v_n)")
 
 
 def plot_sweep(results, path, title: str = "") -> None:
