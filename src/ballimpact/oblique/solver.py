@@ -234,23 +234,24 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
     length = np.asarray(geom.characteristic_length_m, np.float64)
     penalty = options.penalty_scale * m_s * (c_d[len(ball.layers) - 1]
                                              / np.asarray(geom.node_length_m, np.float64)[s]) ** 2
-    return HexParams(**{"mass_kg": mass, "ball_mass_kg": float(np.sum(mass[kernel.ball_nodes])),
-            "outer_radius_m": float(ball.outer_radius_m),
-            "penalty_n_m": penalty, "stick_n_m": options.stick_scale * penalty,
-            "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
-            "contact_spring_factor": _contact_spring_factors(ball, target, kernel, mass,
-                                                             condition, options),
-            "friction": float(condition.friction),
-            "hourglass_n_m": options.hourglass_scale * shear[group]
-            * np.asarray(geom.hourglass_length_m, np.float64),
-            "bv_linear_pa_s": options.bulk_viscosity_linear * rho[group] * c_d[group] * length,
-            "bv_quadratic_pa_s2": rho[group] * (options.bulk_viscosity_quadratic * length) ** 2,
-            "energy_error_limit": float(options.energy_error_limit),
-            "increment_factor": increment_factor(options.time_step_scale,
-                                                 options.bulk_viscosity_linear),
-            "groups": [layer.material.constants() for layer in layers],
-            # arange(n_el) as data: `element.materialized`'s fusion boundary
-            "element_index": np.arange(geom.n_elements, dtype=np.int32)})
+    return HexParams(
+        mass_kg=mass, ball_mass_kg=float(np.sum(mass[kernel.ball_nodes])),
+        outer_radius_m=float(ball.outer_radius_m),
+        penalty_n_m=penalty, stick_n_m=options.stick_scale * penalty,
+        contact_damping_n_s_m=options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
+        contact_spring_factor=_contact_spring_factors(ball, target, kernel, mass, condition,
+                                                      options),
+        friction=float(condition.friction),
+        hourglass_n_m=(options.hourglass_scale * shear[group]
+                       * np.asarray(geom.hourglass_length_m, np.float64)),
+        bv_linear_pa_s=options.bulk_viscosity_linear * rho[group] * c_d[group] * length,
+        bv_quadratic_pa_s2=rho[group] * (options.bulk_viscosity_quadratic * length) ** 2,
+        energy_error_limit=float(options.energy_error_limit),
+        increment_factor=increment_factor(options.time_step_scale,
+                                          options.bulk_viscosity_linear),
+        groups=[layer.material.constants() for layer in layers],
+        # arange(n_el) as data: `element.materialized`'s fusion boundary
+        element_index=np.arange(geom.n_elements, dtype=np.int32))
 
 
 def _contact_spring_factors(ball, target, kernel: Kernel, mass: np.ndarray,

@@ -64,15 +64,16 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
     m_surface = mass[geom.surface_nodes]
     penalty = (options.penalty_scale * m_surface
                * (c_d[geom.surface_layer] / geom.surface_length_m) ** 2)
-    return AxiParams(**{"mass_kg": mass, "mass_total_kg": np.sum(mass), "penalty_n_m": penalty,
-            "contact_damping_n_s_m": options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
-            "hourglass_n_m": options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
-            "bv_linear_pa_s": options.bulk_viscosity_linear * rho_el * c_el * length,
-            "bv_quadratic_pa_s2": rho_el * (options.bulk_viscosity_quadratic * length) ** 2,
-            "energy_error_limit": np.float64(options.energy_error_limit),
-            "increment_factor": np.float64(increment_factor(options.time_step_scale,
-                                                            options.bulk_viscosity_linear)),
-            "layers": [layer.material.constants() for layer in layers]})
+    return AxiParams(
+        mass_kg=mass, mass_total_kg=np.sum(mass), penalty_n_m=penalty,
+        contact_damping_n_s_m=options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
+        hourglass_n_m=options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
+        bv_linear_pa_s=options.bulk_viscosity_linear * rho_el * c_el * length,
+        bv_quadratic_pa_s2=rho_el * (options.bulk_viscosity_quadratic * length) ** 2,
+        energy_error_limit=np.float64(options.energy_error_limit),
+        increment_factor=np.float64(increment_factor(options.time_step_scale,
+                                                     options.bulk_viscosity_linear)),
+        layers=[layer.material.constants() for layer in layers])
 
 
 AxiParams = named_tuple(
@@ -148,16 +149,17 @@ class Kernel(ChunkedSteps):
         scalar = partial(jnp.array, dtype=self.dtype)
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params.increment_factor / jnp.sqrt(omega2)
-        return AxiState(**{"u": zeros, "v": zeros.at[1].set(-speed), "a": zeros, "t": scalar(0.0),
-                "dt": dt, "dt0": dt, "x_top": x_top,
-                "f_e": self.zero_corner_forces(), "f_contact": self.zeros(n), "mat": self.initial_materials(params),
-                "j0": jnp.ones(self.geom.n_elements, self.dtype),
-                "sigma_bv": self.zeros(self.geom.n_elements),
-                "ke0": 0.5 * params.mass_total_kg * speed * speed,
-                "w_int": scalar(0.0), "w_contact": scalar(0.0), "d_bv": scalar(0.0),
-                "peak_force": scalar(0.0), "t_peak": scalar(0.0), "u_peak": zeros,
-                "t_start": inf, "t_separation": inf, "t_bad": inf, "t_energy": inf,
-                "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)})
+        return AxiState(u=zeros, v=zeros.at[1].set(-speed), a=zeros, t=scalar(0.0),
+                        dt=dt, dt0=dt, x_top=x_top,
+                        f_e=self.zero_corner_forces(), f_contact=self.zeros(n),
+                        mat=self.initial_materials(params),
+                        j0=jnp.ones(self.geom.n_elements, self.dtype),
+                        sigma_bv=self.zeros(self.geom.n_elements),
+                        ke0=0.5 * params.mass_total_kg * speed * speed,
+                        w_int=scalar(0.0), w_contact=scalar(0.0), d_bv=scalar(0.0),
+                        peak_force=scalar(0.0), t_peak=scalar(0.0), u_peak=zeros,
+                        t_start=inf, t_separation=inf, t_bad=inf, t_energy=inf,
+                        stretch_min=scalar(1.0), stretch_max=scalar(1.0))
 
     # ---- forces ------------------------------------------------------------------------------
     def internal(self, params, u, mats, j0_prev, dt):
@@ -255,12 +257,12 @@ class Kernel(ChunkedSteps):
         total = jnp.sum(normal)
         v_cm = momentum_z / params.mass_total_kg
         z_cm = moment_z / params.mass_total_kg
-        new = AxiState(**{"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state.dt0,
-               "x_top": state.x_top, "f_e": f_e, "f_contact": f_contact, "mat": mats,
-               "j0": j0, "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
-               "w_contact": w_contact, "d_bv": d_bv,
-               **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
-                             lam2_min, lam2_max, params.energy_error_limit)})
+        new = AxiState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
+                       x_top=state.x_top, f_e=f_e, f_contact=f_contact, mat=mats,
+                       j0=j0, sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
+                       w_contact=w_contact, d_bv=d_bv,
+                       **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
+                                     lam2_min, lam2_max, params.energy_error_limit))
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
         return new, row
 

@@ -260,16 +260,16 @@ class Kernel(ChunkedSteps):
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params.increment_factor / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
-        return HexState(**{"u": zeros, "v": v, "a": zeros, "t": scalar(0.0), "dt": dt, "dt0": dt,
-                "x_top": x_top, "f_int": zeros, "f_contact": zeros,
-                "f_tangential": self.zeros((2, n_c)), "stick": self.zeros((2, n_c)),
-                "mat": self.initial_materials(params), "j0": jnp.ones(n_el, self.dtype),
-                "sigma_bv": self.zeros(n_el),
-                "ke0": 0.5 * jnp.sum(params.mass_kg * jnp.sum(v * v, axis=0)),
-                "w_int": scalar(0.0), "w_contact": scalar(0.0), "w_tangential": scalar(0.0),
-                "d_bv": scalar(0.0), "peak_force": scalar(0.0), "t_peak": scalar(0.0),
-                "u_peak": zeros, "t_start": inf, "t_separation": inf, "t_bad": inf,
-                "t_energy": inf, "stretch_min": scalar(1.0), "stretch_max": scalar(1.0)})
+        return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=dt, dt0=dt,
+                        x_top=x_top, f_int=zeros, f_contact=zeros,
+                        f_tangential=self.zeros((2, n_c)), stick=self.zeros((2, n_c)),
+                        mat=self.initial_materials(params), j0=jnp.ones(n_el, self.dtype),
+                        sigma_bv=self.zeros(n_el),
+                        ke0=0.5 * jnp.sum(params.mass_kg * jnp.sum(v * v, axis=0)),
+                        w_int=scalar(0.0), w_contact=scalar(0.0), w_tangential=scalar(0.0),
+                        d_bv=scalar(0.0), peak_force=scalar(0.0), t_peak=scalar(0.0),
+                        u_peak=zeros, t_start=inf, t_separation=inf, t_bad=inf,
+                        t_energy=inf, stretch_min=scalar(1.0), stretch_max=scalar(1.0))
 
     # ---- the step ----------------------------------------------------------------------------
     def rigid_body(self, params, u, v):
@@ -330,13 +330,13 @@ class Kernel(ChunkedSteps):
         t = t0 + (i + 1) * dt
         slip = slip_weighted / jnp.where(f_n > 0, f_n, 1.0)
         slipping_share = f_slipping / jnp.where(f_n > 0, f_n, 1.0)
-        new = HexState(**{"u": u, "v": v, "a": a, "t": t, "dt": dt, "dt0": state.dt0,
-               "x_top": state.x_top, "f_int": f_int, "f_contact": f_contact,
-               "f_tangential": forces[:2], "stick": stick, "mat": mats, "j0": J,
-               "sigma_bv": sigma_bv, "ke0": state.ke0, "w_int": w_int,
-               "w_contact": w_contact, "w_tangential": w_tangential, "d_bv": d_bv,
-               **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
-                             lam_lo, -neg_hi, params.energy_error_limit)})
+        new = HexState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
+                       x_top=state.x_top, f_int=f_int, f_contact=f_contact,
+                       f_tangential=forces[:2], stick=stick, mat=mats, j0=J,
+                       sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
+                       w_contact=w_contact, w_tangential=w_tangential, d_bv=d_bv,
+                       **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
+                                     lam_lo, -neg_hi, params.energy_error_limit))
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
                          w_tangential, e_stick, slipping_share])
