@@ -17,19 +17,36 @@ and shrinks the increment when needed (it never grows back during a run).
 from __future__ import annotations
 
 import math
+from functools import partial
 
 import jax
 import jax.numpy as jnp
 
 
-def lanczos_largest(apply, x0: jax.Array, steps: int) -> tuple[jax.Array, jax.Array, jax.Array]:
+def lanczos_largest(apply, x0: jax.Array, steps: int, first_steps: int | None = None,
+                    first=None) -> tuple[jax.Array, jax.Array, jax.Array]:
     """Largest Ritz value of the symmetric operator `apply` after `steps` Lanczos steps (full
     reorthogonalisation) from the start vector x0 (flat), its residual bound and its Ritz vector
-    (a good start vector for the next estimate)."""
+    (a good start vector for the next estimate).
+
+    With `first_steps` and a traced boolean `first`: `first_steps` steps where `first` holds,
+    `steps` elsewhere, in one loop, so that the operator (a Jacobian-vector product of the
+    internal forces, most of a kernel's compilation) is compiled once for the start estimate
+    and the refreshes. Each count gives the same arithmetic as a loop of its own."""
     n = x0.shape[0]
-    basis = jnp.zeros((steps, n), x0.dtype)
-    alpha = jnp.zeros(steps, x0.dtype)
-    beta = jnp.zeros(steps, x0.dtype)
+    size = steps if first_steps is None else first_steps
+    basis = jnp.zeros((size, n), x0.dtype)
+    alpha = jnp.zeros(size, x0.dtype)
+    beta = jnp.zeros(size, x0.dtype)
+
+    def orthogonalized(w, basis, rows):
+        return w - basis[:rows].T @ (basis[:rows] @ w)  # rows not yet filled are zero
+
+    def ritz(alpha, beta, basis, rows):
+        alpha, beta, basis = alpha[:rows], beta[:rows], basis[:rows]
+        tridiagonal = jnp.diag(alpha) + jnp.diag(beta[:-1], 1) + jnp.diag(beta[:-1], -1)
+        values, vectors = jnp.linalg.eigh(tridiagonal)
+        return values[-1], jnp.abs(beta[-1] * vectors[-1, -1]), basis.T @ vectors[:, -1]
 
     def body(j, carry):
         basis, alpha, beta, v, v_prev, b = carry
@@ -37,17 +54,24 @@ def lanczos_largest(apply, x0: jax.Array, steps: int) -> tuple[jax.Array, jax.Ar
         w = apply(v) - b * v_prev
         a = jnp.vdot(w, v)
         w = w - a * v
-        w = w - basis.T @ (basis @ w)  # rows not yet filled are zero
+        if first_steps is None:
+            w = orthogonalized(w, basis, steps)
+        else:
+            w = jax.lax.cond(first, partial(orthogonalized, rows=first_steps),
+                             partial(orthogonalized, rows=steps), w, basis)
         b_new = jnp.linalg.norm(w)
         v_new = w / jnp.where(b_new > 0, b_new, 1.0)
         return basis, alpha.at[j].set(a), beta.at[j].set(b_new), v_new, v, b_new
 
     v0 = x0 / jnp.linalg.norm(x0)
     carry = (basis, alpha, beta, v0, jnp.zeros_like(v0), jnp.zeros((), x0.dtype))
-    basis, alpha, beta, *_ = jax.lax.fori_loop(0, steps, body, carry)
-    tridiagonal = jnp.diag(alpha) + jnp.diag(beta[:-1], 1) + jnp.diag(beta[:-1], -1)
-    values, vectors = jnp.linalg.eigh(tridiagonal)
-    return values[-1], jnp.abs(beta[-1] * vectors[-1, -1]), basis.T @ vectors[:, -1]
+    if first_steps is None:
+        basis, alpha, beta, *_ = jax.lax.fori_loop(0, steps, body, carry)
+        return ritz(alpha, beta, basis, steps)
+    count = jnp.where(first, first_steps, steps)
+    basis, alpha, beta, *_ = jax.lax.fori_loop(0, count, body, carry)
+    return jax.lax.cond(first, partial(ritz, rows=first_steps), partial(ritz, rows=steps),
+                        alpha, beta, basis)
 
 
 #: the increment shrinks in steps of 2^(-1/INCREMENT_LEVELS) below its start value

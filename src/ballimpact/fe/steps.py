@@ -111,9 +111,16 @@ class ChunkedSteps(ABC):
     (`mass_kg`, `increment_factor`, `bv_linear_pa_s`, `bv_quadratic_pa_s2`; `u`, `t`, `dt`,
     `dt0`, `x_top` and the events of `step_events`)."""
 
+    #: the start increment estimated in the first chunk (`LANCZOS_STEPS`; `initial_state` leaves
+    #: dt0 = 0 and x_top a fixed start vector) rather than in `initial_state`: the operator, a
+    #: Jacobian-vector product of the internal forces, is then compiled in one program, not two
+    #: (the 3D kernel: 3 of its 8.4 s of compilation)
+    first_estimate_in_chunk = False
+
     @abstractmethod
     def initial_state(self, params, *condition):
-        """The state at first touch, the stable increment estimated (`LANCZOS_STEPS`)."""
+        """The state at first touch, the stable increment estimated (`LANCZOS_STEPS`), or left
+        to the first chunk (`first_estimate_in_chunk`)."""
 
     @abstractmethod
     def step(self, params, t0, state, i):
@@ -141,18 +148,28 @@ class ChunkedSteps(ABC):
 
     def chunk(self, params, state, n_steps: int):
         """`n_steps` steps, after re-estimating the stable increment at the current state."""
-        omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
-                                                   REFRESH_LANCZOS_STEPS)
-        dt = shrunk_increment(state.dt, state.dt0, omega2, params.increment_factor)
-        state = state._replace(dt=dt, x_top=x_top)
+        if self.first_estimate_in_chunk:
+            first = state.dt0 <= 0
+            omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
+                                                       REFRESH_LANCZOS_STEPS, first)
+            start = params.increment_factor / jnp.sqrt(omega2)
+            dt0 = jnp.where(first, start, state.dt0)
+            dt = jnp.where(first, start, shrunk_increment(state.dt, dt0, omega2,
+                                                          params.increment_factor))
+            state = state._replace(dt=dt, dt0=dt0, x_top=x_top)
+        else:
+            omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
+                                                       REFRESH_LANCZOS_STEPS)
+            dt = shrunk_increment(state.dt, state.dt0, omega2, params.increment_factor)
+            state = state._replace(dt=dt, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state.t), state, steps)
 
-    def max_frequency_squared(self, params, u, start, steps: int):
+    def max_frequency_squared(self, params, u, start, steps: int, first=None):
         """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
         (components first), with the instantaneous moduli and every contact spring active, by
         `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
-        vector."""
+        vector. `first` (traced boolean): `LANCZOS_STEPS` steps where it holds."""
         elastic = params._replace(bv_linear_pa_s=jnp.zeros_like(params.bv_linear_pa_s),
                        bv_quadratic_pa_s2=jnp.zeros_like(params.bv_quadratic_pa_s2))
         mats = self.initial_materials(params)
@@ -173,7 +190,8 @@ class ChunkedSteps(ABC):
 
         if start is None:
             start = alternating_start(mask, self.dtype)
-        value, residual, vector = lanczos_largest(apply, start, steps)
+        value, residual, vector = lanczos_largest(
+            apply, start, steps, None if first is None else LANCZOS_STEPS, first)
         return value + residual, vector
 
 

@@ -30,8 +30,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple,
-                     step_events)
+from ..stable_increment import alternating_start
+from ..steps import PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple, step_events
 from ..materials import Sym, energy_and_stress
 from .element import (
     HexGeometry,
@@ -241,9 +241,12 @@ class Kernel(ChunkedSteps):
         return out
 
     # ---- the state ---------------------------------------------------------------------------
+    first_estimate_in_chunk = True
+
     def initial_state(self, params, speed, angle_rad, spin_rad_s):
         """The state at first touch: every ball node moving at v + omega x r, with the spin
-        vector `spin_rad_s` (3,) (rad/s) about the centre."""
+        vector `spin_rad_s` (3,) (rad/s) about the centre; the increment is estimated in the
+        first chunk."""
         n = self.n_nodes
         X = self.geom.nodes_m.T
         ball = self.ball_nodes.astype(self.dtype)
@@ -257,11 +260,9 @@ class Kernel(ChunkedSteps):
         zeros = self.zeros((3, n))
         scalar = partial(jnp.array, dtype=self.dtype)
         inf = scalar(jnp.inf)
-        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
-        dt = params.increment_factor / jnp.sqrt(omega2)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
-        return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=dt, dt0=dt,
-                        x_top=x_top, f_int=zeros, f_contact=zeros,
+        return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=scalar(0.0), dt0=scalar(0.0),
+                        x_top=alternating_start(self.frequency_mask(), self.dtype), f_int=zeros, f_contact=zeros,
                         f_tangential=self.zeros((2, n_c)), stick=self.zeros((2, n_c)),
                         mat=self.initial_materials(params), j0=jnp.ones(n_el, self.dtype),
                         sigma_bv=self.zeros(n_el),
@@ -277,17 +278,15 @@ class Kernel(ChunkedSteps):
         from the nodes' momenta about the centre of mass and the current inertia tensor."""
         mass = params.mass_kg * self.ball_nodes
         x = self.geom.nodes_m.T + u
+        # every sum over the nodes in one product (6, n) x (n, 4): m x x^T, m v x^T, m x, m v
+        ones = jnp.ones((1, x.shape[1]), self.dtype)
+        sums = jnp.dot(jnp.concatenate([x, v]) * mass, jnp.concatenate([x, ones]).T)
         m_total = params.ball_mass_kg
-        sums = jnp.sum(jnp.stack([
-            mass * x[0], mass * x[1], mass * x[2], mass * v[0], mass * v[1], mass * v[2],
-            mass * (x[1] * v[2] - x[2] * v[1]), mass * (x[2] * v[0] - x[0] * v[2]),
-            mass * (x[0] * v[1] - x[1] * v[0]),
-            mass * x[0] * x[0], mass * x[1] * x[1], mass * x[2] * x[2],
-            mass * x[0] * x[1], mass * x[1] * x[2], mass * x[2] * x[0]]), axis=1)
-        cm, vcm = sums[0:3] / m_total, sums[3:6] / m_total
-        L = sums[6:9] - m_total * jnp.cross(cm, vcm)
-        second = jnp.array([[sums[9], sums[12], sums[14]], [sums[12], sums[10], sums[13]],
-                            [sums[14], sums[13], sums[11]]]) - m_total * jnp.outer(cm, cm)
+        cm, vcm = sums[0:3, 3] / m_total, sums[3:6, 3] / m_total
+        vx = sums[3:6, 0:3]  # vx[j, i] = sum m v_j x_i
+        L = (jnp.stack([vx[2, 1] - vx[1, 2], vx[0, 2] - vx[2, 0], vx[1, 0] - vx[0, 1]])
+             - m_total * jnp.cross(cm, vcm))
+        second = sums[0:3, 0:3] - m_total * jnp.outer(cm, cm)
         inertia = jnp.trace(second) * jnp.eye(3, dtype=self.dtype) - second
         if self.half:  # the mirror image cancels these components
             cm, vcm = cm.at[1].set(0.0), vcm.at[1].set(0.0)
@@ -310,7 +309,8 @@ class Kernel(ChunkedSteps):
         v = v_half + 0.5 * dt * a
         du = u - state.u
         bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (J - state.j0) * g.volume_m3
-        stored, e_hg, dd_bv = jnp.sum(jnp.stack([stored, e_hg, bv_e]), axis=1)
+        # separate reductions: each fuses with what it sums (a stack is written out first)
+        stored, e_hg, dd_bv = jnp.sum(stored), jnp.sum(e_hg), jnp.sum(bv_e)
         k_t = params.stick_n_m
         du_t = dt * rel[:2]  # tangential displacement relative to the surface over the step
         normal = forces[2]
@@ -321,7 +321,7 @@ class Kernel(ChunkedSteps):
             0.5 * jnp.sum((state.f_tangential + forces[:2]) * du_t, axis=0),
             0.5 * k_t * jnp.sum(stick * stick, axis=0), normal, forces[0], forces[1],
             normal * rel[0], normal * slipping]), axis=1)
-        min_j, lam_lo, neg_hi = jnp.min(jnp.stack([J, lam_lo, -lam_hi]), axis=1)
+        min_j, lam_lo, lam_hi = jnp.min(J), jnp.min(lam_lo), jnp.max(lam_hi)
         cm, vcm, omega = self.rigid_body(params, u, v)
         w_int = state.w_int + dw_int
         w_contact = state.w_contact + dw_contact
@@ -336,7 +336,7 @@ class Kernel(ChunkedSteps):
                        sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
                        w_contact=w_contact, w_tangential=w_tangential, d_bv=d_bv,
                        **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
-                                     lam_lo, -neg_hi, params.energy_error_limit))
+                                     lam_lo, lam_hi, params.energy_error_limit))
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
                          w_tangential, e_stick, slipping_share])
