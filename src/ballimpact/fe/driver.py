@@ -102,8 +102,10 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
     chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     n = len(labels)
     with jax.enable_x64(True), np.errstate(invalid="ignore"):
-        params = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
-        state = init_fn(params, *(jnp.asarray(x if batched else x[0], kernel.dtype)
+        # device_put, not jnp.asarray: the latter compiles (or loads) a small program per array
+        # kind, a tenth of a second of a single run's process
+        params = jax.device_put(cast(params, kernel.dtype))
+        state = init_fn(params, *(jax.device_put(np.asarray(x if batched else x[0], kernel.dtype))
                                   for x in initial))
         rows, failed, chunks = [], {}, 0
         while True:

@@ -111,16 +111,10 @@ class ChunkedSteps(ABC):
     (`mass_kg`, `increment_factor`, `bv_linear_pa_s`, `bv_quadratic_pa_s2`; `u`, `t`, `dt`,
     `dt0`, `x_top` and the events of `step_events`)."""
 
-    #: the start increment estimated in the first chunk (`LANCZOS_STEPS`; `initial_state` leaves
-    #: dt0 = 0 and x_top a fixed start vector) rather than in `initial_state`: the operator, a
-    #: Jacobian-vector product of the internal forces, is then compiled in one program, not two
-    #: (the 3D kernel: 3 of its 8.4 s of compilation)
-    first_estimate_in_chunk = False
-
     @abstractmethod
     def initial_state(self, params, *condition):
-        """The state at first touch, the stable increment estimated (`LANCZOS_STEPS`), or left
-        to the first chunk (`first_estimate_in_chunk`)."""
+        """The state at first touch, with dt = dt0 = 0 and x_top `alternating_start`: the first
+        chunk estimates the increment."""
 
     @abstractmethod
     def step(self, params, t0, state, i):
@@ -147,21 +141,20 @@ class ChunkedSteps(ABC):
         """The contact springs' K v, every spring active (components first)."""
 
     def chunk(self, params, state, n_steps: int):
-        """`n_steps` steps, after re-estimating the stable increment at the current state."""
-        if self.first_estimate_in_chunk:
-            first = state.dt0 <= 0
-            omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
-                                                       REFRESH_LANCZOS_STEPS, first)
-            start = params.increment_factor / jnp.sqrt(omega2)
-            dt0 = jnp.where(first, start, state.dt0)
-            dt = jnp.where(first, start, shrunk_increment(state.dt, dt0, omega2,
-                                                          params.increment_factor))
-            state = state._replace(dt=dt, dt0=dt0, x_top=x_top)
-        else:
-            omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
-                                                       REFRESH_LANCZOS_STEPS)
-            dt = shrunk_increment(state.dt, state.dt0, omega2, params.increment_factor)
-            state = state._replace(dt=dt, x_top=x_top)
+        """`n_steps` steps, after re-estimating the stable increment at the current state: the
+        first chunk (dt0 still 0) estimates it with `LANCZOS_STEPS` Lanczos steps from x_top,
+        the others with `REFRESH_LANCZOS_STEPS` from the last top Ritz vector. Both in one loop
+        here, not the first in `initial_state`: the operator, a Jacobian-vector product of the
+        internal forces, is most of a kernel's compilation (3 of the 3D kernel's 8.4 s) and of
+        its compiled size (the time to load a program from the compilation cache)."""
+        first = state.dt0 <= 0
+        omega2, x_top = self.max_frequency_squared(params, state.u, state.x_top,
+                                                   REFRESH_LANCZOS_STEPS, first)
+        start = params.increment_factor / jnp.sqrt(omega2)
+        dt0 = jnp.where(first, start, state.dt0)
+        dt = jnp.where(first, start,
+                       shrunk_increment(state.dt, dt0, omega2, params.increment_factor))
+        state = state._replace(dt=dt, dt0=dt0, x_top=x_top)
         steps = jnp.arange(n_steps, dtype=self.dtype)
         return jax.lax.scan(partial(self.step, params, state.t), state, steps)
 
@@ -169,7 +162,7 @@ class ChunkedSteps(ABC):
         """Upper estimate of omega_max^2 (1/s^2) of M^-1 (K + K_contact) at displacements u
         (components first), with the instantaneous moduli and every contact spring active, by
         `steps` Lanczos steps from `start` (flat; None: a fixed vector), and the top Ritz
-        vector. `first` (traced boolean): `LANCZOS_STEPS` steps where it holds."""
+        vector. `first` (a traced boolean): `LANCZOS_STEPS` steps where it holds."""
         elastic = params._replace(bv_linear_pa_s=jnp.zeros_like(params.bv_linear_pa_s),
                        bv_quadratic_pa_s2=jnp.zeros_like(params.bv_quadratic_pa_s2))
         mats = self.initial_materials(params)

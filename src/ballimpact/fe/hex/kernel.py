@@ -241,8 +241,6 @@ class Kernel(ChunkedSteps):
         return out
 
     # ---- the state ---------------------------------------------------------------------------
-    first_estimate_in_chunk = True
-
     def initial_state(self, params, speed, angle_rad, spin_rad_s):
         """The state at first touch: every ball node moving at v + omega x r, with the spin
         vector `spin_rad_s` (3,) (rad/s) about the centre; the increment is estimated in the
@@ -262,7 +260,8 @@ class Kernel(ChunkedSteps):
         inf = scalar(jnp.inf)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
         return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=scalar(0.0), dt0=scalar(0.0),
-                        x_top=alternating_start(self.frequency_mask(), self.dtype), f_int=zeros, f_contact=zeros,
+                        x_top=alternating_start(self.frequency_mask(), self.dtype),
+                        f_int=zeros, f_contact=zeros,
                         f_tangential=self.zeros((2, n_c)), stick=self.zeros((2, n_c)),
                         mat=self.initial_materials(params), j0=jnp.ones(n_el, self.dtype),
                         sigma_bv=self.zeros(n_el),
