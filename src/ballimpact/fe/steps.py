@@ -80,9 +80,10 @@ def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j
     """What a step of either kernel flags in its state at time t (s): the contact's start and
     separation (the normal force `force` (N) gone while the centre moves away, `velocity_z`
     (m/s) > 0; a new contact cancels a separation), the peak force with its time and
-    displacements `u`, the first non-finite or inverted state (`min_j` <= 0), the first energy
-    balance error above `energy_error_limit` of the initial kinetic energy, and the range of
-    principal stretches (from `lam2_min`, `lam2_max`: the step's extreme eigenvalues of C)."""
+    displacements `u` (None: not kept, which saves the step a write of every displacement), the
+    first non-finite or inverted state (`min_j` <= 0), the first energy balance error above
+    `energy_error_limit` of the initial kinetic energy, and the range of principal stretches
+    (from `lam2_min`, `lam2_max`: the step's extreme eigenvalues of C)."""
     started = jnp.isfinite(state.t_start)
     separating = started & (force <= 0) & (velocity_z > 0) & jnp.isinf(state.t_separation)
     new_peak = force > state.peak_force
@@ -94,7 +95,7 @@ def step_events(state, t, force, velocity_z, u, kinetic, w_int, w_contact, min_j
                                       jnp.where(separating, t, state.t_separation)),
             "peak_force": jnp.maximum(force, state.peak_force),
             "t_peak": jnp.where(new_peak, t, state.t_peak),
-            "u_peak": jnp.where(new_peak, u, state.u_peak),
+            "u_peak": state.u_peak if u is None else jnp.where(new_peak, u, state.u_peak),
             "t_bad": jnp.where(bad & jnp.isinf(state.t_bad), t, state.t_bad),
             "t_energy": jnp.where(energy_bad & jnp.isinf(state.t_energy), t,
                                   state.t_energy),

@@ -233,7 +233,11 @@ class Kernel(ChunkedSteps):
     def nodal_contact(self, forces, where):
         """Contact forces (3, n_contact) on ball nodes (and their reactions on the target) as
         nodal forces (3, n_nodes)."""
-        out = self.zeros((3, self.n_nodes)).at[:, self.contact_nodes].set(forces)
+        # a gather (each node's slot in the contact list, or a zero), not a scatter
+        n_c = len(self.contact_nodes)
+        slot = np.full(self.n_nodes, n_c)
+        slot[self.contact_nodes] = np.arange(n_c)
+        out = jnp.concatenate([forces, self.zeros((3, 1))], axis=1)[:, slot]
         if where is not None:
             ids, w = where
             reaction = -(w[None] * forces[:, None])            # (3, 4, n_contact)
@@ -334,7 +338,8 @@ class Kernel(ChunkedSteps):
                        f_tangential=forces[:2], stick=stick, mat=mats, j0=J,
                        sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
                        w_contact=w_contact, w_tangential=w_tangential, d_bv=d_bv,
-                       **step_events(state, t, f_n, vcm[2], u, kinetic, w_int, w_contact, min_j,
+                       # no shape at the peak: the 3D results keep frames instead
+                       **step_events(state, t, f_n, vcm[2], None, kinetic, w_int, w_contact, min_j,
                                      lam_lo, lam_hi, params.energy_error_limit))
         row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
                          omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
