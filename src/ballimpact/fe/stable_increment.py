@@ -32,7 +32,7 @@ def lanczos_largest(apply, x0: jax.Array, steps: int, first_steps: int | None = 
     With `first_steps` and a traced boolean `first`: `first_steps` steps where `first` holds,
     `steps` elsewhere, in one loop, so that the operator (a Jacobian-vector product of the
     internal forces, most of a kernel's compilation) is compiled once for the start estimate
-    and the refreshes. Each count gives the same arithmetic as a loop of its own."""
+    and the refreshes."""
     n = x0.shape[0]
     size = steps if first_steps is None else first_steps
     basis = jnp.zeros((size, n), x0.dtype)

@@ -282,8 +282,10 @@ class Kernel(ChunkedSteps):
         mass = params.mass_kg * self.ball_nodes
         x = self.geom.nodes_m.T + u
         # every sum over the nodes in one product (6, n) x (n, 4): m x x^T, m v x^T, m x, m v
+        # (HIGHEST: no reduced-precision products on accelerators)
         ones = jnp.ones((1, x.shape[1]), self.dtype)
-        sums = jnp.dot(jnp.concatenate([x, v]) * mass, jnp.concatenate([x, ones]).T)
+        sums = jnp.dot(jnp.concatenate([x, v]) * mass, jnp.concatenate([x, ones]).T,
+                       precision=jax.lax.Precision.HIGHEST)
         m_total = params.ball_mass_kg
         cm, vcm = sums[0:3, 3] / m_total, sums[3:6, 3] / m_total
         vx = sums[3:6, 0:3]  # vx[j, i] = sum m v_j x_i
