@@ -27,8 +27,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..stable_increment import alternating_start, increment_factor
-from ..steps import PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple, step_events
+from ..stable_increment import increment_factor
+from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple,
+                     step_events)
 from .element import (
     AxiGeometry,
     centre_deformation,
@@ -146,9 +147,10 @@ class Kernel(ChunkedSteps):
         zeros = self.zeros((2, n))
         inf = jnp.array(jnp.inf, self.dtype)
         scalar = partial(jnp.array, dtype=self.dtype)
+        omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
+        dt = params.increment_factor / jnp.sqrt(omega2)
         return AxiState(u=zeros, v=zeros.at[1].set(-speed), a=zeros, t=scalar(0.0),
-                        dt=scalar(0.0), dt0=scalar(0.0),
-                        x_top=alternating_start(self.frequency_mask(), self.dtype),
+                        dt=dt, dt0=dt, x_top=x_top,
                         f_e=self.zero_corner_forces(), f_contact=self.zeros(n),
                         mat=self.initial_materials(params),
                         j0=jnp.ones(self.geom.n_elements, self.dtype),

@@ -245,6 +245,8 @@ class Kernel(ChunkedSteps):
         return out
 
     # ---- the state ---------------------------------------------------------------------------
+    first_estimate_in_chunk = True
+
     def initial_state(self, params, speed, angle_rad, spin_rad_s):
         """The state at first touch: every ball node moving at v + omega x r, with the spin
         vector `spin_rad_s` (3,) (rad/s) about the centre; the increment is estimated in the
