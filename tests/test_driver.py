@@ -13,7 +13,8 @@ import pytest
 from ballimpact.fe import SolverOptions, load_ball
 from ballimpact.fe.driver import fixed_increment_run
 from ballimpact.fe.axi.kernel import HISTORY as AXI_HISTORY
-from ballimpact.fe.steps import cast
+from ballimpact.fe.stable_increment import shrunk_increment
+from ballimpact.fe.steps import LANCZOS_STEPS, REFRESH_LANCZOS_STEPS, cast
 from ballimpact.fe.estimates import hertz_contact_time_s
 from ballimpact.fe.solver import ball_arrays, kernel_for
 from ballimpact.oblique import ImpactCondition, Options3D
@@ -127,3 +128,30 @@ def test_the_axisymmetric_engine_takes_a_normal_impact_condition():
                       ImpactCondition(SPEED_M_S, spin_rad_s=100.0)):
         with pytest.raises(InputError, match="normal impacts without spin.*simulate_oblique"):
             simulate(BALL, condition, options)
+
+
+def test_first_chunk_estimate_equals_the_loops_of_their_own():
+    """The 3D kernel estimates its start increment in the first chunk, in one Lanczos loop of
+    40 or 8 steps (`first_estimate_in_chunk`): the start increment equals that of a 40-step loop
+    of its own at the undeformed state to 1e-12, and the next chunk's increment is the one an
+    8-step loop of its own gives from the first chunk's state and Ritz vector (quantized
+    levels: equal)."""
+    kernel, params, initial, *_ = hexahedral_case()
+    assert kernel.first_estimate_in_chunk
+    chunk = jax.jit(partial(kernel.chunk, n_steps=1))
+    estimate = jax.jit(kernel.max_frequency_squared, static_argnums=3)
+    with jax.enable_x64(True):
+        p = jax.tree_util.tree_map(jnp.asarray, cast(params, kernel.dtype))
+        state0 = jax.jit(kernel.initial_state)(p, *initial(SPEED_M_S))
+        assert float(state0.dt0) == 0.0
+        state1, _ = chunk(p, state0)
+        omega2, _ = estimate(p, state0.u, None, LANCZOS_STEPS)
+        expected = float(p.increment_factor / jnp.sqrt(omega2))
+        assert float(state1.dt0) == pytest.approx(expected, rel=1e-12)
+        assert float(state1.dt) == float(state1.dt0)
+        state2, _ = chunk(p, state1)
+        omega2, _ = estimate(p, state1.u, state1.x_top, REFRESH_LANCZOS_STEPS)
+        refreshed = shrunk_increment(state1.dt, state1.dt0, omega2, p.increment_factor)
+        assert float(state2.dt) == float(refreshed)
+        assert float(state2.dt0) == float(state1.dt0)
+

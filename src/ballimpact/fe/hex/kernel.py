@@ -274,7 +274,8 @@ class Kernel(ChunkedSteps):
                         ke0=0.5 * jnp.sum(params.mass_kg * jnp.sum(v * v, axis=0)),
                         w_int=scalar(0.0), w_contact=scalar(0.0), w_tangential=scalar(0.0),
                         d_bv=scalar(0.0), peak_force=scalar(0.0), t_peak=scalar(0.0),
-                        u_peak=zeros, t_start=inf, t_separation=inf, t_bad=inf,
+                        u_peak=self.zeros((3, 0)),  # not kept in 3D (`step`)
+                        t_start=inf, t_separation=inf, t_bad=inf,
                         t_energy=inf, stretch_min=scalar(1.0), stretch_max=scalar(1.0))
 
     # ---- the step ----------------------------------------------------------------------------
