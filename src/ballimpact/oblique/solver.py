@@ -359,9 +359,9 @@ def simulate_oblique(ball, condition: ImpactCondition, options: Options3D = Opti
 #: min at `SECONDS_PER_ELEMENT_STEP` (about 36 divisions, half model; the default 16 is 1.5e7 by
 #: the estimate, 1.1e7 run)
 ELEMENT_STEPS_WARNING = 3e8
-#: wall time of one hexahedron update on a 2-core CPU (s; float64, reduced integration: 2.4e-7
-#: at 22,464 hexahedra in benchmarks/bench_oblique.py after issue 28, 3.0e-7 on a slow minute of
-#: the machine, docs/oblique.md "Cost"; 9.3e-7 before)
+#: wall time of one hexahedron update on a 2-core CPU (s; float64, reduced integration, after
+#: issue 28: 3.1e-7 at 1408, 2.5e-7 at 7424 and 2.4e-7 at 22,464 hexahedra, the last 3.0e-7 on a
+#: slow minute of the machine; benchmarks/bench_oblique.py, docs/oblique.md "Cost"; 9.3e-7 before)
 SECONDS_PER_ELEMENT_STEP = 3e-7
 #: the stable increment over the smallest element's L / c_d at time_step_scale 0.8 (0.84 at 8
 #: and 0.66 at 16 divisions on the universal ball; lower is safer)
