@@ -78,7 +78,7 @@ def bad_inputs(tmp_path, test_csv):
     return {
         "empty file": ([csv("empty.csv", ""), *speeds], "the file is empty"),
         "missing unit": ([csv("nounit.csv", "time,force\n0,0\n"), *speeds], "has no unit"),
-        "unknown unit": ([csv("lbf.csv", "time_s,force_lbf\n0,0\n"), *speeds], "unknown column"),
+        "unknown unit": ([csv("kip.csv", "time_s,force_kip\n0,0\n"), *speeds], "unknown column"),
         "non-monotonic time": ([csv("back.csv", "time_s,force_n\n0,0\n2,1\n1,0\n"), *speeds],
                                "strictly increasing"),
         "repeated time": ([csv("rep.csv", "time_s,force_n\n0,0\n1,1\n1,0\n"), *speeds], "repeated"),

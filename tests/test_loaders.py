@@ -71,7 +71,7 @@ def test_wav_without_sensitivity_is_an_input_error(tmp_path):
         ("", "the file is empty"),
         ("# only a comment\n", "the file is empty"),
         ("time,force\n0,0\n", "column 'time' has no unit; use one of time_s, time_ms, time_us"),
-        ("time_s,force_lbf\n0,0\n", "unknown column 'force_lbf'"),
+        ("time_s,force_kip\n0,0\n", "unknown column 'force_kip'"),
         ("0,0\n1,2\n", "first line is not a header"),
         ("time_s\n0\n", "no force column"),
         ("time_s,force_n\n", "no samples"),

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Collection
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -218,6 +218,8 @@ class ImpactFeatures:
     velocity_m_s: np.ndarray
     displacement_m: np.ndarray
     warnings: list[str] = field(default_factory=list)
+    method: str = "samples"
+    uncertainty: dict[str, float] | None = None
 
     @property
     def impulse_check_passed(self) -> bool | None:
@@ -257,8 +259,26 @@ class ImpactFeatures:
             },
             "features": dict(v),
             "feature_names": dict(FEATURE_NAMES),
+            "pulse_method": self.method,
+            "uncertainty": self.uncertainty_dict(),
             "warnings": list(self.warnings),
         }
+
+    def uncertainty_dict(self) -> dict[str, Any] | None:
+        """The standard uncertainties (same units as the values; the 90% interval is the value
+        +- 1.645 of them), keyed like `to_dict`: `features` P1..P19 and the named quantities."""
+        if self.uncertainty is None:
+            return None
+        u = self.uncertainty
+        named = {"peak_force_n": "P6", "contact_time_s": "P1", "cor": "P17",
+                 "rebound_speed_m_s": "P16"}
+        out: dict[str, Any] = {key: u.get(p) for key, p in named.items()}
+        for key in ("impulse_n_s", "impulse_cor", "max_compression_m", "energy_lost_j",
+                    "dynamic_stiffness_n_m"):
+            out[key] = u.get(key)
+        out["features"] = {key: u.get(key) for key in self.values}
+        out["interval"] = "standard uncertainty from the record's noise (bootstrap); 90% interval = value +- 1.645 u"
+        return out
 
 
 def dynamic_stiffness(peak_force_n, mass_kg, impact_speed_m_s):
@@ -268,6 +288,44 @@ def dynamic_stiffness(peak_force_n, mass_kg, impact_speed_m_s):
     return peak_force_n ** 2 / (mass_kg * impact_speed_m_s ** 2)
 
 
+def curve_values(curve: PulseCurve, mass_kg: float, impact_speed_m_s: float,
+                 rebound_speed_m_s: float) -> dict[str, float]:
+    """P1..P19 of the pulse `curve` with these scalars (SI; see the module's definitions)."""
+    mass, v_in, v_out = mass_kg, impact_speed_m_s, rebound_speed_m_s
+    peak_at = int(np.argmax(curve.knots_n))
+    peak_time, peak = float(curve.knots_s[peak_at]), float(curve.knots_n[peak_at])
+    spans = {fraction: curve.span(fraction * peak) for fraction in (0.1, 0.5, 0.9)}
+    widths = {fraction: end - start for fraction, (start, end) in spans.items()}
+    p1 = curve.duration_s
+    mean, m2, m3, m4 = (curve.mean_power(power, peak) for power in (1, 2, 3, 4))
+    variance = m2 - mean**2
+    third = m3 - 3 * mean * m2 + 2 * mean**3
+    fourth = m4 - 4 * mean * m3 + 6 * mean**2 * m2 - 3 * mean**4
+    (start10, end10), (start90, end90) = spans[0.1], spans[0.9]
+    middle90 = 0.5 * (start90 + end90)
+    return {
+        "P1": p1,
+        "P2": widths[0.1],
+        "P3": widths[0.5],
+        "P4": widths[0.9],
+        "P5": peak_time,
+        "P6": peak,
+        "P7": peak / p1,
+        "P8": peak / widths[0.1],
+        "P9": peak / widths[0.5],
+        "P10": peak / widths[0.9],
+        "P11": fourth / variance**2,
+        "P12": curve.integral(peak_time, p1) / curve.integral(0.0, peak_time),
+        "P13": curve.integral(middle90, end10) / curve.integral(start10, middle90),
+        "P14": third / variance**1.5,
+        "P15": v_in,
+        "P16": v_out,
+        "P17": v_out / v_in,
+        "P18": (v_in + v_out) / p1,
+        "P19": curve.integral(start90, end90) / mass / widths[0.9],
+    }
+
+
 def extract_features(
     record: ImpactRecord,
     *,
@@ -275,6 +333,8 @@ def extract_features(
     threshold_fraction: float = 1e-3,
     noise_factor: float = 5.0,
     allow: Collection[str] = (),
+    method: str = "samples",
+    uncertainty: bool = False,
 ) -> ImpactFeatures:
     """The 19 characteristic values and the load-cell identities of one impact.
 
@@ -287,6 +347,13 @@ def extract_features(
       `warnings`).
     - `threshold_fraction`, `noise_factor`: the contact-window threshold (see `contact_window`).
     - `allow`: plausibility checks to turn from errors into warnings (`plausibility.CHECKS`).
+    - `method`: `"samples"` (default) takes the pulse as piecewise linear through the samples,
+      its ends extrapolated to zero from the window's outermost samples: exact for a noise-free
+      record (a simulation). `"fit"` fits the contact start and end with the shape a contact
+      must have and smooths between them (`reconstruct.fitted_pulse_curve`): for measured,
+      noisy records (`pipeline.process` uses it).
+    - `uncertainty`: also the standard uncertainty of every value from the record's noise
+      (`reconstruct.bootstrap_uncertainty`; `ImpactFeatures.uncertainty`).
 
     **Raises:** `InputError` if the mass or impact speed is missing, if the pulse is negative
     (`plausibility.check_polarity`: an inverted load cell), if there is no pulse or several
@@ -304,10 +371,9 @@ def extract_features(
 
     check_polarity(record)  # an inverted pulse: an error naming the fix
     select_pulse(record)  # several pulses: an error that lists them
-    window = contact_window(
-        record, threshold_fraction=threshold_fraction, noise_factor=noise_factor
-    )
-    curve = pulse_curve(record, window)
+    if method not in METHODS:
+        raise InputError(f"method: {method!r}; allowed: {', '.join(METHODS)}")
+    window, curve, fitted = _window_and_curve(record, threshold_fraction, noise_factor, method)
     impulse = curve.integral(0.0, curve.duration_s)
     wav = str(record.metadata.get("file", "")).lower().endswith(".wav")
     check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow, wav=wav)
@@ -334,40 +400,18 @@ def extract_features(
     for note in notes:
         warnings.warn(note, InputWarning, stacklevel=2)
 
-    peak_at = int(np.argmax(curve.knots_n))
-    peak_time, peak = float(curve.knots_s[peak_at]), float(curve.knots_n[peak_at])
-    spans = {fraction: curve.span(fraction * peak) for fraction in (0.1, 0.5, 0.9)}
-    widths = {fraction: end - start for fraction, (start, end) in spans.items()}
-    p1 = curve.duration_s
-    mean, m2, m3, m4 = (curve.mean_power(power, peak) for power in (1, 2, 3, 4))
-    variance = m2 - mean**2
-    third = m3 - 3 * mean * m2 + 2 * mean**3
-    fourth = m4 - 4 * mean * m3 + 6 * mean**2 * m2 - 3 * mean**4
-    (start10, end10), (start90, end90) = spans[0.1], spans[0.9]
-    middle90 = 0.5 * (start90 + end90)
-    values = {
-        "P1": p1,
-        "P2": widths[0.1],
-        "P3": widths[0.5],
-        "P4": widths[0.9],
-        "P5": peak_time,
-        "P6": peak,
-        "P7": peak / p1,
-        "P8": peak / widths[0.1],
-        "P9": peak / widths[0.5],
-        "P10": peak / widths[0.9],
-        "P11": fourth / variance**2,
-        "P12": curve.integral(peak_time, p1) / curve.integral(0.0, peak_time),
-        "P13": curve.integral(middle90, end10) / curve.integral(start10, middle90),
-        "P14": third / variance**1.5,
-        "P15": v_in,
-        "P16": v_out,
-        "P17": v_out / v_in,
-        "P18": (v_in + v_out) / p1,
-        "P19": curve.integral(start90, end90) / mass / widths[0.9],
-    }
+    values = curve_values(curve, mass, v_in, v_out)
     velocity = curve.velocity(v_in, mass)
     displacement = curve.displacement(velocity, mass)
+    spread = None
+    if uncertainty:
+        from .reconstruct import bootstrap_uncertainty
+
+        def values_of(draw: ImpactRecord) -> dict[str, float]:
+            _, c, _ = _window_and_curve(draw, threshold_fraction, noise_factor, method, fitted)
+            return _all_values(c, mass, v_in, record.rebound_speed_m_s)
+
+        spread = bootstrap_uncertainty(record, curve, window.start_s, window, values_of)
     return ImpactFeatures(
         values={key: float(value) for key, value in values.items()},
         window=window,
@@ -380,10 +424,45 @@ def extract_features(
         impulse_cor=impulse / (mass * v_in) - 1.0,
         max_compression_m=float(np.max(displacement)),
         energy_lost_j=curve.work(velocity, mass),
-        dynamic_stiffness_n_m=dynamic_stiffness(peak, mass, v_in),
+        dynamic_stiffness_n_m=dynamic_stiffness(values["P6"], mass, v_in),
         time_s=curve.knots_s,
         force_n=curve.knots_n,
         velocity_m_s=velocity,
         displacement_m=displacement,
         warnings=notes,
+        method=method,
+        uncertainty=spread,
     )
+
+
+#: The pulse descriptions of `extract_features(method=...)`.
+METHODS = ("samples", "fit")
+
+
+def _window_and_curve(record: ImpactRecord, threshold_fraction: float, noise_factor: float,
+                      method: str, like=None):
+    """The contact window (its ends the curve's, for `fit`), the pulse curve and, for `fit`,
+    the `reconstruct.FittedPulse` (None otherwise); `like` as in `fitted_pulse_curve`."""
+    window = contact_window(record, threshold_fraction=threshold_fraction,
+                            noise_factor=noise_factor)
+    if method == "fit":
+        from .reconstruct import fitted_pulse_curve
+
+        fitted = fitted_pulse_curve(record, window, like)
+        if fitted is not None:
+            return (replace(window, start_s=fitted.start.time_s, end_s=fitted.end.time_s),
+                    fitted.curve, fitted)
+    return window, pulse_curve(record, window), None
+
+
+def _all_values(curve: PulseCurve, mass: float, v_in: float,
+                measured_rebound: float | None) -> dict[str, float]:
+    """The 19 values and the load-cell quantities of `curve` (the bootstrap's draws)."""
+    impulse = curve.integral(0.0, curve.duration_s)
+    v_out = impulse / mass - v_in if measured_rebound is None else measured_rebound
+    values = curve_values(curve, mass, v_in, v_out)
+    velocity = curve.velocity(v_in, mass)
+    return {**values, "impulse_n_s": impulse, "impulse_cor": impulse / (mass * v_in) - 1.0,
+            "max_compression_m": float(np.max(curve.displacement(velocity, mass))),
+            "energy_lost_j": curve.work(velocity, mass),
+            "dynamic_stiffness_n_m": dynamic_stiffness(values["P6"], mass, v_in)}

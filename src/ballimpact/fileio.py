@@ -112,8 +112,11 @@ def read_table(path: Path, what: str = "rows", header=None) -> tuple[int, list[s
     left NaN. `InputError` naming the file, and the line and column of a value: a file that
     cannot be read or holds no header (`what` names its rows in that message), a row with
     another number of values than the header, a value that is not a finite number. The callers
-    check the number of rows and the values' ranges."""
-    path = Path(path)
+    check the number of rows and the values' ranges. `path` may name a built-in data set
+    (`builtin:treloar-uniaxial`, `datasets.resolve`)."""
+    from .datasets import resolve  # `builtin:NAME`: the package's own data sets
+
+    path = resolve(path)
     if path.is_dir():
         raise InputError(f"{path}: is a folder; give a CSV file")
     try:

@@ -2,7 +2,12 @@
 
 CSV (docs/features.md): lines starting with `#` are comments; the first other line is a header
 naming each column with its unit: `time_s`/`time_ms`/`time_us`, `force_n`/`force_kn`, optional
-`velocity_m_s` and `tangential_force_n`/`tangential_force_kn`. Values are converted to SI.
+`velocity_m_s` and `tangential_force_n`/`tangential_force_kn`; or as labs write them, the unit
+after the name (`Time (ms)`, `Force [kN]`, `Fz (lbf)`, `t/us`, `fz_lbf`; any case): times in s, ms,
+us; forces in N, kN, lbf, kgf; velocity in m/s; a load-cell voltage (`ch1 (V)`, `Voltage (mV)`,
+`ch1_v`) turned into newtons by the sensitivity and gain, as a WAV file's. Values are converted
+to SI. A column that is not needed (another channel) is left out with a warning; where two could
+be the time or the force, `time_column` / `force_column` choose (a name or a 0-based position).
 The histories `simulate --csv` writes load too: their force column is `contact_force_n`
 (axisymmetric) or `normal_force_n` (`--solver 3d`), their other columns are left out, and since
 they start at first contact the zero-force samples before it are put back (as
@@ -25,14 +30,18 @@ from __future__ import annotations
 
 import json
 import math
+import re
+import warnings
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, InputWarning
 from .fileio import is_number, read_table
 from .checks import check_positive
+from .datasets import resolve as resolve_builtin
 from .records import ImpactRecord
 
 #: CSV column name -> (record field, factor to SI).
@@ -84,50 +93,291 @@ COMPONENT_TOLERANCE = 0.01
 BUILTIN_DATA = Path(__file__).resolve().parent / "data"
 
 
-def read_csv(path: str | Path) -> dict[str, np.ndarray]:
-    """Columns of an impact CSV as SI arrays keyed by record field (an FE history's also holds
-    `fe_lead_samples`: how many zero-force samples were put back before first contact)."""
-    path = Path(path)
+#: Force units a header may name -> newtons: 1 lbf = 4.4482216152605 N (exact: 0.45359237 kg times
+#: standard gravity), 1 kgf = 9.80665 N.
+LBF_N = 4.4482216152605
+KGF_N = 9.80665
+#: quantity -> unit as a header writes it (lower case) -> factor to SI. `volts` is a load-cell
+#: signal, turned into newtons by the sensitivity (V/N) and the amplifier gain.
+UNITS: dict[str, dict[str, float]] = {
+    "time": {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "\u00b5s": 1e-6, "\u03bcs": 1e-6},
+    "force": {"n": 1.0, "kn": 1e3, "lbf": LBF_N, "kgf": KGF_N},
+    "velocity": {"m/s": 1.0, "m_s": 1.0},
+    "volts": {"v": 1.0, "mv": 1e-3},
+}
+UNITS["tangential_force"] = UNITS["force"]
+#: The names (lower case, words joined by `_`) that say which quantity a column holds; a header
+#: gives its unit after the name: `name_unit`, `Name (unit)`, `Name [unit]` or `Name/unit`.
+#: Load-cell channels (`ch1`, `channel2`, `ai0`) are voltages.
+QUANTITY_NAMES: dict[str, tuple[str, ...]] = {
+    "time": ("time", "t"),
+    "force": ("force", "f", "fz", "fn", "load", "normal_force", "normal_load", "contact_force",
+              "impact_force", "force_z"),
+    "tangential_force": ("tangential_force", "tangential", "ft", "fx", "fy", "force_x",
+                         "force_y", "shear_force", "friction_force", "tangential_load"),
+    "velocity": ("velocity", "vel", "speed"),
+    "volts": ("voltage", "volts", "signal"),
+}
+#: The flags that choose a column, by the quantity they choose.
+CHOICE_FLAGS = {"time": "--time-column", "force": "--force-column"}
+_RECORD_FIELD = {"time": "time_s", "force": "force_n", "tangential_force": "tangential_force_n",
+                 "velocity": "velocity_m_s"}
+_UNIT_LIST = {"time": "s, ms, us", "force": "N, kN, lbf, kgf",
+              "tangential_force": "N, kN, lbf, kgf", "velocity": "m/s",
+              "volts": "V, mV (with --sensitivity-v-per-n)"}
 
-    def record_columns(names: list[str]) -> tuple[list[tuple[int, str]], list, bool]:
-        """The columns a record takes: (index, name) pairs, (field, factor) each, FE history?"""
-        _check_header(path, ",".join(names), names)
-        fe_history = any(name in FE_FORCE_COLUMNS for name in names)
-        # an FE history's other columns (energies, centre motion) are not part of a record
-        used = [(col, name) for col, name in enumerate(names)
-                if not (fe_history and name not in CSV_COLUMNS)]
-        columns = [_column(path, name, names) for _, name in used]
-        fields = [field for field, _ in columns]
-        for required in ("time_s", "force_n"):
-            if required not in fields:
-                quantity = _QUANTITY[required]
-                raise InputError(f"{path}: no {quantity} column; add one of "
-                                 f"{_UNITS_OF[quantity]}")
-        return used, columns, fe_history
 
-    _, names, rows, table = read_table(
-        path, "samples", lambda names, _: [col for col, _ in record_columns(names)[0]])
-    if not rows:
-        raise InputError(f"{path}: the header has no samples below it")
-    used, columns, fe_history = record_columns(names)
-    values = table[:, [col for col, _ in used]]
-    out = {field: values[:, k] * factor for k, (field, factor) in enumerate(columns)}
-    return _with_contact_start(out) if fe_history else out
+def _word(text: str) -> str:
+    """A column's name as one word: lower case, spaces, dots and hyphens as `_`."""
+    return re.sub(r"[\s.\-]+", "_", text.strip().lower()).strip("_")
 
 
-def _check_header(path: Path, header: str, names: list[str]) -> None:
-    """Errors for a header that is not one of a test record: another separator, or a table of
-    results that another verb wrote."""
-    if len(names) == 1:
-        for separator, called in ((";", "semicolons"), ("\t", "tabs")):
-            if separator in header:
-                raise InputError(f"{path}: the columns are separated by {called}; separate them "
-                                 "with commas (e.g. time_s,force_n)")
-    has_time = any(CSV_COLUMNS.get(name, ("",))[0] == "time_s" for name in names)
-    if not has_time and (RESULT_TABLE_COLUMNS & set(names)):
+def _named_quantity(word: str) -> str | None:
+    for quantity, names in QUANTITY_NAMES.items():
+        if word in names:
+            return quantity
+    if re.fullmatch(r"(ch|channel_?|ai)\d+", word):
+        return "volts"
+    return None
+
+
+def _split_unit(name: str) -> tuple[str, str | None]:
+    """A header cell as (name as one word, unit or None): `Name (unit)`, `Name [unit]`,
+    `Name/unit`, or `name_unit` where the name is a known quantity's (any name for volts)."""
+    bracket = re.fullmatch(r"(.*?)\s*[(\[]\s*([^()\[\]]*?)\s*[)\]]", name)
+    if bracket:
+        return _word(bracket[1]), bracket[2].strip().lower()
+    if "/" in name:
+        word, _, unit = name.partition("/")
+        return _word(word), unit.strip().lower()
+    word = _word(name)
+    suffixes = sorted({u for units in UNITS.values() for u in units}, key=len, reverse=True)
+    for unit in suffixes:
+        stem = word[:-len(unit) - 1]
+        if word.endswith("_" + unit) and stem and (
+                _named_quantity(stem) is not None or unit in UNITS["volts"]):
+            return stem, unit
+    # a known name with a unit that is not known (force_kip): named, so the error can say so
+    for known in sorted((n for names in QUANTITY_NAMES.values() for n in names if len(n) > 1),
+                        key=len, reverse=True):
+        rest = word[len(known) + 1:]
+        if word.startswith(known + "_") and _named_quantity(word) is None and \
+                re.fullmatch(r"[a-z\u00b5\u03bc]{1,4}", rest):
+            return known, rest
+    return word, None
+
+
+@dataclass(eq=False)
+class _Column:
+    """A header cell read: `quantity` (a key of `UNITS`, or None: another channel), its factor
+    to SI, and `problem`: why it cannot be used (no unit, an unknown unit), if so."""
+
+    index: int
+    name: str
+    quantity: str | None
+    factor: float = 1.0
+    problem: str | None = None
+
+
+def _classify(index: int, name: str) -> _Column:
+    if name in CSV_COLUMNS:
+        field, factor = CSV_COLUMNS[name]
+        return _Column(index, name, _QUANTITY[field], factor)
+    word, unit = _split_unit(name)
+    named = _named_quantity(word)
+    if unit is None:
+        if named is None:
+            return _Column(index, name, None)
+        allowed = _UNITS_OF.get(named) or f"{word}_v, {word}_mv"
+        example = f"{word} ({_UNIT_LIST[named].split(',')[0]})"
+        return _Column(index, name, named, problem=f"column {name!r} has no unit; use one of "
+                       f"{allowed} (or the unit after the name: '{example}')")
+    by_unit = next((q for q in ("time", "force", "velocity", "volts") if unit in UNITS[q]), None)
+    if named is None:
+        return _Column(index, name, by_unit, UNITS[by_unit][unit] if by_unit else 1.0)
+    if named in ("force", "tangential_force") and by_unit == "volts":
+        return _Column(index, name, "volts", UNITS["volts"][unit])
+    if unit in UNITS[named]:
+        return _Column(index, name, named, UNITS[named][unit])
+    return _Column(index, name, named, problem=(
+        f"unknown column {name!r}: {unit!r} is not a unit of {named.replace('_', ' ')}; "
+        f"allowed {_UNIT_LIST[named]}"))
+
+
+def _chosen(path: Path, columns: list[_Column], given: Any, quantity: str) -> _Column:
+    """The column a --time-column / --force-column flag names: a header name (any case) or a
+    0-based position (as --channel counts)."""
+    flag = CHOICE_FLAGS[quantity]
+    text = str(given).strip()
+    if (isinstance(given, (int, np.integer)) and not isinstance(given, bool)) or text.isdigit():
+        position = int(text)
+        if not 0 <= position < len(columns):
+            raise InputError(f"{path}: {flag} {text}: the file has {len(columns)} columns, "
+                             f"positions 0..{len(columns) - 1} (0 = the first, {columns[0].name})")
+        return columns[position]
+    found = [c for c in columns if c.name == text.lower()]
+    if not found:
+        raise InputError(f"{path}: {flag} {text!r}: no such column; the columns are "
+                         f"{', '.join(c.name for c in columns)} (or give a 0-based position)")
+    return found[0]
+
+
+def _column_plan(path: Path, names: list[str], choice: dict[str, Any]) -> dict[str, Any]:
+    """Which columns of a record CSV make the record: `fields` {field: (index, factor, column
+    name)}, `volts` (the force column is a voltage), the columns `left_out` and `notes` about
+    them."""
+    if any(is_number(name) for name in names):
+        raise InputError(f"{path}: first line is not a header; name the columns with units "
+                         f"(e.g. time_s,force_n)")
+    if any(name in FE_FORCE_COLUMNS for name in names):
+        return _fe_plan(path, names, choice)
+    columns = [_classify(k, name) for k, name in enumerate(names)]
+    if not any(c.quantity == "time" for c in columns) and (RESULT_TABLE_COLUMNS & set(names)):
         raise InputError(f"{path}: a table of results (as fit --table, identify --table and "
                          "report write), not a test record; give the test's force record "
                          "(a time and a force column)")
+    used: dict[str, _Column] = {}
+    for quantity in ("time", "force"):  # the columns chosen first, then the others found
+        flag, given = CHOICE_FLAGS[quantity], choice.get(quantity)
+        if given is not None:
+            column = _chosen(path, columns, given, quantity)
+            if any(column is other for other in used.values()):
+                raise InputError(f"{path}: --time-column and --force-column name the same "
+                                 f"column, {column.name!r}")
+            if column.problem:
+                raise InputError(f"{path}: {flag} {given}: {column.problem}")
+            wanted = ("force", "volts", "tangential_force") if quantity == "force" else ("time",)
+            if column.quantity not in wanted:
+                units = _UNIT_LIST[quantity] + (", or V, mV" if quantity == "force" else "")
+                raise InputError(f"{path}: {flag} {given}: column {column.name!r} is not a "
+                                 f"{quantity} column; its header must give a unit of "
+                                 f"{quantity}: {units}")
+            used[quantity] = column
+    for quantity in ("time", "force"):
+        if quantity in used:
+            continue
+        flag = CHOICE_FLAGS[quantity]
+        found: list[_Column] = []
+        for tier in ([("time",)] if quantity == "time" else [("force",), ("volts",)]):
+            found = [c for c in columns if c.quantity in tier
+                     and not any(c is u for u in used.values())]
+            if found:
+                break
+        if len(found) > 1:
+            described = ", ".join(c.name + (" (no unit)" if "no unit" in (c.problem or "")
+                                            else "") for c in found)
+            raise InputError(f"{path}: header names {quantity} twice ({described}); choose the "
+                             f"column to read with {flag} NAME (or its 0-based position)")
+        if not found:
+            example = "Time (ms)" if quantity == "time" else "Force (kN)"
+            raise InputError(f"{path}: no {quantity} column; add one of {_UNITS_OF[quantity]} "
+                             f"(or a name with its unit, e.g. '{example}')")
+        if found[0].problem:
+            raise InputError(f"{path}: {found[0].problem}")
+        used[quantity] = found[0]
+    notes = []
+    for quantity in ("velocity", "tangential_force"):
+        found = [c for c in columns if c.quantity == quantity
+                 and not any(c is u for u in used.values())]
+        if len(found) == 1 and found[0].problem:
+            raise InputError(f"{path}: {found[0].problem}")
+        if len(found) == 1:
+            used[quantity] = found[0]
+        elif found:
+            notes.append(f"{len(found)} {quantity.replace('_', ' ')} columns "
+                         f"({', '.join(c.name for c in found)}) left out: which one is meant is "
+                         "not known")
+    left = [c.name or f"(unnamed, column {c.index})" for c in columns
+            if not any(c is u for u in used.values())]
+    return {"fields": {_RECORD_FIELD[q]: (c.index, c.factor, c.name) for q, c in used.items()},
+            "volts": used["force"].quantity == "volts", "left_out": left, "notes": notes}
+
+
+def _fe_plan(path: Path, names: list[str], choice: dict[str, Any]) -> dict[str, Any]:
+    """An FE history of `simulate --csv`: its record columns by their exact names; its other
+    columns (energies, centre motion) are not part of a record and are left out silently."""
+    if any(value is not None for value in choice.values()):
+        raise InputError(f"{path}: an FE history of simulate --csv; its columns are fixed: give "
+                         "no --time-column or --force-column")
+    fields: dict[str, tuple[int, float, str]] = {}
+    for col, name in enumerate(names):
+        if name in CSV_COLUMNS:
+            field, factor = CSV_COLUMNS[name]
+            if field in fields:
+                raise InputError(f"{path}: header names {_QUANTITY[field]} twice")
+            fields[field] = (col, factor, name)
+    if "time_s" not in fields:
+        raise InputError(f"{path}: no time column; add one of {_UNITS_OF['time']}")
+    return {"fields": fields, "volts": False, "left_out": [], "notes": [], "fe": True}
+
+
+def read_csv(
+    path: str | Path,
+    *,
+    time_column: str | int | None = None,
+    force_column: str | int | None = None,
+    sensitivity_v_per_n: float | None = None,
+    amplifier_gain: float | None = None,
+) -> dict[str, Any]:
+    """Columns of an impact CSV as SI arrays keyed by record field (an FE history's also holds
+    `fe_lead_samples`: how many zero-force samples were put back before first contact).
+
+    Headers name each column with its unit (module notes; docs/features.md, "Lab files").
+    `time_column` and `force_column` choose a column by header name or 0-based position where
+    several would do; the columns not read are left out with an `InputWarning` naming them (a
+    measured record's dict also holds `columns`, the column read for each field, and
+    `ignored_columns`). A force column in volts is turned into newtons by `sensitivity_v_per_n`
+    (V/N) and `amplifier_gain` (default 1)."""
+    path = Path(path)
+    choice = {"time": time_column, "force": force_column}
+    header: dict[str, Any] = {}
+
+    def plan(names: list[str], _line: int) -> list[int]:
+        if len(names) == 1:
+            for separator, called in ((";", "semicolons"), ("\t", "tabs")):
+                if separator in names[0]:
+                    raise InputError(f"{path}: the columns are separated by {called}; separate "
+                                     "them with commas (e.g. time_s,force_n)")
+        header.update(_column_plan(path, names, choice))
+        return [col for col, _, _ in header["fields"].values()]
+
+    _, _, rows, table = read_table(path, "samples", plan)
+    if not rows:
+        raise InputError(f"{path}: the header has no samples below it")
+    fields = header["fields"]
+    out: dict[str, Any] = {field: table[:, col] * factor
+                           for field, (col, factor, _) in fields.items()}
+    if header["volts"]:
+        out["force_n"] = out["force_n"] / _volts_per_newton(path, fields["force_n"][2],
+                                                            sensitivity_v_per_n, amplifier_gain)
+    if header.get("fe"):
+        return _with_contact_start(out)
+    for note in header["notes"]:
+        warnings.warn(f"{path}: {note}", InputWarning, stacklevel=2)
+    noted = " ".join(header["notes"])
+    left = [name for name in header["left_out"] if name not in noted]
+    if left:
+        read = ", ".join(f"{name} as {field}" for field, (_, _, name) in fields.items())
+        warnings.warn(f"{path}: column(s) {', '.join(left)} left out (read: {read}); choose "
+                      "others with --time-column / --force-column", InputWarning, stacklevel=2)
+    out["columns"] = {field: name for field, (_, _, name) in fields.items()}
+    out["ignored_columns"] = header["left_out"]
+    return out
+
+
+def _volts_per_newton(path: Path, column: str, sensitivity: float | None,
+                      gain: float | None) -> float:
+    """The volts per newton of a force column in volts: sensitivity times gain (both checked)."""
+    if sensitivity is None:
+        raise InputError(f"{path}: sensitivity_v_per_n: the force column {column!r} is in volts; "
+                         "give the load-cell sensitivity in V/N with --sensitivity-v-per-n "
+                         "(e.g. 9.442e-5 for a PCB 223A; and the amplifier's gain with "
+                         "--amplifier-gain)")
+    try:
+        return check_sensitivity(sensitivity) * check_positive(
+            "amplifier_gain", 1.0 if gain is None else gain)
+    except InputError as error:
+        raise InputError(f"{path}: {error}") from None
 
 
 def _with_contact_start(columns: dict[str, np.ndarray]) -> dict[str, Any]:
@@ -144,20 +394,6 @@ def _with_contact_start(columns: dict[str, np.ndarray]) -> dict[str, Any]:
     out["time_s"] = np.concatenate([before, time])
     out["fe_lead_samples"] = lead + 1
     return out
-
-
-def _column(path: Path, name: str, names: list[str]) -> tuple[str, float]:
-    if name in CSV_COLUMNS:
-        field = CSV_COLUMNS[name][0]
-        if sum(CSV_COLUMNS.get(other, ("",))[0] == field for other in names) > 1:
-            raise InputError(f"{path}: header names {_QUANTITY[field]} twice")
-        return CSV_COLUMNS[name]
-    if is_number(name):
-        raise InputError(f"{path}: first line is not a header; name the columns with units "
-                         f"(e.g. time_s,force_n)")
-    if name in _UNITS_OF:
-        raise InputError(f"{path}: column {name!r} has no unit; use one of {_UNITS_OF[name]}")
-    raise InputError(f"{path}: unknown column {name!r}; allowed: {', '.join(CSV_COLUMNS)}")
 
 
 def read_wav(
@@ -401,11 +637,14 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
 
     Scalars come from the side file `path.with_suffix('.json')` if it exists, overridden by the
     keyword arguments that are not None: `mass_kg`, `impact_speed_m_s`, `rebound_speed_m_s`, and for
-    WAV files `sensitivity_v_per_n`, `amplifier_gain`, `full_scale_v`, `channel`. The record's
-    metadata names its `file` (errors and warnings about it start with it), and marks the
+    WAV files `sensitivity_v_per_n`, `amplifier_gain`, `full_scale_v`, `channel`; for CSV files
+    `time_column`, `force_column` (a header name or a 0-based position) and, for a force column
+    in volts, `sensitivity_v_per_n` and `amplifier_gain`. `path` may name a built-in data set,
+    `builtin:sample` (`datasets`). The record's metadata names its `file` (errors and warnings
+    about it start with it), a CSV's `columns` read and `ignored_columns`, and marks the
     package's own records `builtin`.
     """
-    path = Path(path)
+    path = resolve_builtin(path)
     if path.is_dir():
         raise InputError(f"{path}: is a folder; give a test record file (.csv, .txt or .wav)")
     if not path.is_file():
@@ -420,7 +659,7 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
     side = path.with_suffix(".json")
     scalars: dict[str, Any] = read_side_file(side) if side.is_file() else {}
     scalars.update({key: value for key, value in given.items() if value is not None})
-    unknown = set(scalars) - set(SIDE_KEYS) - {"channel"}
+    unknown = set(scalars) - set(SIDE_KEYS) - {"channel", "time_column", "force_column"}
     if unknown:
         raise TypeError(f"load_record: unexpected arguments {sorted(unknown)}")
     if suffix == ".wav":
@@ -432,13 +671,16 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
             channel=scalars.get("channel"),
         )
     else:
-        columns = read_csv(path)
+        columns = read_csv(path, time_column=scalars.get("time_column"),
+                           force_column=scalars.get("force_column"),
+                           sensitivity_v_per_n=scalars.get("sensitivity_v_per_n"),
+                           amplifier_gain=scalars.get("amplifier_gain"))
     metadata: dict[str, Any] = {"source": str(path), "file": str(path)}
     if side.is_file():
         metadata["side_file"] = str(side)
     if path.resolve().is_relative_to(BUILTIN_DATA):
         metadata["builtin"] = True
-    for key in ("full_scale_n", "fe_lead_samples"):
+    for key in ("full_scale_n", "fe_lead_samples", "columns", "ignored_columns"):
         if key in columns:
             metadata[key] = columns.pop(key)
     try:

@@ -40,6 +40,8 @@ def process(
     pulse: int | None = None,
     allow: Collection[str] = (),
     warn_noisy: bool | None = None,
+    method: str = "fit",
+    uncertainty: bool = True,
 ) -> ProcessedImpact:
     """Check a measured record, remove the load-cell offset, resample to `resample_hz` (Hz) if
     given, apply the filter `filter` (see `apply_filter`) and extract the features.
@@ -72,7 +74,8 @@ def process(
         if resample_hz is not None:
             raw = resample(raw, resample_hz)
         filtered = apply_filter(raw, filter, window_s=window_s)
-        features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow)
+        features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow,
+                                    method=method, uncertainty=uncertainty)
     except InputError as error:
         if source is None or str(error).startswith(source):
             raise

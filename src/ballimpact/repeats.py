@@ -67,7 +67,7 @@ MAIN_COLUMNS: dict[str, str] = {
 def expand_records(paths: Sequence[Path]) -> list[Path]:
     """The record files of `paths`: each file as given, each folder replaced by its record files
     (`RECORD_SUFFIXES`, any case, sorted by name; not its subfolders, hidden files or side files
-    `x.json`).
+    `x.json`); a built-in data set (`builtin:speed-set`, `datasets.resolve`) by its files.
 
     **Raises** `InputError` for a path that does not exist, a folder that holds no records, a
     file given twice (also under two spellings, or once itself and once in its folder) and an
@@ -76,8 +76,10 @@ def expand_records(paths: Sequence[Path]) -> list[Path]:
     """
     if not paths:
         raise InputError("FILES_OR_DIRS: no test records given")
+    from .datasets import resolve  # `builtin:NAME`: the package's own data sets
+
     found: list[Path] = []
-    for path in map(Path, paths):
+    for path in map(resolve, paths):
         if path.is_dir():
             inside = sorted((p for p in path.iterdir()
                              if p.is_file() and not p.name.startswith(".")

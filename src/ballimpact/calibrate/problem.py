@@ -205,13 +205,17 @@ _UNITS = {"_pa": ("Pa", ((1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa"))),
           ".g": ("", ((0.01, "percent"),))}
 
 
-def check_scale(path: str, low: float, high: float, value: float, allow=()) -> None:
+def check_scale(path: str, low: float, high: float, value: float, allow=(), *,
+                option: str = "--free", reference: str = "the template's value",
+                units: tuple | None = None) -> None:
     """The `unit-slip` plausibility check (an `InputError`, or a warning if `allow` holds it) of
     bounds that look like another unit than the template's value: they leave the value out and
     their larger magnitude differs from |value| by more than `SCALE_SLIP_FACTOR` either way
     (c10_pa=1:4, MPa typed, against 3.5e6 Pa). Bounds that merely miss a value nearby are a
     search away from the template (the problem warns). Where a usual slip of the unit, or a power
-    of 1000, brings the bounds around the value (or within half of it), the message gives them."""
+    of 1000, brings the bounds around the value (or within half of it), the message gives them.
+    `option` (the flag), `reference` (what `value` is) and `units` ((SI unit, slips), else from
+    the path's ending) let other flags share the check (`fit --bound`)."""
     from ..plausibility import flag
 
     size = max(abs(low), abs(high))
@@ -220,8 +224,9 @@ def check_scale(path: str, low: float, high: float, value: float, allow=()) -> N
     ratio = abs(value) / size if size > 0 else math.inf
     if 1.0 / SCALE_SLIP_FACTOR <= ratio <= SCALE_SLIP_FACTOR:
         return
-    si, slips = next((units for end, units in _UNITS.items() if path.endswith(end)), ("", ()))
-    message = (f"--free {path}={low:g}:{high:g}: the template's value is {value:g}"
+    si, slips = units if units is not None else next(
+        (units for end, units in _UNITS.items() if path.endswith(end)), ("", ()))
+    message = (f"{option} {path}={low:g}:{high:g}: {reference} is {value:g}"
                f"{' ' + si if si else ''}, more than {SCALE_SLIP_FACTOR:g}x from the bounds")
     flag("unit-slip", f"{message}{_slip_fix(low, high, value, ratio, slips, si)}", allow)
 

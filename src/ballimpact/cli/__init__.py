@@ -2,7 +2,13 @@
 
 Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 failed run,
 3 a check the user asked for failed (`CheckFailed`: the result is still printed), 130 interrupted
-(Ctrl-C: one line; a verb that can resume puts how in `args.resume_hint`).
+(Ctrl-C: one line; a verb that can resume puts how in `args.resume_hint`). Run as the program
+(`main()` without arguments: the console script, `python -m ballimpact.cli`), an interrupt ends
+the process with `os._exit(130)` once the line is out: the interpreter's shutdown would race with
+XLA's compiler threads and end in a segmentation fault about half the time. Outside the verb's
+run (imports, printing the result) SIGINT exits at once with the same line; during it, it
+raises `KeyboardInterrupt` so that the verb's clean-up and checkpoints run first (one raised
+where exceptions are only printed, as in JAX's garbage-collection callback, ends it there).
 With `--json` one JSON object goes to stdout; warnings and progress go to stderr. A reader that
 closes stdout early (`| head -1`) ends the command quietly with exit code 1 (Python's "Note on
 SIGPIPE").
@@ -16,15 +22,80 @@ import argparse
 import importlib
 import json
 import os
+import signal
 import sys
 import warnings
 
-from .. import __version__
-from ..errors import CheckFailed, InputError, SimulationError
-from ..fileio import json_safe
-from ..progress import line_open
-from .common import Parser
-from .simulate import SolverDefaults
+
+def _exit_interrupted(hint: str | None = None, open_line: bool = False) -> None:
+    """Ctrl-C in the program: one line on stderr, then the process ends with exit code 130
+    without the interpreter's shutdown (XLA's threads may still be compiling)."""
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C: the same end
+    except ValueError:  # not the main thread
+        pass
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except Exception:  # noqa: BLE001 - a closed pipe: nothing more can reach it
+            pass
+    try:
+        sys.stderr.write("\n" * open_line + "error: interrupted" + (f"; {hint}" if hint else "")
+                         + "\n")
+        sys.stderr.flush()
+    except Exception:  # noqa: BLE001
+        pass
+    os._exit(130)
+
+
+def _interrupt_at_once(signum, frame) -> None:
+    """The SIGINT handler of the program outside a verb's run: nothing to clean up."""
+    from ..progress import line_open
+
+    _exit_interrupted(open_line=line_open())
+
+
+def _set_sigint(handler) -> None:
+    """Install `handler` for SIGINT unless SIGINT is ignored (a shell's background job, nohup)."""
+    try:
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+            signal.signal(signal.SIGINT, handler)
+    except ValueError:  # not the main thread: Python's default stays
+        pass
+
+
+#: the running command's arguments (for the resume hint of an interrupt that ends it at once)
+_running: list = []
+
+
+def _unraisable(hook):
+    """A `sys.unraisablehook` that does not let Ctrl-C be lost: a KeyboardInterrupt raised where
+    exceptions are only printed (JAX's garbage-collection callback, a `__del__`) would let the
+    run go on; it ends the program there instead (exit 130, the line and the verb's hint)."""
+    def unraisable(info):
+        if isinstance(info.exc_value, KeyboardInterrupt) or info.exc_type is KeyboardInterrupt:
+            from ..progress import line_open
+
+            hint = getattr(_running[-1], "resume_hint", None) if _running else None
+            _exit_interrupted(hint, open_line=line_open())
+        hook(info)
+    return unraisable
+
+
+def _is_program() -> bool:
+    """Whether this process is the `ballimpact` console script (known before `main` runs)."""
+    return bool(sys.argv) and os.path.basename(sys.argv[0]) in ("ballimpact", "ballimpact.exe")
+
+
+if _is_program():  # as early as this package allows: the imports below take a while
+    _set_sigint(_interrupt_at_once)
+
+from .. import __version__  # noqa: E402
+from ..errors import CheckFailed, InputError, SimulationError  # noqa: E402
+from ..fileio import json_safe  # noqa: E402
+from ..progress import line_open  # noqa: E402
+from .common import Parser  # noqa: E402
+from .simulate import SolverDefaults  # noqa: E402
 
 __all__ = ["SolverDefaults", "build_parser", "main"]
 
@@ -39,7 +110,7 @@ VERBS = {"features": ("features", "run"), "fit": ("fit", "run_fit"),
          "import-material": ("export", "run_import"), "video": ("video", "run"),
          "report": ("report", "run"), "material": ("material", "run"),
          "compress": ("compress", "run"), "standard": ("standard", "run"),
-         "compare": ("compare", "run")}
+         "compare": ("compare", "run"), "data": ("data", "run")}
 
 
 def _module(name: str):
@@ -58,9 +129,19 @@ def build_parser(verb: str | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The command line: `argv` (default `sys.argv[1:]`) -> the exit code. Without `argv` this
+    process is the program: Ctrl-C ends it with `os._exit(130)` (module docstring)."""
+    program = argv is None
+    if program:
+        _set_sigint(_interrupt_at_once)
+        sys.unraisablehook = _unraisable(sys.unraisablehook)
     try:
-        code = _main(argv)
+        code = _main(argv, program)
         sys.stdout.flush()  # a closed pipe shows here rather than at the interpreter's exit
+    except KeyboardInterrupt:  # outside the verb's run (a handler of one's own, or none)
+        if program:
+            _exit_interrupted(open_line=line_open())
+        raise
     except BrokenPipeError:
         # Python docs, "Note on SIGPIPE": the reader has gone; point stdout at devnull so that
         # the interpreter's final flush does not fail again, and exit quietly
@@ -73,12 +154,16 @@ def main(argv: list[str] | None = None) -> int:
     return code
 
 
-def _main(argv: list[str] | None) -> int:
+def _main(argv: list[str] | None, program: bool = False) -> int:
     args = None
     failed_check = None
     try:
+        if program:  # the verb's run: KeyboardInterrupt, so that its clean-up runs
+            _set_sigint(signal.default_int_handler)
         argv = sys.argv[1:] if argv is None else argv
         args = build_parser(argv[0] if argv else None).parse_args(argv)
+        if program:
+            _running.append(args)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
@@ -89,6 +174,8 @@ def _main(argv: list[str] | None) -> int:
         notes = list(dict.fromkeys(str(w.message) for w in caught))
     except KeyboardInterrupt:
         hint = getattr(args, "resume_hint", None)
+        if program:  # the verb's clean-up has run: end here, before the interpreter's shutdown
+            _exit_interrupted(hint, open_line=line_open())
         # a progress bar may have left its line unfinished: the message starts a line of its own
         print("\n" * line_open() + "error: interrupted"
               + (f"; {hint}" if hint else ""), file=sys.stderr)
@@ -104,6 +191,9 @@ def _main(argv: list[str] | None) -> int:
     except Exception as error:  # noqa: BLE001 - a failed run, reported in one line
         print(f"error: failed run: {type(error).__name__}: {error}", file=sys.stderr)
         return 1
+    finally:
+        if program:  # from here on nothing to clean up: SIGINT exits at once
+            _set_sigint(_interrupt_at_once)
     for note in notes:
         print(f"warning: {note}", file=sys.stderr)
     result["warnings"] = notes

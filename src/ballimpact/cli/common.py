@@ -97,10 +97,19 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--impact-speed-m-s", type=float, help="impact speed (m/s)")
     parser.add_argument("--rebound-speed-m-s", type=float,
                         help="measured rebound speed (m/s); from the impulse if not given")
-    parser.add_argument("--sensitivity-v-per-n", type=float, help="WAV: load-cell sensitivity (V/N)")
-    parser.add_argument("--amplifier-gain", type=float, help="WAV: amplifier gain (default 1)")
+    parser.add_argument("--sensitivity-v-per-n", type=float,
+                        help="WAV, or a CSV force column in volts: load-cell sensitivity (V/N)")
+    parser.add_argument("--amplifier-gain", type=float,
+                        help="WAV, or a CSV in volts: amplifier gain (default 1)")
     parser.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
     parser.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
+    parser.add_argument("--time-column", metavar="NAME|N",
+                        help="CSV: the time column, by header name or 0-based position (as "
+                             "--channel), where several could be")
+    parser.add_argument("--force-column", metavar="NAME|N",
+                        help="CSV: the force column (N, kN, lbf, kgf, or volts with "
+                             "--sensitivity-v-per-n), by header name or 0-based position; the "
+                             "other channels are left out with a warning")
 
 
 def add_processing(parser: argparse.ArgumentParser) -> None:
@@ -136,7 +145,9 @@ def load(path: Path, args: argparse.Namespace):
     return load_record(
         path, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
         rebound_speed_m_s=args.rebound_speed_m_s, sensitivity_v_per_n=args.sensitivity_v_per_n,
-        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel)
+        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel,
+        time_column=getattr(args, "time_column", None),
+        force_column=getattr(args, "force_column", None))
 
 
 def process_record(record, args: argparse.Namespace) -> ProcessedImpact:

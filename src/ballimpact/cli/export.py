@@ -6,10 +6,11 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..plausibility import check_allow
 from .common import add_allow
 
@@ -35,9 +36,11 @@ def add_parser(verbs) -> None:
     export.add_argument("--speed-m-s", type=float,
                         help="impact speed (m/s); needed for a complete deck and by "
                              "speed-dependent balls (cricket-universal)")
-    export.add_argument("--angle-deg", type=float, default=0.0,
-                        help="angle of the incoming velocity from the plane's normal (deg; 3d)")
-    export.add_argument("--friction", type=float, default=0.0, help="Coulomb coefficient")
+    export.add_argument("--angle-deg", type=float,
+                        help="angle of the incoming velocity from the plane's normal (deg; 3d; "
+                             "default 0); a complete deck only")
+    export.add_argument("--friction", type=float,
+                        help="Coulomb coefficient (default 0); a complete deck only")
     export.add_argument("--step-time-s", type=float,
                         help="simulated time (s); default 1.5 x a Hertz estimate of the contact "
                              "time")
@@ -89,6 +92,19 @@ def _refuse_other_solver_mesh(args: argparse.Namespace) -> None:
                                  "--element-size-m (or give --solver 3d)")
 
 
+def _warn_ignored_impact_flags(args: argparse.Namespace) -> None:
+    """The impact's flags mean nothing to a file of the ball alone (--ball-only, or VTK): an
+    `InputWarning` that names those given."""
+    ignored = [flag for flag, value in (("--angle-deg", args.angle_deg),
+                                        ("--friction", args.friction),
+                                        ("--step-time-s", args.step_time_s)) if value is not None]
+    if ignored:
+        what = "--ball-only" if args.ball_only else "--format vtk"
+        warnings.warn(f"{', '.join(ignored)}: ignored with {what} (the file holds the ball "
+                      "alone, no impact); they set a complete deck's impact", InputWarning,
+                      stacklevel=2)
+
+
 def run_export(args: argparse.Namespace) -> dict[str, Any]:
     from ..export import ImpactSetup, check_output, export_ball
     from ..fe import load_ball
@@ -103,7 +119,10 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
     if not args.ball_only and args.format != "vtk":
         if args.speed_m_s is None:
             raise InputError("--speed-m-s: needed for a complete deck (or give --ball-only)")
-        setup = ImpactSetup(args.speed_m_s, args.angle_deg, args.friction, args.step_time_s)
+        setup = ImpactSetup(args.speed_m_s, args.angle_deg or 0.0, args.friction or 0.0,
+                            args.step_time_s)
+    else:
+        _warn_ignored_impact_flags(args)
     written = export_ball(ball, args.out, args.format, solver=args.solver, setup=setup,
                           ball_only=args.ball_only, units=args.units, moduli=args.moduli,
                           approximate=args.approximate, element_size_m=args.element_size_m,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 import warnings
@@ -10,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, InputWarning
+from ..repeats import expand_records
 from .common import (
     add_processing,
     add_record_options,
@@ -31,8 +33,10 @@ def add_parser(verbs) -> None:
                     "tables 7-1 and 7-2: one row per file, labelled with it; tests repeated at "
                     "one speed keep a row each (their scatter stays visible) and the table "
                     "interpolates between their mean.")
-    fit.add_argument("files", type=Path, nargs="+", metavar="FILE",
-                     help="test record(s): CSV with unit headers or WAV")
+    fit.add_argument("files", type=Path, nargs="+", metavar="FILE_OR_DIR",
+                     help="test record(s): CSV with unit headers or WAV, or folders of them "
+                          "(their *.csv and *.wav files), or a built-in set (builtin:sample, "
+                          "builtin:speed-set)")
     fit.add_argument("--model", required=True, help="lumped model name (see `ballimpact models`)")
     fit.add_argument("--method", default="ga",
                      help="ga (genetic algorithm) or de (differential evolution); default ga")
@@ -45,8 +49,9 @@ def add_parser(verbs) -> None:
     fit.add_argument("--bound", action="append", default=[], metavar="NAME=LOW:HIGH",
                      help="search bounds of a parameter in its own SI units, as `ballimpact "
                           "models` lists them (a power-law k in N/m^alpha, not a force); the "
-                          "JSON `bounds` are in the same units and can be passed back "
-                          "(repeatable)")
+                          "JSON `bounds` are in the same units and can be passed back; bounds "
+                          "more than 100x from the parameter's scale in the record are a unit "
+                          "slip (--allow unit-slip) (repeatable)")
     fit.add_argument("--fix", action="append", default=[], metavar="NAME=VALUE",
                      help="hold a parameter at a value in SI (repeatable)")
     fit.add_argument("--cor-weight", type=float, default=0.0,
@@ -69,16 +74,19 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     use_compilation_cache()
     check_plot_path(args.plot)
     check_output_folder(args.table, "--table")
-    if args.table is not None and len(args.files) < 2:
-        raise InputError("--table: needs several files")
     model = lumped.get_model(args.model)
     options = dict(method=args.method, seed=args.seed, population=args.population,
                    generations=args.generations, polish=not args.no_polish,
                    bounds=assignments(args.bound, "--bound", bounds=True),
                    fixed=assignments(args.fix, "--fix", bounds=False),
                    cor_weight=args.cor_weight, contact_time_weight=args.contact_time_weight)
+    args.files = expand_records(args.files)  # folders and built-in sets, as `features DIR`
+    if args.table is not None and len(args.files) < 2:
+        raise InputError("--table: needs several files")
     started = time.perf_counter()
     processed = [process_record(load(path, args), args) for path in args.files]
+    for one in processed:
+        check_bound_scales(model, one, options["bounds"], options["fixed"], args.allow)
     if len(processed) == 1:
         fitted = lumped.fit(processed[0], model, **options)
         result = {**fitted.to_dict(), "file": str(args.files[0])}
@@ -120,6 +128,75 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
     return result
+
+
+#: The usual slips of a parameter's unit (`ballimpact models`), as (factor to SI, unit typed),
+#: for the unit-slip check of --bound (`calibrate.problem.check_scale`); powers of 1000 besides.
+BOUND_SLIPS = {"Pa": ((1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa")),
+               "N/m": ((1e3, "kN/m (or N/mm)"),), "N s/m": ((1e3, "kN s/m"),),
+               "m": ((1e-3, "mm"),), "s": ((1e-3, "ms"), (1e-6, "us")), "kg": ((1e-3, "g"),)}
+
+
+def typical_values(model, scale, exponents: dict | None = None) -> dict[str, float]:
+    """Per parameter of `model`, its typical value in a record of `scale` (`lumped.base.Scale`)
+    in the parameter's own units: the middle (geometric where positive) of the model's default
+    search bounds; for a power-law stiffness, the middle of its force bounds divided by the
+    record's maximum compression to the exponent (from `exponents` {name: value} where given,
+    else the middle of its default range); a fixed parameter's default. Unit masses are left out
+    (searched as shares)."""
+    defaults = model.default_bounds(scale)
+    by_name = {p.name: p for p in model.parameters}
+    exponents = exponents or {}
+
+    def middle(low: float, high: float) -> float:
+        return math.sqrt(low * high) if low > 0 else 0.5 * high
+
+    out: dict[str, float] = {}
+    for p in model.parameters:
+        if p.search in ("mass_share", "mass_rest"):
+            continue
+        if p.name not in defaults:
+            if p.default:
+                out[p.name] = float(p.default)
+            continue
+        value = middle(*(float(x) for x in defaults[p.name]))
+        if p.search == "stiffness":
+            exponent = p.exponent
+            if isinstance(exponent, str):
+                exponent = exponents.get(exponent, middle(*defaults[exponent])
+                                         if exponent in defaults else by_name[exponent].default)
+            value /= float(scale.max_compression_m) ** float(exponent)
+        out[p.name] = value
+    return out
+
+
+def check_bound_scales(model, processed, bounds: dict, fixed: dict, allow) -> None:
+    """--bound NAME=LOW:HIGH against the parameter's typical value in a processed record
+    (`typical_values`, a power-law stiffness at the exponent given by --fix or --bound): bounds
+    that leave it out by more than 100x are a unit slip (kN/m typed for N/m, mm for m, MPa for
+    Pa), calibrate --free's check (`calibrate.problem.check_scale`): an `InputError` naming the
+    flag, the parameter, its plausible range and the likely slip, or a warning with --allow
+    unit-slip. Unknown names and unit masses are left to `lumped.fit`, which names them."""
+    from ..calibrate.problem import SCALE_SLIP_FACTOR, check_scale
+    from ..lumped.base import Scale
+
+    f = processed.features
+    scale = Scale(f.mass_kg, f.values["P15"], f.values["P1"], f.values["P6"],
+                  f.max_compression_m)
+    exponents = {name: fixed[name] if name in fixed else 0.5 * sum(bounds[name])
+                 for name in set(fixed) | set(bounds)}
+    typical = typical_values(model, scale, exponents)
+    units = model.units
+    for name, (low, high) in bounds.items():
+        value = typical.get(name, 0.0)
+        if not value:
+            continue
+        unit = units[name]
+        slips = ((1e3, "k" + unit),) if unit.startswith("N/m^") else BOUND_SLIPS.get(unit, ())
+        span = f"{value / SCALE_SLIP_FACTOR:.3g}..{value * SCALE_SLIP_FACTOR:.3g} {unit}"
+        check_scale(name, low, high, value, allow, option="--bound",
+                    reference=f"the typical {name} of {model.name} in this record (plausible "
+                              f"range {span})", units=(unit, slips))
 
 
 def _warn_not_identified(fitted, path: Path) -> None:

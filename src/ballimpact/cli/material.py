@@ -1,10 +1,12 @@
-"""`ballimpact material fit|check`: material tests to the constants of a ball's layer, and the
-Drucker-stable stretch ranges of a ball's materials (docs/materials.md)."""
+"""`ballimpact material fit|check|ball`: material tests to the constants of a ball's layer, the
+Drucker-stable stretch ranges of a ball's materials, and a ball file from fitted materials
+(docs/materials.md)."""
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +33,12 @@ def add_parser(verbs) -> None:
                     "creep or DMA tests (--model prony).")
     fit.add_argument("tests", nargs="+", metavar="FILE:MODE",
                      help="test CSV and its mode: uniaxial, biaxial, planar, volumetric, "
-                          "relaxation, creep, dma")
+                          "relaxation, creep, dma; compression or tension: a uniaxial test of "
+                          "that branch (checked)")
+    fit.add_argument("--compression-positive", action="store_true",
+                     help="the files' strains and nominal stresses are positive in compression "
+                          "(the common lab sign): negate them (uniaxial, biaxial, planar tests; "
+                          "a stretch column is kept)")
     fit.add_argument("--model", required=True, help=f"one of {', '.join(FIT_MODELS)}")
     fit.add_argument("--order", type=int, help="terms of ogden (default 3) or ogden_hyperfoam "
                                                "(default 1): 1 to 3")
@@ -53,6 +60,36 @@ def add_parser(verbs) -> None:
     fit.add_argument("--plot", type=Path, help="PNG: data and fit per mode")
     fit.add_argument("--json", action="store_true", help="print one JSON object")
 
+    ball = steps.add_parser(
+        "ball", help="a ball file from fitted materials, a diameter and a mass",
+        description="Write the ball specification (docs/balls.md) of layers made of the given "
+                    "materials (as `material fit --out` writes them), from the centre out, with "
+                    "the ball's diameter and mass: one layer's density is mass / volume; "
+                    "several layers need their outer radii and densities (one may be 'auto', "
+                    "solved from the mass). The file is checked as any ball file is.")
+    ball.add_argument("materials", nargs="+", type=Path, metavar="MATERIAL_JSON",
+                      help="material files, one per layer from the centre out (`material fit "
+                           "--out`, or the JSON `material fit --json` prints)")
+    ball.add_argument("--diameter-m", type=float, required=True, help="ball diameter (m)")
+    ball.add_argument("--mass-kg", type=float,
+                      help="ball mass (kg): sets the density of one layer (or the 'auto' one); "
+                           "checked to 1%% when every density is given")
+    ball.add_argument("--layer-radii-m", metavar="R1,R2,...",
+                      help="outer radii of the inner layers (m, from the centre out); the last "
+                           "layer ends at the ball's radius")
+    ball.add_argument("--densities-kg-m3", metavar="RHO1,RHO2,...",
+                      help="each layer's density (kg/m^3, from the centre out); one may be "
+                           "'auto' (from --mass-kg)")
+    ball.add_argument("--layer-names", metavar="NAME1,NAME2,...",
+                      help="layer names (default: the material files' names)")
+    ball.add_argument("--prony", action="append", default=[], metavar="[LAYER=]FILE",
+                      help="Prony terms for a layer (by name; the only layer without one): the "
+                           "JSON `material fit --model prony --json` prints, or a material with "
+                           "a prony list; repeatable")
+    ball.add_argument("--name", help="the ball's name (default: the --out file's name)")
+    ball.add_argument("--out", type=Path, required=True, help="the ball file to write (.json)")
+    ball.add_argument("--json", action="store_true", help="print one JSON object")
+
     check = steps.add_parser(
         "check", help="Drucker-stable stretch ranges of a ball's materials",
         description="Each layer's stable stretch range per mode (uniaxial, equibiaxial, planar) "
@@ -69,6 +106,8 @@ def add_parser(verbs) -> None:
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from .common import use_compilation_cache
 
+    if args.step == "ball":
+        return _ball(args)  # nothing compiled
     use_compilation_cache()  # the fits' stresses and `check --speed-m-s`'s run are compiled
     return {"fit": _fit, "check": _check}[args.step](args)
 
@@ -109,20 +148,26 @@ def _checked_fit_flags(args: argparse.Namespace) -> None:
 
 
 def _fit(args: argparse.Namespace) -> dict[str, Any]:
-    from ..material.data import STRESS_MODES, VISCOELASTIC_MODES, parse_spec, read_test
+    from ..material.data import (SIGNED_MODES, STRESS_MODES, VISCOELASTIC_MODES, base_mode,
+                                 parse_spec, read_test)
 
     _checked_fit_flags(args)
     specs = [parse_spec(text) for text in args.tests]
     check_distinct_files([path for path, _ in specs], "FILE:MODE")
     prony = args.model == "prony"
-    for path, mode in specs:
+    if args.compression_positive and not any(base_mode(m) in SIGNED_MODES for _, m in specs):
+        raise InputError("--compression-positive: only for uniaxial, biaxial and planar tests "
+                         "(a volumetric test's pressure is positive in compression already)")
+    for path, declared in specs:
+        mode = base_mode(declared)
         if prony and mode not in VISCOELASTIC_MODES:
             raise InputError(f"{path}:{mode}: --model prony fits relaxation, creep or dma tests, "
                              f"not {mode} stress data (fit that with a hyperelastic model)")
         if not prony and mode not in STRESS_MODES:
             raise InputError(f"{path}:{mode}: a {mode} test is fitted with --model prony, not "
                              f"with {args.model}")
-    tests = [read_test(path, mode) for path, mode in specs]
+    tests = [read_test(path, mode, compression_positive=args.compression_positive)
+             for path, mode in specs]
     if prony:
         return _fit_prony(args, tests)
     from ..material.hyperelastic import DEFAULT_STARTS, fit_hyperelastic
@@ -212,6 +257,104 @@ def _print_fit(out: dict[str, Any], tests) -> None:
         print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
     for note in out["notes"]:
         print(f"  note: {note}")
+
+
+# ---- ball ---------------------------------------------------------------------------------------
+def _numbers(text: str | None, flag: str, auto: bool = False) -> list | None:
+    """'a,b,c' -> floats (and None for 'auto' where allowed); `InputError` naming `flag`."""
+    if text is None:
+        return None
+    values: list = []
+    for item in text.split(","):
+        item = item.strip()
+        if auto and item.lower() == "auto":
+            values.append(None)
+            continue
+        try:
+            value = float(item)
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise InputError(f"{flag} {text}: {item!r} is not a finite number"
+                             + (" (or 'auto')" if auto else "") + "; give comma-separated SI "
+                             "values")
+        values.append(value)
+    return values
+
+
+def _prony_terms(text: str, names: list[str]) -> tuple[str, list[dict]]:
+    """`[LAYER=]FILE` of --prony -> (layer name, terms)."""
+    layer, sep, file = text.rpartition("=")
+    if not sep:
+        if len(names) != 1:
+            raise InputError(f"--prony {text}: {len(names)} layers; name the layer as LAYER=FILE "
+                             f"(layers: {', '.join(names)})")
+        layer = names[0]
+    elif layer not in names:
+        raise InputError(f"--prony {text}: no layer {layer!r}; layers: {', '.join(names)}")
+    path = Path(file)
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError) as error:
+        raise InputError(f"--prony {path}: cannot read ({error})") from None
+    except json.JSONDecodeError as error:
+        raise InputError(f"--prony {path}: not JSON ({error.msg}, line {error.lineno})") from None
+    if isinstance(data, dict) and not isinstance(data.get("prony"), list) and isinstance(
+            data.get("material"), dict):
+        data = data["material"]
+    terms = data.get("prony") if isinstance(data, dict) else None
+    if not isinstance(terms, list) or not terms:
+        raise InputError(f"--prony {path}: no 'prony' list (give the JSON `material fit --model "
+                         "prony --json` prints, or a material with Prony terms)")
+    return layer, terms
+
+
+def _ball(args: argparse.Namespace) -> dict[str, Any]:
+    from ..fe import load_ball
+    from ..fe.materials import material_from_dict
+    from ..fileio import write_atomic
+    from ..material.ball_file import ball_from_materials
+
+    check_output_folder(args.out, "--out")
+    if args.out.suffix.lower() != ".json":
+        raise InputError(f"--out {args.out}: a ball file ends in .json")
+    check_distinct_files(list(args.materials), "MATERIAL_JSON")
+    materials = [_read_material(path) for path in args.materials]
+    names = ([n.strip() for n in args.layer_names.split(",")] if args.layer_names is not None
+             else [path.stem for path in args.materials])
+    if len(set(names)) != len(names) and args.layer_names is None:
+        raise InputError(f"MATERIAL_JSON: two files named {names[0]!r}; give --layer-names")
+    for text in args.prony:
+        layer, terms = _prony_terms(text, names)
+        i = names.index(layer)
+        merged = {**materials[i], "prony": [
+            {key: term.get(key) for key in ("g", "k", "tau_s") if key in term} for term in terms]}
+        material_from_dict(merged, f"--prony {text}")
+        materials[i] = merged
+    name = args.name or args.out.stem
+    spec = ball_from_materials(
+        materials, args.diameter_m, mass_kg=args.mass_kg,
+        layer_radii_m=_numbers(args.layer_radii_m, "--layer-radii-m"),
+        densities_kg_m3=_numbers(args.densities_kg_m3, "--densities-kg-m3", auto=True),
+        names=names, name=name,
+        source="ballimpact material ball " + " ".join(path.name for path in args.materials))
+    write_atomic(args.out, json.dumps(spec, indent=2) + "\n")
+    ball = load_ball(spec)
+    out: dict[str, Any] = {"name": ball.name, "out": str(args.out),
+                           "diameter_m": 2 * ball.outer_radius_m, "mass_kg": ball.mass_kg,
+                           "layers": [{"name": layer.name, "outer_radius_m": layer.outer_radius_m,
+                                       "density_kg_m3": layer.density_kg_m3,
+                                       "mass_kg": mass, "model": layer.material.model,
+                                       "prony_terms": len(layer.material.prony)}
+                                      for layer, mass in zip(ball.layers, ball.layer_masses_kg)]}
+    if not args.json:
+        print(f"wrote {args.out}: {ball.name}, {len(ball.layers)} layer(s), diameter "
+              f"{2 * ball.outer_radius_m:g} m, mass {ball.mass_kg:.5g} kg")
+        for e in out["layers"]:
+            print(f"  {e['name']:<10} to r = {e['outer_radius_m']:g} m, {e['density_kg_m3']:.5g} "
+                  f"kg/m^3, {e['mass_kg']:.4g} kg, {e['model']}"
+                  + (f" + {e['prony_terms']} Prony term(s)" if e["prony_terms"] else ""))
+    return out
 
 
 # ---- check --------------------------------------------------------------------------------------

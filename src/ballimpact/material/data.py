@@ -18,6 +18,14 @@ Unit variants: stresses, pressures and moduli in `_pa`, `_kpa` or `_mpa`; a stre
 as engineering `strain` (a fraction) or `strain_pct` (%), stretch = 1 + strain; `time_ms`. A
 modulus (compliance) column is normalised by its first value, the instantaneous one.
 Every error names the file and, for a value, its 1-based line and its column.
+
+Signs: tension positive (a compressive strain and a compressive nominal stress are negative).
+Data written compression-positive (the common lab sign: strain > 0 and stress > 0 in
+compression) are read with `compression_positive=True` (`material fit --compression-positive`),
+which negates the strain and stress columns of uniaxial, biaxial and planar tests (a `stretch`
+column is a ratio with no sign convention and is kept). `compression` and `tension` are
+uniaxial tests declared as such (`FILE:compression`): their stretches must stay on that side of
+1, and a file that reads the other way round is refused with the flag as the hint.
 """
 
 from __future__ import annotations
@@ -35,6 +43,12 @@ from ..fileio import is_number, read_table
 MODES = ("uniaxial", "biaxial", "planar", "volumetric", "relaxation", "creep", "dma")
 STRESS_MODES = ("uniaxial", "biaxial", "planar", "volumetric")
 VISCOELASTIC_MODES = ("relaxation", "creep", "dma")
+#: uniaxial tests declared as one branch (`FILE:compression`): the name -> the side of stretch 1
+DECLARED_MODES = {"compression": "uniaxial", "tension": "uniaxial"}
+#: modes whose strain and stress columns `compression_positive` negates
+SIGNED_MODES = ("uniaxial", "biaxial", "planar")
+#: the command line's name of `compression_positive` (named in the messages)
+COMPRESSION_POSITIVE_FLAG = "--compression-positive"
 #: measured ratios are normalised by a measured instantaneous value, so noise can put early points
 #: a little past 1: accepted up to this slack (beyond it the data are not normalised)
 RATIO_SLACK = 0.05
@@ -125,18 +139,31 @@ class MaterialTest:
 
 
 def parse_spec(text: str) -> tuple[Path, str]:
-    """`FILE:MODE` (the command line's test argument) -> (path, mode)."""
+    """`FILE:MODE` (the command line's test argument) -> (path, mode); MODE one of `MODES` or
+    `DECLARED_MODES` (`compression`, `tension`: a uniaxial test of that branch)."""
     path, sep, mode = str(text).rpartition(":")
-    if not sep or mode.strip().lower() not in MODES:
-        raise InputError(f"{text}: give the test as FILE:MODE with MODE one of {', '.join(MODES)}")
+    allowed = (*MODES, *DECLARED_MODES)
+    if not sep or mode.strip().lower() not in allowed:
+        raise InputError(f"{text}: give the test as FILE:MODE with MODE one of "
+                         f"{', '.join(allowed)}")
     return Path(path), mode.strip().lower()
 
 
-def read_test(path: str | Path, mode: str) -> MaterialTest:
-    """Read and check one test file of `mode` (see the module docstring)."""
+def base_mode(mode: str) -> str:
+    """The mode a test is read as: `compression` and `tension` are uniaxial tests."""
+    return DECLARED_MODES.get(mode, mode)
+
+
+def read_test(path: str | Path, mode: str, *, compression_positive: bool = False) -> MaterialTest:
+    """Read and check one test file of `mode` (see the module docstring). `mode` may be
+    `compression` or `tension` (a uniaxial test of that branch, checked to be one; the test's
+    `mode` is then `uniaxial`). `compression_positive`: the file's strains and stresses are
+    positive in compression (uniaxial, biaxial, planar tests); they are negated on reading."""
     path = Path(path)
+    declared = mode if mode in DECLARED_MODES else None
+    mode = base_mode(mode)
     if mode not in MODES:
-        raise InputError(f"{path}: mode {mode!r}; allowed {', '.join(MODES)}")
+        raise InputError(f"{path}: mode {mode!r}; allowed {', '.join((*MODES, *DECLARED_MODES))}")
     # the header is checked before any value is read
     _, names, lines, values = read_table(path, "values",
                                          lambda names, _: _header(path, mode, names) and None)
@@ -144,12 +171,17 @@ def read_test(path: str | Path, mode: str) -> MaterialTest:
     if len(lines) < 2:
         raise InputError(f"{path}: {len(lines)} row(s) of values; a test needs at least 2")
     columns, column_of = {}, {}
+    flip = compression_positive and mode in SIGNED_MODES
     for col, name in enumerate(names):
         quantity, factor, offset = COLUMNS[mode][name]
         if quantity in quantities:
-            columns[quantity] = offset + factor * values[:, col]
+            # compression-positive: strain and nominal stress negated (a stretch is kept)
+            sign = -1.0 if flip and name.startswith(("strain", "nominal_stress")) else 1.0
+            columns[quantity] = offset + factor * (sign * values[:, col])
             column_of[quantity] = name
     test = MaterialTest(path=path, mode=mode, columns=columns, lines=tuple(lines))
+    if mode in SIGNED_MODES:
+        _check_sign_convention(test, column_of, declared, compression_positive)
     _CHECKS[mode](test, column_of)
     _warn_unit_slips(test, column_of)
     return test
@@ -244,8 +276,53 @@ def _stress_sign(test: MaterialTest, stretch: str, stress: str, column: str) -> 
     if bad.size:
         i = bad[0]
         need = "> 0 (tension)" if lam[i] > 1.0 else "< 0 (compression)"
+        # every compressive point with a positive stress: the stresses are compression-positive
+        compressive = lam < 1.0
+        hint = (f" (stresses positive in compression: give {COMPRESSION_POSITIVE_FLAG})"
+                if lam[i] < 1.0 and np.all(p[compressive] > 0.0) else "")
         _fail(test, i, column, f"stress {p[i]:g} at {stretch} {lam[i]:g}: must be {need}; "
-              "compressive stresses are negative")
+              f"compressive stresses are negative{hint}")
+
+
+def _check_sign_convention(test: MaterialTest, cols: dict[str, str], declared: str | None,
+                           compression_positive: bool) -> None:
+    """A uniaxial test declared (`FILE:compression`, `FILE:tension`) or named ("compress" in
+    the file name) as one branch must read as that branch once signed; one that reads as the
+    other branch has its signs the other way round: `InputError` with the flag as the hint."""
+    if "stretch" not in test.columns or test.mode != "uniaxial":
+        return
+    named = "compress" in test.path.name.lower()
+    branch = declared or ("compression" if named else None)
+    if branch is None:
+        return
+    lam, p = test.columns["stretch"], test.columns["nominal_stress_pa"]
+    low, high = float(lam.min()), float(lam.max())
+    wrong = high > 1.0 if branch == "compression" else low < 1.0
+    if not wrong:
+        return
+    # the whole file on the other side, the stresses with it: the signs are the other way round
+    mirrored = (low >= 1.0 and bool(np.all(p >= 0.0))) if branch == "compression" else (
+        high <= 1.0 and bool(np.all(p <= 0.0)))
+    how = (f"declared {branch} ({test.path.name}:{branch})" if declared
+           else "named as a compression test")
+    column = f"{cols['stretch']}, {cols['nominal_stress_pa']}"
+    if not mirrored:
+        side = "above" if branch == "compression" else "below"
+        raise InputError(f"{test.path}: columns {column}: {how}, but stretches reach "
+                         f"{high if branch == 'compression' else low:g}, {side} 1: one branch "
+                         f"per file (give {test.path.name}:uniaxial for a test through both)")
+    if compression_positive:
+        hint = (f"the file is already signed (compression negative): drop "
+                f"{COMPRESSION_POSITIVE_FLAG}")
+    elif branch == "compression":
+        hint = (f"strain and stress positive in compression? give {COMPRESSION_POSITIVE_FLAG}"
+                + ("" if declared else f" (a tension test: {test.path.name}:tension)"))
+    else:
+        hint = f"strain and stress positive in compression? give {COMPRESSION_POSITIVE_FLAG}"
+    raise InputError(f"{test.path}: columns {column}: {how}, but it reads as "
+                     f"{'tension' if branch == 'compression' else 'compression'} (stretch "
+                     f"{low:g} to {high:g}, stress {float(p.min()):g} to {float(p.max()):g} Pa): "
+                     f"{hint}")
 
 
 def _check_curve(test: MaterialTest, cols: dict[str, str]) -> None:
@@ -328,5 +405,6 @@ _CHECKS = {"uniaxial": _check_curve, "planar": _check_curve, "biaxial": _check_c
            "volumetric": _check_volumetric, "relaxation": _check_relaxation,
            "creep": _check_creep, "dma": _check_dma}
 
-__all__ = ["COLUMNS", "MODES", "REQUIRED", "STRESS_MODES", "VISCOELASTIC_MODES", "MaterialTest",
+__all__ = ["COLUMNS", "COMPRESSION_POSITIVE_FLAG", "DECLARED_MODES", "MODES", "REQUIRED",
+           "SIGNED_MODES", "STRESS_MODES", "VISCOELASTIC_MODES", "MaterialTest", "base_mode",
            "parse_spec", "read_test"]

@@ -103,8 +103,8 @@ def check_options(fps: float | None, *, scale_m_per_px: float | None = None,
                   gravity_m_s2: float = 9.81) -> None:
     """`InputError` for settings no recording can have (before any frame is read): a frame
     rate that is not a positive number (None: from the file), not exactly one scale, a
-    non-finite value, a diameter outside `BALL_DIAMETER_RANGE_M` (in mm, most likely), or a
-    gravity above `MAX_GRAVITY_M_S2`."""
+    non-finite value, a diameter outside `BALL_DIAMETER_RANGE_M` (in mm, most likely), a
+    negative surface row, or a gravity above `MAX_GRAVITY_M_S2`."""
     if fps is not None and not (_is_number(fps) and math.isfinite(fps) and fps > 0):
         raise InputError(f"fps (--fps) = {fps}: must be a positive number of frames per second")
     if (scale_m_per_px is None) == (ball_diameter_m is None):
@@ -123,6 +123,9 @@ def check_options(fps: float | None, *, scale_m_per_px: float | None = None,
     if surface_row is not None and not (_is_number(surface_row) and math.isfinite(surface_row)):
         raise InputError(f"surface_row (--surface-row) = {surface_row}: must be a finite image "
                          "row (px)")
+    if surface_row is not None and surface_row < 0:
+        raise InputError(f"surface_row (--surface-row) = {surface_row:g}: allowed 0 to the "
+                         "picture's last row (px; rows count down from 0 at the top)")
     if not (_is_number(gravity_m_s2) and math.isfinite(gravity_m_s2)):
         raise InputError(f"gravity_m_s2 (--gravity-m-s2) = {gravity_m_s2}: must be a finite "
                          "number (9.81, or 0 for straight lines)")
@@ -134,6 +137,14 @@ def check_options(fps: float | None, *, scale_m_per_px: float | None = None,
 
 def _is_number(value) -> bool:
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def check_surface_row(surface_row: float | None, height_px: int) -> None:
+    """`InputError` for a surface row outside a picture `height_px` rows high."""
+    if surface_row is not None and not 0 <= surface_row <= height_px - 1:
+        raise InputError(f"surface_row (--surface-row) = {surface_row:g}: allowed 0 to "
+                         f"{height_px - 1} (px), the rows of the picture (rows count down from 0 "
+                         "at the top)")
 
 
 def check_speeds(summary: dict) -> None:

@@ -1,0 +1,163 @@
+"""The pulse of a measured record as one smooth curve, and the features' uncertainty.
+
+`fitted_pulse_curve`: the contact start and end fitted with the shape a contact must have
+(`edges.fit_edge`), the samples between them smoothed by a cubic smoothing spline whose smoothing
+is chosen from the record itself (generalised cross-validation: no window to pick, and a clean
+record is left as it is), both ends pinned at zero force. The curve is returned as a fine
+piecewise-linear `features.PulseCurve`, so the 19 values come from it exactly as from a
+simulated pulse.
+
+`bootstrap_uncertainty`: the standard uncertainty of every value from the record's noise by a
+parametric bootstrap: the fitted curve plus white noise of the record's own level (the larger of
+the pre-impact noise and the RMS misfit of the curve over the contact, which holds the load
+cell's ringing), processed again `draws` times; the standard deviation of each value over the
+draws, times `COVERAGE_FACTOR` (docs/features.md, "Uncertainty").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .edges import EdgeFit, fit_edge
+from .records import ContactWindow, ImpactRecord, rms
+
+#: Points of the curve per sample interval between the edges (the curve is piecewise linear
+#: through them: a smooth pulse's peak is then within (1/4)^2 / 8 of a sample's curvature).
+POINTS_PER_SAMPLE = 4
+#: Points of each fitted edge shape.
+EDGE_POINTS = 24
+END_POWER = False
+END_POWER_RANGE = (1.0, 2.0)
+#: Bootstrap draws of `bootstrap_uncertainty`.
+DRAWS = 40
+#: Scale from the bootstrap's standard deviation to the stated standard uncertainty: the fits'
+#: model error (an edge shape that is not exactly a power, the ringing's correlation) is not in
+#: the white-noise draws; the factor makes the 90% intervals cover 90% of the cases of
+#: `benchmarks/bench_feature_accuracy.py`.
+COVERAGE_FACTOR = 1.3
+#: Two-sided 90% interval of a normal distribution, in standard uncertainties.
+Z90 = 1.6448536269514722
+
+
+@dataclass(frozen=True)
+class FittedPulse:
+    """What `fitted_pulse_curve` found: the curve (`features.PulseCurve`, times from the fitted
+    contact start), its two `EdgeFit`s and the spline's smoothing parameter (on the unit
+    interval, in units of the peak)."""
+
+    curve: Any
+    start: EdgeFit
+    end: EdgeFit
+    smoothing: float
+
+
+def fitted_edges(record: ImpactRecord, window: ContactWindow,
+                 like: FittedPulse | None = None) -> tuple[EdgeFit, EdgeFit]:
+    """The start and end `EdgeFit` of the pulse inside `window` (starting from `like`'s)."""
+    peak = int(np.argmax(record.force_n))
+    start = fit_edge(record.time_s, record.force_n, peak, window.first, window.last, +1,
+                     guess=None if like is None else like.start, noise_n=window.noise_rms_n)
+    end = fit_edge(record.time_s, record.force_n, peak, window.first, window.last, -1,
+                   guess=None if like is None else like.end,
+                   power=float(np.clip(start.exponent, *END_POWER_RANGE)) if END_POWER else None,
+                   noise_n=window.noise_rms_n)
+    return start, end
+
+
+def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
+                       like: FittedPulse | None = None) -> FittedPulse | None:
+    """The smooth pulse of `record` (see the module); None when fewer than 5 samples lie between
+    the fitted edges. `like`, the fit of a record of the same pulse (a bootstrap draw's original),
+    gives the edges' first guess and the smoothing, so that only the fits run again."""
+    from scipy.interpolate import make_smoothing_spline
+
+    from .features import PulseCurve
+
+    start, end = fitted_edges(record, window, like)
+    t, f = record.time_s, record.force_n
+    inside = np.flatnonzero((t > start.time_s) & (t < end.time_s))
+    if inside.size < 5 or end.time_s <= start.time_s:
+        return None
+    # the spline through the samples and the zero-force ends (weighted like many samples)
+    x = np.concatenate([[start.time_s], t[inside], [end.time_s]])
+    y = np.concatenate([[0.0], f[inside], [0.0]])
+    keep = np.concatenate([[True], np.diff(x) > 1e-9 * (x[-1] - x[0])])
+    x, y = x[keep], y[keep]
+    weight = np.ones(x.size)
+    weight[[0, -1]] = 100.0
+    # on the unit interval and in units of the peak: the cross-validation is ill-conditioned in
+    # seconds and newtons
+    span, scale = x[-1] - x[0], max(float(np.max(np.abs(y))), 1e-300)
+    u, v = (x - x[0]) / span, y / scale
+    lam = (discrepancy_smoothing(u, v, weight, window.noise_rms_n / scale) if like is None
+           else like.smoothing)
+    unit = make_smoothing_spline(u, v, w=weight, lam=lam)
+    spline = lambda time: scale * unit((time - x[0]) / span)  # noqa: E731
+    middle = np.linspace(start.top_s, end.top_s,
+                         max(3, POINTS_PER_SAMPLE * int(np.sum((t > start.top_s) & (t < end.top_s))) + 1))
+    rise = np.linspace(start.time_s, start.top_s, EDGE_POINTS)
+    fall = np.linspace(end.top_s, end.time_s, EDGE_POINTS)
+    knots_t = np.concatenate([rise[:-1], middle, fall[1:]])
+    knots_f = np.concatenate([start.force(rise[:-1]), spline(middle), end.force(fall[1:])])
+    knots_f[0] = knots_f[-1] = 0.0
+    knots_f = np.maximum(knots_f, 0.0)
+    order = np.concatenate([[True], np.diff(knots_t) > 0])
+    curve = PulseCurve(knots_t[order] - start.time_s, knots_f[order])
+    return FittedPulse(curve, start, end, lam)
+
+
+#: Smoothing parameters `discrepancy_smoothing` searches (on the unit interval, peak units).
+SMOOTHING_RANGE = (1e-14, 1e-2)
+
+
+def discrepancy_smoothing(x: np.ndarray, y: np.ndarray, weight: np.ndarray, noise: float) -> float:
+    """The smoothing parameter whose spline leaves residuals of the record's own noise level
+    `noise` (Morozov's discrepancy principle: sum of squared residuals = samples x noise^2),
+    by bisection on its logarithm; the least smoothing for a noise-free record."""
+    from scipy.interpolate import make_smoothing_spline
+
+    low, high = np.log(SMOOTHING_RANGE[0]), np.log(SMOOTHING_RANGE[1])
+    if noise <= 0:
+        return float(np.exp(low))
+    target = x.size * noise**2
+    for _ in range(30):
+        middle = 0.5 * (low + high)
+        residual = y - make_smoothing_spline(x, y, w=weight, lam=float(np.exp(middle)))(x)
+        if float(np.sum(residual**2)) > target:
+            high = middle
+        else:
+            low = middle
+    return float(np.exp(0.5 * (low + high)))
+
+
+def curve_on(curve, start_s: float, time_s: np.ndarray) -> np.ndarray:
+    """The curve (times from `start_s`) at the record's times, zero outside the contact."""
+    return np.interp(time_s - start_s, curve.knots_s, curve.knots_n, left=0.0, right=0.0)
+
+
+def bootstrap_uncertainty(record: ImpactRecord, curve, start_s: float, window: ContactWindow,
+                          values_of, draws: int = DRAWS, seed: int = 0) -> dict[str, float]:
+    """Standard uncertainty of each value of `values_of(record) -> dict` (see the module)."""
+    from .records import contact_window
+
+    clean = curve_on(curve, start_s, record.time_s)
+    contact = (record.time_s >= start_s) & (record.time_s <= start_s + curve.duration_s)
+    misfit = rms(record.force_n[contact] - clean[contact]) if contact.any() else 0.0
+    noise = max(window.noise_rms_n, misfit)
+    if noise <= 0:
+        return {}
+    rng = np.random.default_rng(seed)
+    samples: dict[str, list[float]] = {}
+    for _ in range(draws):
+        draw = record.replace(force_n=clean + noise * rng.standard_normal(clean.size))
+        try:
+            values = values_of(draw)
+        except Exception:  # a draw without a usable pulse: the others still count
+            continue
+        for key, value in values.items():
+            samples.setdefault(key, []).append(value)
+    return {key: COVERAGE_FACTOR * float(np.std(v, ddof=1))
+            for key, v in samples.items() if len(v) >= max(3, draws // 2)}
