@@ -17,7 +17,8 @@ from numpy.polynomial import Polynomial
 
 from .errors import InputError, InputWarning
 from .checks import check_positive
-from .records import ImpactRecord, contact_window, sample_rate_hz
+from .records import (MIN_BASELINE_SAMPLES, ImpactRecord, contact_window, pre_impact_slice,
+                      rms, sample_rate_hz)
 
 #: SAE J211-1 design frequency of the 2-pole Butterworth stage, as a multiple of the CFC number.
 #: Run forwards and backwards, the 4-pole phaseless filter is -3 dB at about 1.65 x CFC (Hz).
@@ -201,10 +202,29 @@ def _warn_if_cfc_low(cfc: float, contact_time_s: float) -> None:
         )
 
 
+#: A filter whose change of the force is below this fraction of the record's noise (RMS of the
+#: pre-impact samples) smoothed nothing: `apply_filter` warns.
+NO_EFFECT_FRACTION = 0.1
+
+
 def _smoothed(record, smooth, settings, *, tangential: bool = True) -> ImpactRecord:
     shear = record.tangential_force_n
+    force = smooth(record.force_n)
+    change = rms(force - record.force_n)
+    pre = record.force_n[pre_impact_slice(record.force_n, record.time_s)]
+    noise = rms(pre - np.mean(pre)) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
+    settings = {**settings, "filter_change_rms_n": change}
+    if noise > 0 and change < NO_EFFECT_FRACTION * noise:
+        where = f"{record.metadata['file']}: " if "file" in record.metadata else ""
+        window = (f" (window {settings['window_s']:.3g} s)" if "window_s" in settings else "")
+        warnings.warn(
+            f"{where}filter {settings['filter']}{window} changed the force by {change:.3g} N RMS, "
+            f"less than {NO_EFFECT_FRACTION:g} of the record's noise ({noise:.3g} N RMS): it "
+            "smoothed nothing at this sampling rate (a longer --filter-window-s or a lower CFC "
+            "class; or leave it out: the default processing fits the pulse, docs/features.md)",
+            InputWarning, stacklevel=3)
     return record.replace(
-        force_n=smooth(record.force_n),
+        force_n=force,
         tangential_force_n=smooth(shear) if shear is not None and tangential else shear,
         metadata={**record.metadata, **settings},
     )

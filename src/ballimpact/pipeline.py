@@ -80,8 +80,9 @@ def process(
         if source is None or str(error).startswith(source):
             raise
         raise InputError(f"{source}: {error}") from None
-    note = noisy_window_note(features.window, features.values["P6"],
-                             filtered.metadata.get("filter", "none"), source)
+    # the fitted pulse is not cut by the noise threshold: the note is the sample method's
+    note = None if method == "fit" else noisy_window_note(
+        features.window, features.values["P6"], filtered.metadata.get("filter", "none"), source)
     if note is not None:
         if warn_noisy:
             warnings.warn(note, InputWarning, stacklevel=2)

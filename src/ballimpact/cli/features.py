@@ -210,15 +210,21 @@ def summary(processed: ProcessedImpact, wall_time_s: float) -> dict[str, Any]:
 
 def print_table(processed: ProcessedImpact) -> None:
     f = processed.features
-    print(f"filter: {processed.filtered.metadata.get('filter', 'none')}   "
+    u = f.uncertainty or {}
+    print(f"filter: {processed.filtered.metadata.get('filter', 'none')}   pulse: {f.method}   "
           f"baseline offset removed: {processed.raw.metadata.get('baseline_offset_n', 0.0):.4g} N")
+    if u:
+        print("  (+/- the standard uncertainty from the record's noise; 90% interval: +/- 1.645 "
+              "of it)")
     for key, name in FEATURE_NAMES.items():
-        print(f"  {key:>4}  {name:<42} {f.values[key]:.6g}")
+        spread = f"  +/- {u[key]:.2g}" if u.get(key) else ""
+        print(f"  {key:>4}  {name:<42} {f.values[key]:.6g}{spread}")
     check = f.impulse_check_passed
     status = "not checked (rebound speed from impulse)" if check is None else (
         f"{f.impulse_relative_error:+.2%} ({'ok' if check else 'FAILED'}, "
         f"tolerance {f.impulse_tolerance:.1%})")
     print(f"  rebound speed source: {f.rebound_speed_source}")
-    print(f"  impulse {f.impulse_n_s:.5g} N s; impulse check: {status}")
+    spread = f" +/- {u['impulse_n_s']:.2g}" if u.get("impulse_n_s") else ""
+    print(f"  impulse {f.impulse_n_s:.5g}{spread} N s; impulse check: {status}")
     print(f"  impulse COR {f.impulse_cor:.4f}; max compression {f.max_compression_m * 1e3:.4g} mm; "
           f"energy lost {f.energy_lost_j:.4g} J; dynamic stiffness {f.dynamic_stiffness_n_m:.4g} N/m")

@@ -10,7 +10,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, InputWarning
+from ..errors import CheckFailed, InputError, InputWarning
+from ..verdict import add_tolerance_flags, tolerances_from
 from ..repeats import expand_records
 from .common import (
     add_processing,
@@ -62,6 +63,7 @@ def add_parser(verbs) -> None:
                      help="with several files: write the speed table CSV (one row per file)")
     add_record_options(fit)
     add_processing(fit)
+    add_tolerance_flags(fit)
 
     models = verbs.add_parser("models", help="list the lumped models and their parameters",
                               description="The lumped models, their parameters and SI units.")
@@ -75,6 +77,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     check_plot_path(args.plot)
     check_output_folder(args.table, "--table")
     model = lumped.get_model(args.model)
+    tolerances = tolerances_from(args)
     options = dict(method=args.method, seed=args.seed, population=args.population,
                    generations=args.generations, polish=not args.no_polish,
                    bounds=assignments(args.bound, "--bound", bounds=True),
@@ -89,24 +92,28 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         check_bound_scales(model, one, options["bounds"], options["fixed"], args.allow)
     if len(processed) == 1:
         fitted = lumped.fit(processed[0], model, **options)
-        result = {**fitted.to_dict(), "file": str(args.files[0])}
+        result = {**fitted.to_dict(), "file": str(args.files[0]),
+                  "check": model_check(fitted, processed[0], tolerances)}
         _warn_not_identified(fitted, args.files[0])
         if not args.json:
-            _print_fit(fitted, args.files[0])
+            _print_fit(fitted, args.files[0], result["check"])
         if args.plot:
             from ..plotting import plot_fit
 
             plot_fit(fitted, args.plot, title=str(args.files[0].name))
             result["plot"] = str(args.plot)
         result["wall_time_s"] = time.perf_counter() - started
+        raise_if_missed([(args.files[0], result["check"])], result)
         return result
     table, fits = lumped.fit_speed_table(processed, model, labels=[str(p) for p in args.files],
                                          **options)
     _note_repeats(table)
     for f, file in zip(fits, table.labels):
         _warn_not_identified(f, Path(file))
+    checks = [model_check(f, pr, tolerances) for f, pr in zip(fits, processed)]
     result = {"model": model.name, "units": model.units, "table": table.to_dict(),
-              "fits": [{**f.to_dict(), "file": file} for f, file in zip(fits, table.labels)]}
+              "fits": [{**f.to_dict(), "file": file, "check": check}
+                       for f, file, check in zip(fits, table.labels, checks)]}
     repeated = parameter_scatter(table)
     if repeated:
         result["repeats"] = repeated
@@ -114,8 +121,8 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         args.table.write_text(table.to_csv())
         result["table_csv"] = str(args.table)
     if not args.json:
-        for f, file in zip(fits, table.labels):
-            _print_fit(f, Path(file))
+        for f, file, check in zip(fits, table.labels, checks):
+            _print_fit(f, Path(file), check)
         print(table.to_csv(), end="")
         for group in repeated:
             spread = ", ".join(f"{k} {group['params_mean'][k]:.5g} +/- {group['params_sd'][k]:.3g}"
@@ -127,7 +134,31 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         plot_speed_fits(fits, args.plot)
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
+    raise_if_missed(list(zip(table.labels, checks)), result)
     return result
+
+
+def model_check(fitted, processed, tolerances) -> dict[str, Any]:
+    """The fitted model's pulse against the test (`verdict.judge`: force NRMSE, COR, contact
+    time and peak force, each within its tolerance plus the test's 90% uncertainty)."""
+    from ..comparison import compare
+    from ..verdict import judge
+
+    m = fitted.measured
+    comparison = compare({"P1": m["contact_time_s"], "P6": m["peak_force_n"], "P17": m["cor"]},
+                         {"P1": fitted.contact_time_s, "P6": fitted.peak_force_n,
+                          "P17": fitted.cor}, fitted.nrmse)
+    return {**comparison, **judge(comparison, tolerances, processed.features.uncertainty)}
+
+
+def raise_if_missed(checks: list, result: dict[str, Any]) -> None:
+    """`CheckFailed` (exit 3, the result printed all the same) naming each fit whose model check
+    missed and what it missed."""
+    missed = [(str(path), check) for path, check in checks if not check["passed"]]
+    if missed:
+        words = "; ".join(f"{path}: {', '.join(check['missed'])}" for path, check in missed)
+        raise CheckFailed(f"the model check missed for {len(missed)} of {len(checks)} tests: "
+                          f"{words}; the model does not reproduce the test (see --plot)", result)
 
 
 #: The usual slips of a parameter's unit (`ballimpact models`), as (factor to SI, unit typed),
@@ -237,7 +268,9 @@ def _note_repeats(table) -> None:
               "the table interpolates between their mean", file=sys.stderr)
 
 
-def _print_fit(fitted, path: Path) -> None:
+def _print_fit(fitted, path: Path, check: dict[str, Any]) -> None:
+    from ..verdict import verdict_line
+
     m = fitted.measured
     print(f"{path.name}: {fitted.model} by {fitted.method.upper()} (seed {fitted.seed}), "
           f"{fitted.evaluations} model runs, {fitted.wall_time_s:.2f} s")
@@ -252,6 +285,7 @@ def _print_fit(fitted, path: Path) -> None:
           f"ms, COR {fitted.cor:.4f}")
     print(f"  measured: peak {m['peak_force_n']:.5g} N, contact {m['contact_time_s'] * 1e3:.4g} ms, "
           f"COR {m['cor']:.4f}")
+    print(f"  model check {verdict_line(check)}")
     if fitted.reproduction:
         print("  note: a reproduction of the thesis' appendix code, not a recommended model")
 

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError, InputWarning
+from ..verdict import add_tolerance_flags, tolerances_from, verdict_line
 from ..fileio import check_distinct_files
 from ..repeats import DEFAULT_SPEED_TOLERANCE
 from .common import (
@@ -33,21 +34,18 @@ def add_parser(verbs) -> None:
                     "per speed) give a table of parameters against speed, like thesis table 7-3. "
                     "An impact speed outside the model's training speeds is refused (--allow "
                     "speed-range: a warning); estimates on the edge of the model's training "
-                    "range, intervals clipped by it and an FE check above a force NRMSE of 0.1 "
-                    "(universal.identify.NRMSE_LIMIT) give warnings. Exit codes: 0 "
-                    "done, 2 bad input, 1 failed run, 3 the FE check missed --max-nrmse (the "
-                    "result is printed and its files written all the same).")
+                    "range and intervals clipped by it give warnings. The FE check judges force "
+                    "NRMSE, COR, contact time and peak force together (--max-* flags; the "
+                    "test's own 90%% uncertainty is added to each). Exit codes: 0 done (the FE "
+                    "check passed), 2 bad input, 1 failed run, 3 the FE check missed a criterion "
+                    "(the result is printed and its files written all the same).")
     identify.add_argument("files", type=Path, nargs="+", metavar="FILE",
                           help="test record(s): CSV with unit headers or WAV")
     identify.add_argument("--model", help="model path (MODEL.json + MODEL.npz); default: the "
                                           "built-in cricket-ball model")
     identify.add_argument("--verify", action=argparse.BooleanOptionalAction, default=True,
                           help="run the identified ball in the FE engine and compare (default)")
-    identify.add_argument("--max-nrmse", type=float, metavar="X",
-                          help="the FE check must reproduce the test's force pulse within a "
-                               "force NRMSE of X (fraction of the test's peak force, e.g. 0.05);"
-                               " a miss exits with code 3. Without it, an NRMSE above 0.1 is a "
-                               "warning")
+    add_tolerance_flags(identify)
     identify.add_argument("--refine", choices=("none", "surrogate"), default="none",
                           help="least squares on the forward surrogate after the inverse "
                                "estimate; default none: on held-out runs it made the closed loop worse, see docs/universal.md")
@@ -96,7 +94,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         size = None if args.ball_diameter_m is None else check_size(
             args.ball_diameter_m, pr.features.mass_kg, allow)
         found = identify(pr, model, verify=args.verify, refine=args.refine, allow=allow,
-                         max_nrmse=args.max_nrmse, size=size)
+                         size=size, tolerances=tolerances_from(args))
         results.append((path, pr, found))
         if not args.json:
             _print(path, found)
@@ -136,17 +134,12 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 def check_arguments(args: argparse.Namespace) -> None:
     """Flags and output paths, before anything is loaded or run."""
-    from ..universal.identify import check_max_nrmse
-
     check_plot_path(args.plot)
     if args.ball_diameter_m is not None:  # before anything is loaded (the mass comes later)
         from ..universal.similarity import check_diameter
 
         check_diameter(args.ball_diameter_m)
-    if args.max_nrmse is not None:
-        check_max_nrmse(args.max_nrmse)
-        if not args.verify:
-            raise InputError("--max-nrmse: needs the FE check, which --no-verify turns off")
+    tolerances_from(args)  # a bad tolerance is refused before anything is loaded
     records = check_distinct_files(args.files, "FILE")
     inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
     for path, flag, suffix in ((args.table, "--table", ".csv"),
@@ -245,18 +238,16 @@ def _print_repeats(repeated: list[dict[str, Any]]) -> None:
 
 
 def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> None:
-    """With --max-nrmse: `CheckFailed` (exit 3) naming the tests whose FE check missed."""
-    from ..universal.identify import nrmse_words
-
-    if args.max_nrmse is None:
-        return
+    """`CheckFailed` (exit 3) naming the tests whose FE check missed, and each criterion missed
+    by how much."""
     missed = [(path, found) for path, _, found in results
               if found.verification is not None and not found.verification["passed"]]
     if missed:
-        words = "; ".join(f"{path}: {nrmse_words(found.verification)}" for path, found in missed)
-        raise CheckFailed(f"--max-nrmse {args.max_nrmse:g}: the FE check missed for "
-                          f"{len(missed)} of {len(results)} tests: {words}; the identified ball "
-                          "does not reproduce the test (see --plot)", out)
+        words = "; ".join(f"{path}: {', '.join(found.verification['missed'])}"
+                          for path, found in missed)
+        raise CheckFailed(f"the FE check missed for {len(missed)} of {len(results)} tests: "
+                          f"{words}; the identified ball does not reproduce the test (see "
+                          "--plot)", out)
 
 
 def speed_table_ball(found: list, model, groups: list[float]) -> dict[str, Any]:
@@ -296,8 +287,8 @@ def _print(path: Path, found) -> None:
         print(f"  {name:<8} {value:11.5g} {unit:<3} 90% interval {low:.4g} .. {high:.4g}{note}")
     v = found.verification
     if v:
-        verdict = "passed" if v["passed"] else "FAILED"
-        print(f"  FE check {verdict} (limit {v['force_nrmse_limit']:g}): force NRMSE "
+        print(f"  FE check {verdict_line(v)}")
+        print(f"  force NRMSE "
               f"{v['force_nrmse']:.2%}; COR {v['cor_simulated']:.4f} vs "
               f"{v['cor_measured']:.4f}; contact time {v['contact_time_simulated_s'] * 1e3:.4g} vs "
               f"{v['contact_time_measured_s'] * 1e3:.4g} ms; peak {v['peak_force_simulated_n']:.5g}"

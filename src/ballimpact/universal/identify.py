@@ -12,7 +12,7 @@ import math
 import time
 import warnings
 from collections.abc import Collection
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -22,15 +22,11 @@ from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
 from . import space
 from ..comparison import compare, features_pulse, pulse_nrmse
+from ..verdict import Tolerances, judge
 from .similarity import BallSize, groups, map_features, map_params, map_ranges
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 
 REFINE = ("none", "surrogate")
-#: FE check: a force NRMSE above this (fraction of the test's peak force) is reported as a failed
-#: check (a warning) unless the caller sets its own limit. The built-in model's closed loop on
-#: held-out runs gives 2.0% (clean) and 2.6% (1% noise) at the 90th percentile
-#: (docs/universal.md), so 10% is a ball that does not reproduce the test.
-NRMSE_LIMIT = 0.10
 #: an estimate or an interval end within this fraction of the range (on the parameter's own axis,
 #: log for tau1) of a training bound sits on it (the ensemble's outputs are clipped to the range)
 ON_BOUND = 1e-6
@@ -238,7 +234,8 @@ def group_ranges(model: UniversalModel, speed_m_s: float) -> dict[str, list[floa
 
 def identify(processed, model: UniversalModel, *, verify: bool = True,
              refine: str = "none", options=None, allow: Collection[str] = (),
-             max_nrmse: float | None = None, size: BallSize | None = None) -> Identification:
+             max_nrmse: float | None = None, size: BallSize | None = None,
+             tolerances: Tolerances | None = None) -> Identification:
     """Identify the universal ball from a processed test (`pipeline.process`).
 
     `size`: the tested ball's radius and mass (`similarity.BallSize`; default the model's ball's
@@ -251,16 +248,18 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     The impact speed must lie within the model's training speeds (`check_speed`; `allow`
     holding "speed-range" makes that a warning, and lets the FE check run outside the FE range
     too). Estimates on a training bound and intervals clipped by one give warnings. The FE check
-    (`verify`) passes when its force NRMSE is at most `max_nrmse` (fraction of the test's peak
-    force; default `NRMSE_LIMIT`); a miss is a warning, unless the caller gave `max_nrmse`,
-    which then handles it (`verification["passed"]`)."""
+    (`verify`) judges force NRMSE, COR, contact time and peak force together
+    (`verdict.judge` with `tolerances`, default `verdict.Tolerances()`; `max_nrmse` sets the
+    force NRMSE's alone): `verification["passed"]` only when all pass, `verification["missed"]`
+    names each miss, and a miss is an `InputWarning` (the command line exits 3)."""
     from ..fe import load_ball
     from ..fe.ball import universal_spec
 
     started = time.perf_counter()
     allow = check_allow(allow)
+    tolerances = tolerances or Tolerances()
     if max_nrmse is not None:
-        check_max_nrmse(max_nrmse)
+        tolerances = replace(tolerances, force_nrmse=check_max_nrmse(max_nrmse))
     values = processed.features.values
     source = processed.raw.metadata.get("file") if hasattr(processed, "raw") else None
     where = f"{source}: " if source else ""
@@ -309,14 +308,13 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         options = options or scaled_options(model, size)
         result.simulated, result.verification = verify_run(spec, processed.features, options,
                                                            allow)
-        limit = NRMSE_LIMIT if max_nrmse is None else max_nrmse
         check = result.verification
-        check["force_nrmse_limit"] = limit
-        check["passed"] = bool(check["force_nrmse"] <= limit)  # NaN fails
-        if max_nrmse is None and not check["passed"]:
-            warnings.warn(f"{where}FE check failed: {nrmse_words(check)}: the identified ball does "
-                          "not reproduce this test (see --plot; --max-nrmse sets the level and "
-                          "makes a miss exit 3)", InputWarning, stacklevel=2)
+        check.update(judge(check, tolerances, processed.features.uncertainty))
+        check["force_nrmse_limit"] = tolerances.force_nrmse
+        if not check["passed"]:
+            warnings.warn(f"{where}FE check failed: {'; '.join(check['missed'])}: the identified "
+                          "ball does not reproduce this test (see --plot)", InputWarning,
+                          stacklevel=2)
     result.wall_time_s = time.perf_counter() - started
     return result
 
@@ -342,14 +340,6 @@ def warn_failed_model(model: UniversalModel) -> None:
         warnings.warn(f"the universal model failed its own held-out check{figure} and was "
                       "written with --force: its estimates are not to be trusted",
                       InputWarning, stacklevel=3)
-
-
-def nrmse_words(check: dict[str, Any]) -> str:
-    """The miss in words: force NRMSE 0.29 (29% of the test's peak force) is above 0.1."""
-    nrmse, limit = check["force_nrmse"], check["force_nrmse_limit"]
-    if not math.isfinite(nrmse):
-        return f"force NRMSE is {nrmse:g}, not a number at most {limit:g}"
-    return f"force NRMSE {nrmse:.3g} ({nrmse:.1%} of the test's peak force) is above {limit:g}"
 
 
 def check_max_nrmse(value: float) -> float:
