@@ -87,6 +87,18 @@ def test_max_nrmse_out_of_range(bad_input, sample, value, words):
     bad_input(["identify", sample, "--max-nrmse", value], *words)
 
 
+@pytest.mark.parametrize("verb", ["identify", "fit"])
+@pytest.mark.parametrize("flag", ["--max-cor-error", "--max-contact-time-error",
+                                  "--max-peak-force-error"])
+@pytest.mark.parametrize("value, words", [("-0.1", ["(0, 1]"]), ("0", ["(0, 1]"]),
+                                          ("4", ["looks like a percentage", "use 0.04"]),
+                                          ("nan", ["nan"])])
+def test_every_tolerance_out_of_range(bad_input, sample, verb, flag, value, words):
+    """Issue 39: the FE check's and the model check's tolerances, each refused by its flag."""
+    model = ["--model", "hunt_crossley"] if verb == "fit" else []
+    bad_input([verb, sample, *model, flag, value], flag, *words)
+
+
 def test_max_nrmse_without_the_fe_check(bad_input, sample):
     bad_input(["identify", sample, "--max-nrmse", 0.05, "--no-verify"], "--max-nrmse",
               "--no-verify")

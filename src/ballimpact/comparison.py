@@ -123,8 +123,10 @@ def noisy_record(pulse_n: np.ndarray, impact_speed_m_s: float, cor: float, mass_
                         rebound_speed_m_s=cor * impact_speed_m_s)
 
 
-def noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="none"):
-    """The 19 features (dict) of the noisy record, processed as a measured test. The pulse is
+def noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="none",
+                   method="fit"):
+    """The 19 features (dict) of the noisy record, processed as a measured test (with the pulse
+    description `method`, `extract_features`; no uncertainty, which nothing here uses). The pulse is
     one this package generated (a study's FE run): what the measured-test checks say about it
     (e.g. "noisy record: filter it") is not about the user's data and cannot be acted on, so
     it is not passed on as a warning."""
@@ -133,4 +135,5 @@ def noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="
     record = noisy_record(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)
-        return process(record, filter=filter, warn_noisy=False).features.values
+        return process(record, filter=filter, warn_noisy=False, method=method,
+                       uncertainty=False).features.values

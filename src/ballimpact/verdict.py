@@ -62,15 +62,21 @@ def add_tolerance_flags(parser) -> None:
              "cor": "absolute COR error", "contact_time": "relative contact-time error",
              "peak_force": "relative peak-force error"}
     for name, flag in FLAGS.items():
-        parser.add_argument(flag, type=float, default=getattr(defaults, name), metavar="X",
+        parser.add_argument(flag, type=float, default=None, metavar="X",
                             dest=f"max_{name}",
                             help=f"largest {words[name]} the model check allows, plus the test's "
                                  f"90%% uncertainty of it (default {getattr(defaults, name):g})")
 
 
 def tolerances_from(args) -> Tolerances:
-    """`Tolerances` from the parsed `--max-*` flags."""
-    return Tolerances(**{name: getattr(args, f"max_{name}") for name in FLAGS})
+    """`Tolerances` from the parsed `--max-*` flags (the defaults where not given)."""
+    given = {name: getattr(args, f"max_{name}") for name in FLAGS}
+    return Tolerances(**{k: v for k, v in given.items() if v is not None})
+
+
+def given_flags(args) -> list[str]:
+    """The `--max-*` flags given on the command line."""
+    return [flag for name, flag in FLAGS.items() if getattr(args, f"max_{name}") is not None]
 
 
 def judge(comparison: dict[str, Any], tolerances: Tolerances = Tolerances(),

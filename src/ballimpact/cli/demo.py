@@ -74,6 +74,7 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
     from ..loaders import load_record
     from ..pipeline import process
     from ..universal import identify, load_model
+    from ..verdict import verdict_line
 
     print("identifying the built-in sample test with the built-in universal model ...",
           file=sys.stderr, flush=True)
@@ -83,7 +84,9 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
     # so what identify would warn about (a C01 interval on its training bound) is a printed note
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", InputWarning)
-        found = identify(process(load_record(sample)), model, options=model.solver_options())
+        test = process(load_record(sample))
+        found = identify(test, model, options=model.solver_options())
+    contact, u = test.features.values["P1"], (test.features.uncertainty or {}).get("P1", 0.0)
     notes = [str(w.message).removeprefix(f"{sample}: ") for w in caught
              if issubclass(w.category, InputWarning)]
     for w in caught:  # anything else goes on as a warning
@@ -91,13 +94,27 @@ def _demo_identify(quiet: bool) -> dict[str, Any]:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     if not quiet:
         p, v = found.params, found.verification
+        print(f"sample test: contact time {contact * 1e3:.3f} +/- {u * 1e3:.3f} ms with the "
+              f"default processing (exact {SAMPLE_CONTACT_TIME_S * 1e3:.3f} ms: "
+              f"{contact / SAMPLE_CONTACT_TIME_S - 1:+.1%}), peak force "
+              f"{test.features.values['P6']:.0f} N (exact {SAMPLE_PEAK_FORCE_N:.0f} N)")
         print(f"identify (built-in sample test at {found.impact_speed_m_s:g} m/s, built-in "
               f"model): C10 {p['c10_pa'] / 1e6:.3f} MPa, C01 {p['c01_pa'] / 1e6:.3f} MPa, "
               f"g1 {p['g1']:.3f}, tau1 {p['tau1_s'] * 1e6:.1f} us")
-        print(f"  FE check: force NRMSE {v['force_nrmse']:.1%}, COR {v['cor_simulated']:.3f} "
+        print(f"  FE check {verdict_line(v)}")
+        print(f"  force NRMSE {v['force_nrmse']:.1%}, COR {v['cor_simulated']:.3f} "
               f"(test {v['cor_measured']:.3f}), contact time "
               f"{v['contact_time_simulated_s'] * 1e3:.3f} ms (test "
               f"{v['contact_time_measured_s'] * 1e3:.3f} ms), {found.wall_time_s:.1f} s")
         for note in notes:
             print(f"  note: {note}")
-    return {"file": "sample_impact.csv (built-in, synthetic)", **found.to_dict(), "notes": notes}
+    return {"file": "sample_impact.csv (built-in, synthetic)",
+            "sample_contact_time_s": contact, "sample_contact_time_uncertainty_s": u,
+            "sample_exact_contact_time_s": SAMPLE_CONTACT_TIME_S, **found.to_dict(),
+            "notes": notes}
+
+
+#: The built-in sample's exact contact time (s) and peak force (N): its header, written by
+#: examples/make_sample_record.py.
+SAMPLE_CONTACT_TIME_S = 1.09704e-3
+SAMPLE_PEAK_FORCE_N = 11219.9

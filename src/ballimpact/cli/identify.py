@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError, InputWarning
-from ..verdict import add_tolerance_flags, tolerances_from, verdict_line
+from ..verdict import add_tolerance_flags, given_flags, tolerances_from, verdict_line
 from ..fileio import check_distinct_files
 from ..repeats import DEFAULT_SPEED_TOLERANCE
 from .common import (
@@ -140,6 +140,9 @@ def check_arguments(args: argparse.Namespace) -> None:
 
         check_diameter(args.ball_diameter_m)
     tolerances_from(args)  # a bad tolerance is refused before anything is loaded
+    if given_flags(args) and not args.verify:
+        raise InputError(f"{', '.join(given_flags(args))}: the FE check's tolerances, which "
+                         "--no-verify turns off")
     records = check_distinct_files(args.files, "FILE")
     inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
     for path, flag, suffix in ((args.table, "--table", ".csv"),

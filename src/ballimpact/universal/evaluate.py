@@ -162,7 +162,8 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         speed = float(columns["impact_speed_m_s"][i])
         clean = {k: float(columns[k][i]) for k in FEATURES}
         values = clean if noise == 0 else noisy_features(
-            pulse, speed, float(columns["cor"][i]), template["mass_kg"], noise, rng, filter)
+            pulse, speed, float(columns["cor"][i]), template["mass_kg"], noise, rng, filter,
+            method=model.feature_method)
         params, interval = estimate(model, values, refine)
         true = {k: float(columns[k][i]) for k in TARGETS}
         covered.append([interval[k][0] <= true[k] <= interval[k][1] for k in TARGETS])

@@ -96,6 +96,13 @@ class UniversalModel:
     def ranges(self) -> dict[str, tuple[float, float]]:
         return {k: tuple(v) for k, v in self.metadata["ranges"].items()}
 
+    @property
+    def feature_method(self) -> str:
+        """How the model's noisy training copies were described (`extract_features(method=)`):
+        its inputs from a measured test are described the same way (`identify`). Models
+        trained before issue 39 (the built-in one) used the samples."""
+        return self.metadata.get("feature_method", "samples")
+
     def solver_options(self):
         """FE settings of the model's study (its element size): identified balls run as the
         training runs did."""

@@ -33,6 +33,9 @@ from .study import load_config
 #: stopping), and validation (early stopping and the interval calibration)
 TEST_SHARE = 0.2
 VALIDATION_SHARE = 0.15
+#: How the noisy copies' pulses are described (`extract_features(method=...)`): as `process`
+#: describes a measured test by default, recorded in the model (`UniversalModel.feature_method`).
+FEATURE_METHOD = "fit"
 #: default noise augmentation of the inverse's training (fraction of the peak force)
 NOISE_AUGMENT = 0.02
 #: fewest successful runs to train on (the split leaves 8 held out and 6 for validation)
@@ -146,6 +149,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
                  "failed": int((~ok).sum()), "train": len(tr), "validation": len(va),
                  "test": len(te)},
         "split_seed": seed, "noise_augment_of_peak": noise_augment,
+        "feature_method": FEATURE_METHOD,
         "training": {"inverse": inv_fig, "forward": fwd_fig, "steps": steps},
     }
     from .evaluate import held_out_report
@@ -174,7 +178,8 @@ def _noisy_copies(pulses, params, features, mass_kg, noise_augment, seed, row_se
         for i in rows:
             try:
                 values = noisy_features(pulses[i], params[i, 4], features[i, COR_COLUMN],
-                                        mass_kg, rng.uniform(0.0, noise_augment), rng)
+                                        mass_kg, rng.uniform(0.0, noise_augment), rng,
+                                        method=FEATURE_METHOD)
             except InputError:
                 continue
             noisy.append([values[k] for k in FEATURES])
