@@ -30,6 +30,8 @@ MAX_EDGE_FRACTION = 0.6
 #: Samples outside the threshold that the fit takes, as a multiple of those inside it: the zero
 #: crossing of a slow edge may lie far outside the noise threshold.
 OUTSIDE_FACTOR = 2
+#: ... and at least this fraction of the samples above the threshold.
+OUTSIDE_SPAN = 0.5
 #: Allowed powers p of the edge shape: 0.5 (steeper than a spring) to 3 (a very soft start).
 EXPONENT_RANGE = (0.5, 3.0)
 #: The power's prior, mean and standard deviation: a sphere's Hertzian contact (1.5), weak
@@ -76,7 +78,10 @@ def fit_edge(time_s: np.ndarray, force_n: np.ndarray, peak_index: int, first: in
     peak = float(force_n[peak_index])
     top = _top_index(f, edge, top_limit, peak)
     rising = top - edge + 1
-    begin = max(0, edge - max(OUTSIDE_FACTOR * rising, MIN_EDGE_SAMPLES))
+    # outside the threshold: a slow edge (a damped ball's tail) may reach zero a third of the
+    # contact beyond it, when noise sets the threshold high
+    outside = max(OUTSIDE_FACTOR * rising, int(OUTSIDE_SPAN * (last - first)), MIN_EDGE_SAMPLES)
+    begin = max(0, edge - outside)
     x, y = t[begin : top + 1], f[begin : top + 1]
     t_top = float(x[-1])
     span = t_top - float(x[0])

@@ -351,7 +351,8 @@ def extract_features(
       its ends extrapolated to zero from the window's outermost samples: exact for a noise-free
       record (a simulation). `"fit"` fits the contact start and end with the shape a contact
       must have and smooths between them (`reconstruct.fitted_pulse_curve`): for measured,
-      noisy records (`pipeline.process` uses it).
+      noisy records (`pipeline.process` uses it); a record whose noise does not raise the
+      contact threshold above `threshold_fraction` of the peak is described by its samples.
     - `uncertainty`: also the standard uncertainty of every value from the record's noise
       (`reconstruct.bootstrap_uncertainty`; `ImpactFeatures.uncertainty`).
 
@@ -430,7 +431,7 @@ def extract_features(
         velocity_m_s=velocity,
         displacement_m=displacement,
         warnings=notes,
-        method=method,
+        method="samples" if fitted is None else "fit",
         uncertainty=spread,
     )
 
@@ -445,7 +446,9 @@ def _window_and_curve(record: ImpactRecord, threshold_fraction: float, noise_fac
     the `reconstruct.FittedPulse` (None otherwise); `like` as in `fitted_pulse_curve`."""
     window = contact_window(record, threshold_fraction=threshold_fraction,
                             noise_factor=noise_factor)
-    if method == "fit":
+    # a record whose noise does not raise the threshold (a simulation, a clean record) is
+    # described exactly by its samples
+    if method == "fit" and window.threshold_n > threshold_fraction * record.force_n.max():
         from .reconstruct import fitted_pulse_curve
 
         fitted = fitted_pulse_curve(record, window, like)

@@ -6,7 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import CheckFailed, InputError
+from ..verdict import add_tolerance_flags, tolerances_from
 from ..fileio import check_distinct_files
 from .common import (
     add_filtering,
@@ -47,6 +48,7 @@ def add_parser(verbs) -> None:
     report.add_argument("--quiet", action="store_true", help="no progress bar")
     report.add_argument("--json", action="store_true", help="print one JSON object")
     add_record_options(report)
+    add_tolerance_flags(report)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
@@ -54,6 +56,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..report.inputs import builtin_ball, label_tests
     from ..report.models import check_balls
 
+    tolerances = tolerances_from(args)
     if bool(args.files) == bool(args.builtin):
         raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
     if not args.out.parent.is_dir():
@@ -88,10 +91,23 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                      "default mesh (the tests used one twice as fine): its errors are the "
                      "floor set by the noise and the mesh.")
     result = build_report(tests, models, args.out, seed=args.seed, universal_model=universal,
-                          note=note, progress=not args.quiet, allow=args.allow)
+                          note=note, progress=not args.quiet, allow=args.allow,
+                          tolerances=tolerances)
     if not args.json:
         _print(result)
+    if result["unmatched_tests"]:
+        raise CheckFailed(f"no model passes its check on {len(result['unmatched_tests'])} of "
+                          f"{len(tests)} tests ({', '.join(result['unmatched_tests'])}): "
+                          + "; ".join(_best_miss(result, t) for t in result["unmatched_tests"])
+                          + f"; see {result['report_html']}", result)
     return result
+
+
+def _best_miss(result: dict[str, Any], test: str) -> str:
+    """The model of the smallest force NRMSE at `test` and what it missed."""
+    runs = [r for r in result["runs"] if r["test"] == test]
+    best = min(runs, key=lambda r: r["comparison"]["force_nrmse"])
+    return f"{test}: best {best['model']} missed {', '.join(best['check']['missed'])}"
 
 
 def _check_files(args: argparse.Namespace) -> None:
@@ -128,6 +144,10 @@ def _print(result: dict[str, Any]) -> None:
         for row in table["rows"]:
             cells = [f"{row[0]:>20}"] + [_cell(v, key) for v in row[1:]]
             print("  " + "".join(cells))
+    for model in dict.fromkeys(r["model"] for r in result["runs"]):
+        mine = [r for r in result["runs"] if r["model"] == model]
+        passed = sum(r["check"]["passed"] for r in mine)
+        print(f"  check {model}: passed on {passed} of {len(mine)} tests")
     for failure in result["failures"]:
         print(f"failed: {failure['model']} at {failure['test']}: {failure['error']}")
     print(f"report: {result['report_html']} ({result['wall_time_s']:.1f} s)")

@@ -37,11 +37,15 @@ _THESIS = ("The thesis (section 7.2) found the three-element and the universal m
 
 def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *, seed: int = 0,
                  universal_model=None, options=None, note: str = "",
-                 progress: bool = True, allow=()) -> dict[str, Any]:
+                 progress: bool = True, allow=(), tolerances=None) -> dict[str, Any]:
     """Run every model against every test and write the report into the folder `out` (made if
     missing). `note` is shown at the top of the page (e.g. that the tests are synthetic);
     `allow`: the plausibility checks that only warn in the model runs (`--allow`).
-    A model run that fails is listed in the report and the others go on."""
+    A model run that fails is listed in the report and the others go on. Every run is judged
+    (`verdict.judge` with `tolerances`, default `verdict.Tolerances()`, and the test's
+    uncertainty): `check` of each run, and `unmatched_tests`, the tests no model passes."""
+    from ..verdict import Tolerances, judge
+
     started = time.perf_counter()
     out.mkdir(exist_ok=True)
     total = len(models) * (len(tests) + 1)
@@ -76,6 +80,9 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
         raise (InputError if all(isinstance(e, InputError) for e in errors)
                else SimulationError)(reason)
     _warn_not_identified(runs)
+    uncertainty = {t.label: t.processed.features.uncertainty for t in tests}
+    for run in runs:
+        run.check = judge(run.comparison, tolerances or Tolerances(), uncertainty[run.test])
     timed = {}
     for spec in models:
         mine = sorted((r for r in runs if r.model == spec.label), key=lambda r: r.impact_speed_m_s)
@@ -98,6 +105,8 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
                   for t in tests],
         "models": [{"label": m.label, "kind": m.kind, "name": m.name} for m in models],
         "runs": [r.to_dict() for r in runs], "failures": failures,
+        "unmatched_tests": [t.label for t in tests
+                            if not any(r.check["passed"] for r in runs if r.test == t.label)],
         "tables": {key: t.to_dict() for key, t in tables.items()},
         "seed": seed, "note": note, "ballimpact_version": __version__,
         "wall_time_s": time.perf_counter() - started,

@@ -65,6 +65,7 @@ class ModelRun:
     time_s: np.ndarray = field(repr=False)
     force_n: np.ndarray = field(repr=False)
     rerun: Callable[[], float] | None = field(default=None, repr=False)
+    check: dict[str, Any] = field(default_factory=dict)  # `verdict.judge`, by `build_report`
 
     @property
     def not_identified(self) -> list[str]:
@@ -79,7 +80,8 @@ class ModelRun:
                 "cor": self.features["P17"], "features": self.features,
                 "comparison": self.comparison, "parameters": self.parameters,
                 "units": self.units, "uncertainty": self.uncertainty,
-                "identification_s": self.identification_s, "simulation_s": self.simulation_s}
+                "identification_s": self.identification_s, "simulation_s": self.simulation_s,
+                "check": self.check}
 
 
 def parse_models(text: str) -> list[ModelSpec]:

@@ -63,17 +63,24 @@ def comparison_table(runs: list[ModelRun], failures: list[dict[str, str]] = (),
                      c["peak_force_measured_n"], c["peak_force_relative_error"],
                      c["contact_time_simulated_s"], c["contact_time_measured_s"],
                      c["contact_time_relative_error"], c["cor_simulated"], c["cor_measured"],
-                     c["cor_error"], c["force_nrmse"], ""])
+                     c["cor_error"], c["force_nrmse"], check_words(r.check), ""])
     speeds = {t.label: t.speed_m_s for t in tests}
     for f in failures:
         rows.append([f["model"], f["test"], speeds.get(f["test"], math.nan),
-                     *[math.nan] * 10, f"failed: {f['error']}"])
+                     *[math.nan] * 10, "", f"failed: {f['error']}"])
     return Table("comparison", "Every model against every test",
                  ["model", "test", "impact_speed_m_s", "peak_force_n", "peak_force_test_n",
                   "peak_force_relative_error", "contact_time_s", "contact_time_test_s",
                   "contact_time_relative_error", "cor", "cor_test", "cor_error", "force_nrmse",
-                  "failed"],
+                  "check", "failed"],
                  rows)
+
+
+def check_words(check: dict[str, Any]) -> str:
+    """A run's verdict in the table: passed, or each criterion missed."""
+    if not check:
+        return ""
+    return "passed" if check["passed"] else "missed: " + "; ".join(check["missed"])
 
 
 def model_order(runs: list[ModelRun], failures: list[dict[str, str]] = ()) -> list[str]:
