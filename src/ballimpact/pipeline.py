@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Collection
 from dataclasses import dataclass
@@ -16,7 +17,10 @@ from .plausibility import (
     noisy_window_note,
     select_pulse,
 )
-from .checks import check_positive
+from .checks import check_positive, check_range
+
+#: Damping ratio of a load cell whose resonance is given without one (`--load-cell-hz`).
+DEFAULT_DAMPING_RATIO = 0.03
 from .records import ImpactRecord, remove_baseline, resample
 
 
@@ -28,6 +32,26 @@ class ProcessedImpact:
     raw: ImpactRecord
     filtered: ImpactRecord
     features: ImpactFeatures
+
+
+def without_ringing(record: ImpactRecord, resonance_hz: float | None = None,
+                    damping_ratio: float = DEFAULT_DAMPING_RATIO) -> ImpactRecord:
+    """`record` with the load cell's resonance divided out (`ringing.compensate`): the one
+    given (`resonance_hz`, Hz, and `damping_ratio`), or the one found ringing on after the
+    contact (`ringing.find_resonance`); as it is when none is given or found, or when it is not
+    uniformly sampled."""
+    from .records import contact_window, sample_rate_hz
+    from .ringing import Resonance, compensate, find_resonance
+
+    try:
+        sample_rate_hz(record)
+        resonance = (Resonance(resonance_hz, damping_ratio, math.nan) if resonance_hz
+                     else find_resonance(record, contact_window(record)))
+    except InputError:
+        if resonance_hz:
+            raise
+        return record
+    return record if resonance is None else compensate(record, resonance)
 
 
 def process(
@@ -42,6 +66,9 @@ def process(
     warn_noisy: bool | None = None,
     method: str = "fit",
     uncertainty: bool = True,
+    ringing: bool = True,
+    resonance_hz: float | None = None,
+    damping_ratio: float = DEFAULT_DAMPING_RATIO,
 ) -> ProcessedImpact:
     """Check a measured record, remove the load-cell offset, resample to `resample_hz` (Hz) if
     given, apply the filter `filter` (see `apply_filter`) and extract the features.
@@ -73,7 +100,12 @@ def process(
         raw = remove_baseline(select_pulse(record, pulse))
         if resample_hz is not None:
             raw = resample(raw, resample_hz)
-        filtered = apply_filter(raw, filter, window_s=window_s)
+        if resonance_hz is not None:
+            check_positive("resonance_hz (--load-cell-hz)", resonance_hz)
+            check_range("damping_ratio (--load-cell-damping)", damping_ratio, 0.0, 1.0,
+                        low_open=True, high_open=True)
+        compensated = without_ringing(raw, resonance_hz, damping_ratio) if ringing else raw
+        filtered = apply_filter(compensated, filter, window_s=window_s)
         features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow,
                                     method=method, uncertainty=uncertainty)
     except InputError as error:

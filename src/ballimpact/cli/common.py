@@ -125,6 +125,11 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--filter-window-s", type=float,
                         help="window of savgol/lowess/loess (s); default 10%% of contact time")
     parser.add_argument("--resample-hz", type=float, help="resample to this uniform rate first")
+    parser.add_argument("--load-cell-hz", type=float, metavar="HZ",
+                        help="the load cell's mounted resonance (Hz): divided out of the record "
+                             "(default: found where the record rings on after the contact)")
+    parser.add_argument("--load-cell-damping", type=float, default=0.03, metavar="ZETA",
+                        help="its damping ratio (default 0.03)")
     parser.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
                         help="relative misfit allowed between impulse and m(v_in + v_out) "
                              f"(default {DEFAULT_IMPULSE_TOLERANCE})")
@@ -153,7 +158,8 @@ def load(path: Path, args: argparse.Namespace):
 def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
     return process(record, filter=args.filter, window_s=args.filter_window_s,
                    resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance,
-                   pulse=args.pulse, allow=args.allow)
+                   pulse=args.pulse, allow=args.allow, resonance_hz=args.load_cell_hz,
+                   damping_ratio=args.load_cell_damping)
 
 
 def check_plot_path(path: Path | None) -> None:

@@ -204,6 +204,7 @@ def summary(processed: ProcessedImpact, wall_time_s: float) -> dict[str, Any]:
     out = processed.features.to_dict()
     out["filter"] = processed.filtered.metadata.get("filter", "none")
     out["baseline_offset_n"] = processed.raw.metadata.get("baseline_offset_n", 0.0)
+    out["load_cell_resonance"] = processed.filtered.metadata.get("load_cell_resonance")
     out["wall_time_s"] = wall_time_s
     return out
 
@@ -213,6 +214,10 @@ def print_table(processed: ProcessedImpact) -> None:
     u = f.uncertainty or {}
     print(f"filter: {processed.filtered.metadata.get('filter', 'none')}   pulse: {f.method}   "
           f"baseline offset removed: {processed.raw.metadata.get('baseline_offset_n', 0.0):.4g} N")
+    resonance = processed.filtered.metadata.get("load_cell_resonance")
+    if resonance:
+        print(f"  load-cell resonance {resonance['frequency_hz']:.0f} Hz (damping ratio "
+              f"{resonance['damping_ratio']:.3f}) divided out")
     if u:
         print("  (+/- the standard uncertainty from the record's noise; 90% interval: +/- 1.645 "
               "of it)")
