@@ -35,9 +35,16 @@ def _write(folder, name: str, radius_m: float, mass_kg: float):
     return path
 
 
+#: The sample is a Hunt-Crossley pulse, not a universal ball: its FE check misses the default
+#: tolerances (exit 3, issue 39); these tests are about the mapping between ball sizes.
+LOOSE = ["--max-nrmse", 0.2, "--max-cor-error", 0.2, "--max-contact-time-error", 0.3,
+         "--max-peak-force-error", 0.3]
+
+
 def _identify(capsys, *argv) -> dict:
     capsys.readouterr()
-    assert main(["identify", *map(str, argv), "--json"]) == 0
+    loose = [] if "--no-verify" in argv else LOOSE
+    assert main(["identify", *map(str, argv), *map(str, loose), "--json"]) == 0
     return json.loads(capsys.readouterr().out)
 
 

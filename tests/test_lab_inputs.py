@@ -207,7 +207,10 @@ def test_bad_volts_sensitivity(bad_input, tmp_path):
 # --------------------------------------------------------------------------- fit DIR, --bound
 
 
-FAST = ["--population", 8, "--generations", 2, "--no-polish"]
+FAST = ["--population", 8, "--generations", 2, "--no-polish",
+        # the model check: these tests are about reading the files, not about the fits
+        "--max-nrmse", 1, "--max-cor-error", 1, "--max-contact-time-error", 1,
+        "--max-peak-force-error", 1]
 
 
 def test_fit_takes_a_folder(capsys, tmp_path):
@@ -257,5 +260,7 @@ def test_fit_bound_in_si_passes_and_slip_can_be_allowed(capsys, tmp_path):
     assert json.loads(out)["bounds"]["k"]["low"] == 5e5
     code, out, err = run(capsys, "fit", path, "--model", "kelvin_voigt", "--bound", "k=500:3000",
                          "--allow", "unit-slip", *SPEEDS, *FAST, "--json")
-    assert code == 0, err
+    # the slipped bounds give a ball that does not leave the surface: the model check says so
+    # (exit 3, issue 39), the result printed all the same
+    assert code == 3 and "cor is nan" in err, err
     assert any(w.startswith("unit-slip: --bound k=500:3000") for w in json.loads(out)["warnings"])

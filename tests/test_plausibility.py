@@ -317,21 +317,27 @@ def test_absurd_forces_give_the_scaling_reason(capsys, tmp_path):
 
 
 def test_noisy_record_names_the_file_and_the_filter(capsys, tmp_path):
-    """The user's own noisy record: one warning naming the file and the filter; filtered, none."""
+    """The user's own noisy record described by its samples: one warning naming the file and
+    the filter; filtered, none; with the default fitted pulse (issue 39) none: the noise does not
+    cut its edges."""
     from importlib import resources
 
     sample = resources.files("ballimpact") / "data"
     path = tmp_path / "mine.csv"
     path.write_text((sample / "sample_impact.csv").read_text())
     path.with_suffix(".json").write_text((sample / "sample_impact.json").read_text())
-    code, out, err = run(capsys, "features", path, "--json")
+    code, out, err = run(capsys, "features", path, "--json", "--pulse-method", "samples")
     assert code == 0, err
     notes = [note for note in json.loads(out)["warnings"] if "noisy record" in note]
     assert len(notes) == 1 and notes[0].startswith(f"{path}: noisy record")
     assert "--filter loess" in notes[0]
-    code, out, err = run(capsys, "features", path, "--filter", "loess", "--json")
+    code, out, err = run(capsys, "features", path, "--filter", "loess", "--json",
+                         "--pulse-method", "samples")
     assert code == 0, err
     assert not any("noisy record" in note for note in json.loads(out)["warnings"])
+    code, out, err = run(capsys, "features", path, "--json")
+    assert code == 0 and "noisy" not in err, err
+    assert json.loads(out)["pulse_method"] == "fit"
 
 
 def test_built_in_sample_is_not_called_noisy(capsys):
@@ -346,7 +352,7 @@ def test_built_in_sample_is_not_called_noisy(capsys):
         assert "noisy" not in err
         with warnings.catch_warnings():
             warnings.simplefilter("error")  # any warning fails the test
-            processed = process(load_record(path))
+            processed = process(load_record(path), method="samples")
     assert any("noisy record" in note for note in processed.features.warnings)
 
 
@@ -364,12 +370,12 @@ def test_noisy_warning_once_per_file_and_can_be_turned_off(tmp_path):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for path in paths:
-            process(load_record(path))
+            process(load_record(path), method="samples")
     noisy = [str(w.message) for w in caught if "noisy record" in str(w.message)]
     assert [note.split(": noisy record")[0] for note in noisy] == [str(p) for p in paths]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        processed = process(load_record(paths[0]), warn_noisy=False)
+        processed = process(load_record(paths[0]), warn_noisy=False, method="samples")
     assert any("noisy record" in note for note in processed.features.warnings)
 
 

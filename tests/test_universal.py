@@ -179,8 +179,10 @@ def test_cli_report_and_identify_give_a_ball_simulate_accepts(trained, capsys, t
                          "--mass-kg", 0.16, "--impact-speed-m-s", 20.8,
                          "--rebound-speed-m-s", test.rebound_speed_m_s, "--json",
                          "--plot", tmp_path / "i.png")
-    assert code == 0, err
     found = json.loads(out)
+    # the small model's ball may miss the FE check: exit 3 then, naming what missed (issue 39)
+    assert code == (0 if found["verification"]["passed"] else 3), err
+    assert found["verification"]["passed"] or "the FE check missed" in err
     assert {"params", "params_interval_90", "ball", "verification", "wall_time_s"} <= set(found)
     ranges = load_model(trained / "m.json").ranges
     for name in ("c10_pa", "c01_pa", "g1", "tau1_s"):

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..features import DEFAULT_IMPULSE_TOLERANCE
+from ..features import DEFAULT_IMPULSE_TOLERANCE, METHODS
 from ..filters import FILTER_NAMES
 from ..loaders import load_record
 from ..pipeline import ProcessedImpact, process
@@ -125,6 +125,11 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--filter-window-s", type=float,
                         help="window of savgol/lowess/loess (s); default 10%% of contact time")
     parser.add_argument("--resample-hz", type=float, help="resample to this uniform rate first")
+    parser.add_argument("--pulse-method", choices=METHODS, default="fit",
+                        help="fit: the contact's start and end fitted with the shape a contact "
+                             "must have, smoothed between them, with uncertainties (default); "
+                             "samples: piecewise linear through the samples, ends from the "
+                             "noise threshold (before issue 39)")
     parser.add_argument("--load-cell-hz", type=float, metavar="HZ",
                         help="the load cell's mounted resonance (Hz): divided out of the record "
                              "(default: found where the record rings on after the contact)")
@@ -159,6 +164,7 @@ def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
     return process(record, filter=args.filter, window_s=args.filter_window_s,
                    resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance,
                    pulse=args.pulse, allow=args.allow, resonance_hz=args.load_cell_hz,
+                   method=args.pulse_method, uncertainty=args.pulse_method == "fit",
                    damping_ratio=args.load_cell_damping)
 
 
