@@ -27,7 +27,7 @@ import warnings
 
 import numpy as np
 
-from ballimpact import ImpactRecord, extract_features, process
+from ballimpact import ImpactRecord, extract_features, process, pulses
 from ballimpact.errors import InputError
 
 Z90 = 1.6448536269514722
@@ -50,27 +50,8 @@ DAMPING_RATIO = 0.03
 
 
 def hunt_crossley_pulse(cor: float | None, stiffness=2.06e7):
-    """(force(t), contact time, rebound speed): F = k y^1.5 (1 + lambda y'), Hertz for None."""
-    from scipy.integrate import solve_ivp
-
-    from ballimpact.lumped import hunt_crossley_lambda
-
-    lam = 0.0 if cor is None else hunt_crossley_lambda(cor, SPEED_M_S)
-    force = lambda y, v: stiffness * np.maximum(y, 0.0) ** 1.5 * (1 + lam * v)  # noqa: E731
-    leave = lambda t, s: s[0]  # noqa: E731
-    leave.terminal, leave.direction = True, -1
-    solution = solve_ivp(lambda t, s: [s[1], -force(s[0], s[1]) / MASS_KG], (0, 0.02),
-                         [0.0, SPEED_M_S], events=leave, rtol=1e-11, atol=1e-14,
-                         dense_output=True, max_step=1e-6)
-    end = float(solution.t_events[0][0])
-
-    def pulse(t):
-        out = np.zeros_like(t)
-        inside = (t > 0) & (t < end)
-        out[inside] = np.maximum(force(*solution.sol(t[inside])), 0.0)
-        return out
-
-    return pulse, end, min(float(-solution.sol(end)[1]), SPEED_M_S)  # Hertz: round-off above
+    """(force(t), contact time, rebound speed) of the sample's Hunt-Crossley ball."""
+    return pulses.hunt_crossley_pulse(cor, SPEED_M_S, MASS_KG, stiffness)
 
 
 def half_sine_pulse(duration_s=1e-3, peak_n=1.0e4):
@@ -129,17 +110,10 @@ def exact_values(pulse, duration, rebound, mass, speed):
 def measured(pulse, duration, rebound, mass, speed, *, rate_hz, noise, ringing_hz, offset,
              rng) -> ImpactRecord:
     """The pulse through a ringing load cell, with noise and an offset, sampled at `rate_hz`."""
-    from scipy.signal import lsim
-
-    fine = np.arange(-duration, 2.5 * duration, 1 / FINE_HZ)
-    clean = pulse(fine)
-    peak = float(clean.max())
-    w = 2 * np.pi * ringing_hz
-    _, cell, _ = lsim(([w * w], [1.0, 2 * DAMPING_RATIO * w, w * w]), clean, fine - fine[0])
-    phase = rng.uniform(0, 1)
-    t = (np.arange(int(3.3 * duration * rate_hz)) + phase) / rate_hz - 0.9 * duration
-    f = np.interp(t, fine, cell) + offset * peak + noise * peak * rng.standard_normal(t.size)
-    return ImpactRecord(t, f, mass_kg=mass, impact_speed_m_s=speed, rebound_speed_m_s=rebound)
+    return pulses.load_cell_record(pulse, duration, rate_hz, noise=noise, resonance_hz=ringing_hz,
+                                   damping_ratio=DAMPING_RATIO, offset=offset, rng=rng,
+                                   mass_kg=mass, impact_speed_m_s=speed,
+                                   rebound_speed_m_s=rebound)
 
 
 def features_of(record: ImpactRecord, method: str):
@@ -244,7 +218,8 @@ def main(argv=None) -> None:
         result[label] = {
             "failed_records": failures[method],
             "by_noise": {f"{noise:.3g}": summary([r for r in rows[method] if r["noise"] == noise])
-                         for noise in NOISE_LEVELS},
+                         for noise in NOISE_LEVELS
+                         if any(r["noise"] == noise for r in rows[method])},
             "sample_record": sample_check(method),
         }
     if args.calibrate:

@@ -124,3 +124,63 @@ class KelvinVoigt:
             rebound_speed_m_s=self.cor * self.impact_speed_m_s if measured_rebound else None,
             metadata={"source": "kelvin_voigt"},
         )
+
+
+# --------------------------------------------------------------------------- as a rig records them
+
+
+def hunt_crossley_pulse(cor: float | None, impact_speed_m_s: float, mass_kg: float,
+                        stiffness_n_m15: float = 2.06e7):
+    """A Hunt-Crossley ball, F = k y^1.5 (1 + lambda y'), on a rigid plane (Hertz for
+    `cor` None): `(force(t) N for t s from first contact, contact time s, rebound speed m/s)`,
+    integrated to 1e-11 (the sample record's ball, examples/make_sample_record.py)."""
+    from scipy.integrate import solve_ivp
+
+    from .lumped import hunt_crossley_lambda
+
+    lam = 0.0 if cor is None else hunt_crossley_lambda(cor, impact_speed_m_s)
+
+    def force(y, v):
+        return stiffness_n_m15 * np.maximum(y, 0.0) ** 1.5 * (1 + lam * v)
+
+    leave = lambda t, s: s[0]  # noqa: E731
+    leave.terminal, leave.direction = True, -1
+    solution = solve_ivp(lambda t, s: [s[1], -force(s[0], s[1]) / mass_kg], (0, 1.0),
+                         [0.0, impact_speed_m_s], events=leave, rtol=1e-11, atol=1e-14,
+                         dense_output=True, max_step=1e-6)
+    end = float(solution.t_events[0][0])
+
+    def pulse(t):
+        t = np.asarray(t, dtype=float)
+        out = np.zeros_like(t)
+        inside = (t > 0) & (t < end)
+        out[inside] = np.maximum(force(*solution.sol(t[inside])), 0.0)
+        return out
+
+    # an elastic ball leaves at its impact speed (the integration's round-off above it)
+    return pulse, end, min(float(-solution.sol(end)[1]), impact_speed_m_s)
+
+
+def load_cell_record(pulse, duration_s: float, rate_hz: float, *, noise: float = 0.0,
+                     resonance_hz: float | None = None, damping_ratio: float = 0.03,
+                     offset: float = 0.0, rng: np.random.Generator | None = None,
+                     **scalars) -> ImpactRecord:
+    """The force `pulse(t)` (N; contact from t = 0 for `duration_s` s) as a rig records it: through
+    a load cell that rings (a second-order system of natural frequency `resonance_hz`, Hz, and
+    `damping_ratio`; None: an ideal cell), plus white noise of `noise` x the peak and an offset of
+    `offset` x the peak, sampled at `rate_hz` at a random phase from 0.9 contact times before
+    contact to 2.4 after. `scalars` go to the record."""
+    from scipy.signal import lsim
+
+    rng = rng or np.random.default_rng(0)
+    fine_step = min(1 / (50 * rate_hz), duration_s / 5000)
+    fine = np.arange(-duration_s, 2.5 * duration_s, fine_step)
+    force = pulse(fine)
+    peak = float(force.max())
+    if resonance_hz is not None:
+        w = 2 * np.pi * check_positive("resonance_hz", resonance_hz)
+        _, force, _ = lsim(([w * w], [1.0, 2 * damping_ratio * w, w * w]), force, fine - fine[0])
+    t = (np.arange(int(3.3 * duration_s * rate_hz)) + rng.uniform(0, 1)) / rate_hz \
+        - 0.9 * duration_s
+    measured = np.interp(t, fine, force) + peak * (offset + noise * rng.standard_normal(t.size))
+    return ImpactRecord(t, measured, metadata={"source": "load_cell_record"}, **scalars)

@@ -1,0 +1,151 @@
+"""Issue 39: features of noisy load-cell records with the default processing (fitted edges, the
+record's own smoothing, the load cell's resonance divided out), their uncertainty, and a filter
+that smooths nothing."""
+
+import json
+import warnings
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from ballimpact import apply_filter, load_record, process, pulses
+from ballimpact.errors import InputWarning
+from ballimpact.records import contact_window, remove_baseline
+from ballimpact.ringing import find_resonance
+
+SAMPLE = resources.files("ballimpact") / "data" / "sample_impact.csv"
+#: The sample's exact contact time and peak (its header, examples/make_sample_record.py).
+SAMPLE_CONTACT_S, SAMPLE_PEAK_N = 1.09704e-3, 11219.9
+MASS, SPEED = 0.16, 20.8
+
+
+def quiet_process(record, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", InputWarning)
+        return process(record, warn_noisy=False, **options)
+
+
+def test_the_sample_reads_its_contact_time_within_2_percent(capsys):
+    """The package's own sample (1% noise, 14 kHz ringing, an offset) read 0.939 ms (-14%)
+    before issue 39; with the defaults within 2% of its exact 1.097 ms, its peak within 2%, and
+    the exact value inside the stated 90% interval."""
+    from ballimpact.cli import main
+
+    with resources.as_file(SAMPLE) as path:
+        assert main(["features", str(path), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    contact, u = out["contact_time_s"], out["uncertainty"]["contact_time_s"]
+    assert contact == pytest.approx(SAMPLE_CONTACT_S, rel=0.02)
+    assert abs(contact - SAMPLE_CONTACT_S) <= 1.645 * u
+    assert out["peak_force_n"] == pytest.approx(SAMPLE_PEAK_N, rel=0.02)
+    assert out["pulse_method"] == "fit"
+    # every feature has its standard uncertainty in the JSON, positive where the noise acts
+    assert set(out["uncertainty"]["features"]) == set(out["features"])
+    assert out["uncertainty"]["features"]["P6"] > 0 and out["uncertainty"]["peak_force_n"] > 0
+
+
+def test_the_sample_text_shows_the_uncertainties(capsys):
+    from ballimpact.cli import main
+
+    with resources.as_file(SAMPLE) as path:
+        assert main(["features", str(path)]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if "contact_time_s" in x)
+    assert "+/-" in line and "pulse: fit" in out
+
+
+def noisy_cases(noise, seed, method="fit"):
+    """Contact-time errors of Hunt-Crossley (COR 0.6 and 0.9) and half-sine pulses, 50-200 kHz,
+    an ideal load cell, `noise` x the peak."""
+    rng = np.random.default_rng(seed)
+    shapes = [pulses.hunt_crossley_pulse(cor, SPEED, MASS) for cor in (0.6, 0.9)]
+    shapes.append((lambda t: np.where((t > 0) & (t < 1e-3),
+                                      1e4 * np.sin(np.pi * np.clip(t, 0, 1e-3) / 1e-3), 0.0),
+                   1e-3, None))
+    errors = []
+    for k in range(12):
+        pulse, duration, rebound = shapes[k % 3]
+        record = pulses.load_cell_record(pulse, duration, (50e3, 100e3, 200e3)[k % 3 - 1],
+                                         noise=noise, offset=0.01, rng=rng, mass_kg=MASS,
+                                         impact_speed_m_s=SPEED, rebound_speed_m_s=rebound)
+        found = quiet_process(record, method=method, uncertainty=False).features.values["P1"]
+        errors.append(found / duration - 1)
+    return np.array(errors)
+
+
+def test_contact_time_of_noisy_records_is_not_cut_short():
+    """1% noise: the fitted edges read the contact time within 2% at the median and without the
+    bias of the samples' description (the threshold cuts up to 7% off; docs/features.md)."""
+    fitted = noisy_cases(0.01, 1)
+    samples = noisy_cases(0.01, 1, method="samples")
+    assert np.median(np.abs(fitted)) < 0.02
+    assert abs(np.mean(fitted)) < 0.01
+    assert np.mean(samples) < -0.025  # what the default did before issue 39
+
+
+def test_a_clean_record_is_described_by_its_samples():
+    """Noise that does not raise the threshold: the samples, exactly as before (a simulation's
+    features do not move)."""
+    record = pulses.half_sine(1e4, 1e-3, 50e3, phase=0.3, mass_kg=MASS, impact_speed_m_s=SPEED)
+    features = quiet_process(record).features
+    assert features.method == "samples"
+    assert features.values["P1"] == pytest.approx(1e-3, rel=1e-3)
+
+
+def test_the_uncertainty_is_reproducible_and_shrinks_with_the_noise():
+    pulse, duration, rebound = pulses.hunt_crossley_pulse(0.6, SPEED, MASS)
+    u = []
+    for noise in (0.005, 0.02):
+        record = pulses.load_cell_record(pulse, duration, 100e3, noise=noise,
+                                         rng=np.random.default_rng(3), mass_kg=MASS,
+                                         impact_speed_m_s=SPEED)
+        first = quiet_process(record).features.uncertainty
+        assert quiet_process(record).features.uncertainty == first  # seeded bootstrap
+        u.append(first)
+    for key in ("P1", "P6", "impulse_n_s", "P17"):
+        assert 0 < u[0][key] < u[1][key], key
+
+
+def test_the_load_cells_resonance_is_found_and_divided_out():
+    """A half-sine through an 8 kHz load cell (damping ratio 0.03) rings on after the contact:
+    the resonance is found within 1% (damping ratio within 0.01) and dividing it out brings the
+    peak, 2-3% high through the cell, within 1%."""
+    rng = np.random.default_rng(4)
+    pulse = lambda t: np.where((t > 0) & (t < 1e-3),  # noqa: E731
+                               1e4 * np.sin(np.pi * np.clip(t, 0, 1e-3) / 1e-3), 0.0)
+    record = pulses.load_cell_record(pulse, 1e-3, 100e3, noise=0.005, resonance_hz=8e3,
+                                     rng=rng, mass_kg=MASS, impact_speed_m_s=SPEED)
+    base = remove_baseline(record)
+    resonance = find_resonance(base, contact_window(base))
+    assert resonance.frequency_hz == pytest.approx(8e3, rel=0.01)
+    assert resonance.damping_ratio == pytest.approx(0.03, abs=0.01)
+    kept = quiet_process(record, ringing=False).features.values["P6"]
+    divided = quiet_process(record)
+    assert kept / 1e4 - 1 > 0.015
+    assert divided.features.values["P6"] == pytest.approx(1e4, rel=0.01)
+    assert divided.filtered.metadata["load_cell_resonance"]["frequency_hz"] == pytest.approx(
+        8e3, rel=0.01)
+
+
+def test_a_filter_that_smooths_nothing_warns():
+    """LOESS with its default window (10% of a 1 ms contact) is 5 samples at 50 kHz, whose
+    tricube weights leave the 3 middle ones: it returns the record as it was. A warning says
+    so, naming the filter, instead of the JSON saying it was applied."""
+    pulse, duration, rebound = pulses.hunt_crossley_pulse(0.6, SPEED, MASS)
+    record = pulses.load_cell_record(pulse, duration, 50e3, noise=0.01,
+                                     rng=np.random.default_rng(5), mass_kg=MASS,
+                                     impact_speed_m_s=SPEED)
+    with pytest.warns(InputWarning, match=r"filter loess .* smoothed nothing"):
+        filtered = apply_filter(remove_baseline(record), "loess")
+    assert filtered.metadata["filter_change_rms_n"] < 0.1 * 0.01 * filtered.force_n.max()
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--load-cell-hz", "-5"], ["--load-cell-hz", "(0, inf)"]),
+    (["--load-cell-hz", "8000", "--load-cell-damping", "2"], ["--load-cell-damping", "(0, 1)"]),
+    (["--pulse-method", "spline"], ["--pulse-method", "fit", "samples"]),
+])
+def test_new_processing_flags_refuse_bad_values(bad_input, argv, words):
+    with resources.as_file(SAMPLE) as path:
+        bad_input(["features", path, *argv], *words)
