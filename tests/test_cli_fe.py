@@ -111,6 +111,11 @@ def test_demo_json_and_plot(capsys, tmp_path):
     # warn about is the demo's note
     assert "warning:" not in err and json.loads(out)["warnings"] == []
     assert any("training range" in note for note in json.loads(out)["identify"]["notes"])
+    # issue 39: the sample's contact time with the default processing, against its exact value
+    found = json.loads(out)["identify"]
+    assert found["sample_contact_time_s"] == pytest.approx(found["sample_exact_contact_time_s"],
+                                                           rel=0.02)
+    assert found["verification"]["passed"] is False  # a Hunt-Crossley pulse, not a universal ball
 
 
 def test_demo_json_flags_the_three_layer_constants(capsys, tmp_path):
