@@ -13,7 +13,8 @@ level. The package's sample record (exact contact time 1.097 ms) is reported too
 adds the same table for the processing before issue 39 (piecewise linear through the samples,
 ends extrapolated from the noise threshold), measured on the same records in the same run.
 
-Run: python benchmarks/bench_feature_accuracy.py [--cases N] [--before] [--no-fe]
+Run: python benchmarks/bench_feature_accuracy.py [--cases N] [--before] [--no-fe] [--known-resonance]
+[--calibrate]
 """
 
 from __future__ import annotations
@@ -120,12 +121,12 @@ def measured(pulse, duration, rebound, mass, speed, *, rate_hz, noise, ringing_h
                                    rebound_speed_m_s=rebound)
 
 
-def features_of(record: ImpactRecord, method: str):
+def features_of(record: ImpactRecord, method: str, resonance_hz: float | None = None):
     """The reported values and their standard uncertainties (None where not given)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        features = process(record, warn_noisy=False, method=method,
-                           uncertainty=method == "fit").features
+        features = process(record, warn_noisy=False, method=method, resonance_hz=resonance_hz,
+                           damping_ratio=DAMPING_RATIO, uncertainty=method == "fit").features
     values = {**features.values, **{key: getattr(features, key) for key in EXTRA}}
     return values, features.uncertainty or {}
 
@@ -184,6 +185,9 @@ def main(argv=None) -> None:
     parser.add_argument("--before", action="store_true",
                         help="also the processing before issue 39 on the same records")
     parser.add_argument("--no-fe", action="store_true", help="leave out the FE pulses")
+    parser.add_argument("--known-resonance", action="store_true",
+                        help="give the processing each record's load-cell resonance, as a lab "
+                             "that knows it does (--load-cell-hz)")
     parser.add_argument("--seed", type=int, default=None,
                         help="records' seed (default 39; 7 with --calibrate)")
     parser.add_argument("--calibrate", action="store_true",
@@ -207,7 +211,8 @@ def main(argv=None) -> None:
         record = measured(*pulses[k][1:], rng=rng, **settings)
         for method in methods:
             try:
-                value, u = features_of(record, method)
+                known = settings["ringing_hz"] if args.known_resonance else None
+                value, u = features_of(record, method, known if method == "fit" else None)
             except InputError:
                 failures[method] += 1
                 continue
@@ -217,6 +222,7 @@ def main(argv=None) -> None:
             print(f"{case + 1}/{args.cases} records", file=sys.stderr)
     result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores",
               "records": args.cases, "seed": seed, "shapes": [p[0] for p in pulses],
+              "known_resonance": args.known_resonance,
               "seconds": round(time.perf_counter() - started, 1)}
     for method in methods:
         label = "default" if method == "fit" else "before_issue_39"

@@ -8,7 +8,8 @@ therefore fitted by least squares with
     F(t) = a ((t - t0) / (t_top - t0))^p   for t > t0, 0 before,
 
 over the baseline samples just outside the contact and the samples up to the first one that
-reaches `EDGE_FRACTION` of the peak (`t_top`); the power p is free in `EXPONENT_RANGE`. The zero
+reaches `EDGE_FRACTION` of the peak (`t_top`); the power p lies in `EXPONENT_RANGE`, drawn
+towards 1.5 by a prior (`POWER_PRIOR`) that a well-sampled edge overrules. The zero
 crossing t0 then comes from the whole edge, not from the two samples nearest the noise threshold,
 so that neither the noise (which raises the threshold) nor the sampling rate (which sets where
 the samples fall) moves it. The end is the same fit mirrored in time. docs/features.md says how
@@ -37,8 +38,6 @@ EXPONENT_RANGE = (0.5, 3.0)
 #: The power's prior, mean and standard deviation: a sphere's Hertzian contact (1.5), weak
 #: enough that a pulse with many samples above the noise sets its own power (a half-sine's 1).
 POWER_PRIOR = (1.5, 0.25)
-#: Allowed curvature b of an edge fitted with a given power, F = a s^p (1 + b s).
-CURVATURE_RANGE = (-0.9, 20.0)
 
 
 @dataclass(frozen=True)
@@ -53,21 +52,20 @@ class EdgeFit:
     exponent: float
     samples: int
     side: int
-    curvature: float = 0.0
 
     def force(self, time_s: np.ndarray) -> np.ndarray:
         """The fitted edge shape at `time_s` (N): zero outside the contact."""
         s = np.clip((np.asarray(time_s) - self.time_s) / (self.top_s - self.time_s), 0.0, None)
-        return self.amplitude_n * s**self.exponent * (1 + self.curvature * s)
+        return self.amplitude_n * s**self.exponent
 
 
 def fit_edge(time_s: np.ndarray, force_n: np.ndarray, peak_index: int, first: int, last: int,
-             side: int, guess: EdgeFit | None = None, power: float | None = None,
-             noise_n: float = 0.0) -> EdgeFit:
+             side: int, guess: EdgeFit | None = None, noise_n: float = 0.0) -> EdgeFit:
     """The edge (`side` +1: start, -1: end) of the pulse whose largest sample is `peak_index` and
-    whose samples `first..last` stand above the noise threshold (`records.contact_window`).
-    Three first guesses of the power (1, 1.5, 2.5), or the one of `guess`, an earlier fit of the
-    same edge."""
+    whose samples `first..last` stand above the noise threshold (`records.contact_window`), in a
+    record of noise `noise_n` (N RMS: the misfit's unit, against which the power's prior
+    weighs). Three first guesses of the power (1, 1.5, 2.5), or the one of `guess`, an earlier
+    fit of the same edge."""
     from scipy.optimize import least_squares  # here: SciPy's import is slow
 
     if side > 0:
@@ -86,44 +84,33 @@ def fit_edge(time_s: np.ndarray, force_n: np.ndarray, peak_index: int, first: in
     t_top = float(x[-1])
     span = t_top - float(x[0])
 
-    fixed = power is not None
-
     def shape(q: np.ndarray) -> np.ndarray:
-        t0, amplitude, third = q
-        s = np.clip((x - t0) / (t_top - t0), 0.0, None)
-        return amplitude * (s**power * (1 + third * s) if fixed else s**third)
+        t0, amplitude, power = q
+        return amplitude * np.clip((x - t0) / (t_top - t0), 0.0, None) ** power
 
     # the misfit in units of the noise, and the prior on the power in units of its spread
     noise = max(noise_n, 1e-9 * peak)
-    prior = 0.0 if fixed else 1.0
 
     def residual(q: np.ndarray) -> np.ndarray:
-        return np.append((shape(q) - y) / noise, prior * (q[2] - POWER_PRIOR[0]) / POWER_PRIOR[1])
+        return np.append((shape(q) - y) / noise, (q[2] - POWER_PRIOR[0]) / POWER_PRIOR[1])
 
-    third_range = CURVATURE_RANGE if fixed else EXPONENT_RANGE
-    lower = [float(x[0]), 0.0, third_range[0]]
-    upper = [t_top - 1e-3 * span, 4.0 * max(peak, float(y[-1])), third_range[1]]
-    best = None
-    if fixed:
-        guesses = [(t[max(edge - 1, 0)], 0.0), (t[edge], 1.0)]
-    else:
-        guesses = [(t[max(edge - 1, 0)], 1.5), (t[edge], 1.0), (t[max(edge - 1, 0)], 2.5)]
+    lower = [float(x[0]), 0.0, EXPONENT_RANGE[0]]
+    upper = [t_top - 1e-3 * span, 4.0 * max(peak, float(y[-1])), EXPONENT_RANGE[1]]
+    guesses = [(t[max(edge - 1, 0)], 1.5), (t[edge], 1.0), (t[max(edge - 1, 0)], 2.5)]
     if guess is not None:
-        guesses = [(guess.time_s * side, guess.curvature if fixed else guess.exponent)]
-    for start_guess, third in guesses:
-        q0 = np.clip([float(start_guess), max(float(y[-1]), 1e-300) / (2 if fixed else 1), third],
-                     lower, upper)
+        guesses = [(guess.time_s * side, guess.exponent)]
+    best = None
+    for start_guess, power in guesses:
+        q0 = np.clip([float(start_guess), max(float(y[-1]), 1e-300), power], lower, upper)
         q0[0] = min(max(q0[0], lower[0]), upper[0] - 1e-6 * span)
-        fit = least_squares(lambda q: residual(q), q0, bounds=(lower, upper),
+        fit = least_squares(residual, q0, bounds=(lower, upper),
                             x_scale=[span, max(peak, 1e-300), 1.0], xtol=1e-10, ftol=1e-10)
         if best is None or fit.cost < best.cost:
             best = fit
-    t0, amplitude, third = (float(v) for v in best.x)
+    t0, amplitude, power = (float(v) for v in best.x)
     if side < 0:
         t0, t_top = -t0, -t_top
-    if fixed:
-        return EdgeFit(t0, t_top, amplitude, power, int(y.size), side, third)
-    return EdgeFit(t0, t_top, amplitude, third, int(y.size), side)
+    return EdgeFit(t0, t_top, amplitude, power, int(y.size), side)
 
 
 def _top_index(f: np.ndarray, edge: int, limit: int, peak: float) -> int:

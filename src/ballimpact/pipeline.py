@@ -75,14 +75,19 @@ def process(
     damping_ratio: float = DEFAULT_DAMPING_RATIO,
 ) -> ProcessedImpact:
     """Check a measured record, remove the load-cell offset, resample to `resample_hz` (Hz) if
-    given, apply the filter `filter` (see `apply_filter`) and extract the features.
+    given, divide out the load cell's resonance (`ringing`: the one given, `resonance_hz` Hz and
+    `damping_ratio`, or the one the record shows; `without_ringing`), apply the filter `filter`
+    (see `apply_filter`) and extract the features: by default (`method="fit"`) from the pulse
+    with fitted edges, with the standard `uncertainty` of every value (`extract_features`;
+    docs/features.md).
 
     The plausibility checks (`plausibility`): the force must be positive in compression (not an
     inverted pulse), the record must not be clipped, must hold one pulse (or `pulse`, 1 = first,
     picks one of several), and its impulse must fit its speeds; `allow` names the checks to turn
     into warnings.
 
-    A noisy record gets a note naming the filter to use, in `features.warnings` and, if
+    With `method="samples"`, a noisy record gets a note naming the filter to use, in
+    `features.warnings` and, if
     `warn_noisy`, as an `InputWarning` naming the record's file. `warn_noisy=None` (default)
     warns about the user's records but not about the package's built-in data (its loader marks
     them `builtin`, and the sample is noisy on purpose); pass False for records made to be noisy

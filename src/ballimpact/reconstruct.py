@@ -29,8 +29,6 @@ from .records import ContactWindow, ImpactRecord, rms
 POINTS_PER_SAMPLE = 4
 #: Points of each fitted edge shape.
 EDGE_POINTS = 24
-END_POWER = False
-END_POWER_RANGE = (1.0, 2.0)
 #: Bootstrap draws of `bootstrap_uncertainty`.
 DRAWS = 40
 #: Per value, the scale from the bootstrap's spread to the stated standard uncertainty: the
@@ -86,9 +84,7 @@ def fitted_edges(record: ImpactRecord, window: ContactWindow,
     start = fit_edge(record.time_s, record.force_n, peak, window.first, window.last, +1,
                      guess=None if like is None else like.start, noise_n=window.noise_rms_n)
     end = fit_edge(record.time_s, record.force_n, peak, window.first, window.last, -1,
-                   guess=None if like is None else like.end,
-                   power=float(np.clip(start.exponent, *END_POWER_RANGE)) if END_POWER else None,
-                   noise_n=window.noise_rms_n)
+                   guess=None if like is None else like.end, noise_n=window.noise_rms_n)
     return start, end
 
 
