@@ -14,7 +14,7 @@ adds the same table for the processing before issue 39 (piecewise linear through
 ends extrapolated from the noise threshold), measured on the same records in the same run.
 
 Run: python benchmarks/bench_feature_accuracy.py [--cases N] [--before] [--no-fe] [--known-resonance]
-[--calibrate]
+[--ideal-cell] [--calibrate]
 """
 
 from __future__ import annotations
@@ -185,6 +185,8 @@ def main(argv=None) -> None:
     parser.add_argument("--before", action="store_true",
                         help="also the processing before issue 39 on the same records")
     parser.add_argument("--no-fe", action="store_true", help="leave out the FE pulses")
+    parser.add_argument("--ideal-cell", action="store_true",
+                        help="a load cell that does not ring (the noise and the sampling alone)")
     parser.add_argument("--known-resonance", action="store_true",
                         help="give the processing each record's load-cell resonance, as a lab "
                              "that knows it does (--load-cell-hz)")
@@ -206,7 +208,7 @@ def main(argv=None) -> None:
         k = case % len(pulses)
         noise = NOISE_LEVELS[(case // len(pulses)) % len(NOISE_LEVELS)]
         settings = dict(rate_hz=float(rng.choice(RATES_HZ)), noise=noise,
-                        ringing_hz=float(rng.choice(RINGING_HZ)),
+                        ringing_hz=None if args.ideal_cell else float(rng.choice(RINGING_HZ)),
                         offset=float(rng.uniform(-0.05, 0.05)))
         record = measured(*pulses[k][1:], rng=rng, **settings)
         for method in methods:
@@ -222,7 +224,7 @@ def main(argv=None) -> None:
             print(f"{case + 1}/{args.cases} records", file=sys.stderr)
     result = {"machine": f"{platform.machine()}, {os.cpu_count()} cores",
               "records": args.cases, "seed": seed, "shapes": [p[0] for p in pulses],
-              "known_resonance": args.known_resonance,
+              "known_resonance": args.known_resonance, "ideal_cell": args.ideal_cell,
               "seconds": round(time.perf_counter() - started, 1)}
     for method in methods:
         label = "default" if method == "fit" else "before_issue_39"

@@ -122,12 +122,22 @@ def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
     rise = np.linspace(start.time_s, start.top_s, EDGE_POINTS)
     fall = np.linspace(end.top_s, end.time_s, EDGE_POINTS)
     knots_t = np.concatenate([rise[:-1], middle, fall[1:]])
-    knots_f = np.concatenate([start.force(rise[:-1]), spline(middle), end.force(fall[1:])])
+    knots_f = np.concatenate([blended(start, spline, rise[:-1]), spline(middle),
+                              blended(end, spline, fall[1:])])
     knots_f[0] = knots_f[-1] = 0.0
     knots_f = np.maximum(knots_f, 0.0)
     order = np.concatenate([[True], np.diff(knots_t) > 0])
     curve = PulseCurve(knots_t[order] - start.time_s, knots_f[order])
     return FittedPulse(curve, start, end, lam)
+
+
+def blended(edge: EdgeFit, spline, time_s: np.ndarray) -> np.ndarray:
+    """The edge's shape near its zero, handed over to the spline towards its top (a smoothstep
+    over the upper half of the edge's span): no kink where the two meet."""
+    share = np.clip((time_s - edge.time_s) / (edge.top_s - edge.time_s), 0.0, 1.0)
+    w = np.clip(2 * share - 1, 0.0, 1.0)
+    w = w * w * (3 - 2 * w)  # 0 below the middle of the edge, 1 at its top
+    return (1 - w) * edge.force(time_s) + w * spline(time_s)
 
 
 #: Smoothing parameters `discrepancy_smoothing` searches (on the unit interval, peak units).
