@@ -85,8 +85,8 @@ def best_alignment(test, t_model: np.ndarray, f_model: np.ndarray) -> tuple[floa
 
 def measured_like(test, run):
     """The features of a model's pulse measured as the test's was: resampled at the test's
-    rate and, for a test described by its samples, windowed at the test's threshold (a fraction
-    of the peak; a test with fitted edges is measured whole). A noisy test's window
+    rate, windowed at the test's threshold (a fraction of the peak) and, for a test described by
+    its fitted pulse, described the same way at the test's noise level. A noisy test's window
     starts and ends where its pulse crosses a threshold above the noise (5 x its RMS, 5% of the
     peak at 1% noise), extrapolated to zero; the clean FE pulse measured at 1e-3 of its peak would
     differ in contact time by the pulse's tails alone (5% on the thesis' ball). `run`: an FE run
@@ -99,18 +99,19 @@ def measured_like(test, run):
     from .records import ImpactRecord, resample
 
     features = test.features
-    spacing = float(np.median(np.diff(features.time_s)))
-    # a test described by its fitted pulse (the default since issue 39) is not cut by its noise
-    # threshold: the model's pulse is then measured whole, as the fit measures the test's
-    fraction = 1e-3 if features.method == "fit" else max(
-        1e-3, features.window.threshold_n / features.values["P6"])
+    spacing = features.sample_interval_s or float(np.median(np.diff(features.time_s)))
+    fraction = max(1e-3, features.window.threshold_n / features.values["P6"])
+    # a test described by its fitted pulse (the default since issue 39): the model's pulse is
+    # described the same way, as a record of the test's noise would be (the same smoothing)
+    fitted = {"method": "fit", "noise_rms_n": features.window.noise_rms_n} \
+        if features.method == "fit" else {}
     record = run if isinstance(run, ImpactRecord) else run.record()
     resampled = resample(record, 1.0 / spacing, method="linear")
     # notes on the model's own pulse (its impulse over the test's window) are nothing the user
     # can act on: warnings are for the user's data
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)
-        return extract_features(resampled, threshold_fraction=fraction)
+        return extract_features(resampled, threshold_fraction=fraction, **fitted)
 
 
 def noisy_record(pulse_n: np.ndarray, impact_speed_m_s: float, cor: float, mass_kg: float,

@@ -220,6 +220,7 @@ class ImpactFeatures:
     warnings: list[str] = field(default_factory=list)
     method: str = "samples"
     uncertainty: dict[str, float] | None = None
+    sample_interval_s: float | None = None  # the record's median time step (s)
 
     @property
     def impulse_check_passed(self) -> bool | None:
@@ -335,6 +336,7 @@ def extract_features(
     allow: Collection[str] = (),
     method: str = "samples",
     uncertainty: bool = False,
+    noise_rms_n: float | None = None,
 ) -> ImpactFeatures:
     """The 19 characteristic values and the load-cell identities of one impact.
 
@@ -353,6 +355,9 @@ def extract_features(
       must have and smooths between them (`reconstruct.fitted_pulse_curve`): for measured,
       noisy records (`pipeline.process` uses it); a record whose noise does not raise the
       contact threshold above `threshold_fraction` of the peak is described by its samples.
+    - `noise_rms_n`: describe the record as one of this noise (N RMS) would be described (its
+      threshold, the fit's smoothing and the edges' weight against their prior): a model's clean
+      pulse compared with a noisy test (`comparison.measured_like`).
     - `uncertainty`: also the standard uncertainty of every value from the record's noise
       (`reconstruct.bootstrap_uncertainty`; `ImpactFeatures.uncertainty`).
 
@@ -374,7 +379,8 @@ def extract_features(
     select_pulse(record)  # several pulses: an error that lists them
     if method not in METHODS:
         raise InputError(f"method: {method!r}; allowed: {', '.join(METHODS)}")
-    window, curve, fitted = _window_and_curve(record, threshold_fraction, noise_factor, method)
+    window, curve, fitted = _window_and_curve(record, threshold_fraction, noise_factor, method,
+                                              noise_rms_n=noise_rms_n)
     impulse = curve.integral(0.0, curve.duration_s)
     wav = str(record.metadata.get("file", "")).lower().endswith(".wav")
     check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow, wav=wav)
@@ -433,6 +439,7 @@ def extract_features(
         warnings=notes,
         method="samples" if fitted is None else "fit",
         uncertainty=spread,
+        sample_interval_s=float(np.median(np.diff(record.time_s))),
     )
 
 
@@ -441,11 +448,17 @@ METHODS = ("samples", "fit")
 
 
 def _window_and_curve(record: ImpactRecord, threshold_fraction: float, noise_factor: float,
-                      method: str, like=None):
+                      method: str, like=None, noise_rms_n: float | None = None):
     """The contact window (its ends the curve's, for `fit`), the pulse curve and, for `fit`,
-    the `reconstruct.FittedPulse` (None otherwise); `like` as in `fitted_pulse_curve`."""
+    the `reconstruct.FittedPulse` (None otherwise); `like` as in `fitted_pulse_curve`;
+    `noise_rms_n` as in `extract_features`."""
+    if noise_rms_n:
+        threshold_fraction = max(threshold_fraction,
+                                 noise_factor * noise_rms_n / float(record.force_n.max()))
     window = contact_window(record, threshold_fraction=threshold_fraction,
                             noise_factor=noise_factor)
+    if noise_rms_n:
+        window = replace(window, noise_rms_n=noise_rms_n)
     # a record whose noise does not raise the threshold (a simulation, a clean record) is
     # described exactly by its samples
     if method == "fit" and window.threshold_n > threshold_fraction * record.force_n.max():

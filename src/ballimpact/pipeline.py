@@ -41,16 +41,12 @@ def without_ringing(record: ImpactRecord, resonance_hz: float | None = None,
     contact (`ringing.find_resonance`); as it is when none is given or found, or when it is not
     uniformly sampled."""
     from .records import contact_window, sample_rate_hz
-    from .ringing import Resonance, compensate, find_resonance, find_resonance_in_spectrum
+    from .ringing import Resonance, compensate, find_resonance
 
     try:
         sample_rate_hz(record)
-        if resonance_hz:
-            resonance = Resonance(resonance_hz, damping_ratio, math.nan)
-        else:
-            window = contact_window(record)
-            resonance = (find_resonance(record, window)
-                         or find_resonance_in_spectrum(record, window))
+        resonance = (Resonance(resonance_hz, damping_ratio, math.nan) if resonance_hz
+                     else find_resonance(record, contact_window(record)))
     except InputError:
         if resonance_hz:
             raise

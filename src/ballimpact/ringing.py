@@ -29,13 +29,6 @@ MIN_EXPLAINED = 0.5
 MIN_CYCLES_PER_CONTACT = 3.0
 #: The cut above the resonance, as a multiple of its frequency.
 LOWPASS_FACTOR = 2.0
-#: A spectral peak is the resonance when it stands this many times above the spectrum around it
-#: ...
-MIN_PEAK_RATIO = 3.0
-#: ... and this many times above the noise's spectrum.
-MIN_PEAK_NOISE = 10.0
-#: The damping ratio taken when the peak's width cannot be read.
-DEFAULT_DAMPING_RATIO = 0.03
 #: Damping ratios accepted as a load cell's.
 DAMPING_RANGE = (0.002, 0.3)
 
@@ -97,47 +90,6 @@ def find_resonance(record: ImpactRecord, window: ContactWindow) -> Resonance | N
             or not DAMPING_RANGE[0] <= zeta <= DAMPING_RANGE[1]):
         return None
     return Resonance(natural / (2 * np.pi), zeta, float(a))
-
-
-def find_resonance_in_spectrum(record: ImpactRecord, window: ContactWindow) -> Resonance | None:
-    """The resonance as a peak of the record's spectrum standing `MIN_PEAK_RATIO` times above the
-    spectrum around it (a factor 1.5 either way) and `MIN_PEAK_NOISE` times above the noise's,
-    between `MIN_CYCLES_PER_CONTACT` cycles per contact and 0.4 of the sampling rate: a load cell
-    rings inside the contact even where its free vibration after it is lost in the noise. Its
-    damping ratio from the peak's half-power width (at least the spectrum's resolution gives;
-    `DEFAULT_DAMPING_RATIO` where the width cannot be read)."""
-    t, f = record.time_s, record.force_n
-    step = float(np.median(np.diff(t)))
-    n = f.size
-    pad = 8 * n
-    spectrum = np.abs(np.fft.rfft((f - np.mean(f[: max(1, n // 10)])) * np.hanning(n), n=pad))
-    freqs = np.fft.rfftfreq(pad, step)
-    low, high = MIN_CYCLES_PER_CONTACT / window.duration_s, 0.4 / step
-    band = np.flatnonzero((freqs >= low) & (freqs <= high))
-    if band.size < 16 or window.noise_rms_n <= 0:
-        return None
-    # the noise's level in this spectrum: white noise of the pre-impact RMS through the window
-    noise = window.noise_rms_n * np.sqrt(np.sum(np.hanning(n) ** 2))
-    best, ratio = None, 0.0
-    for i in band[:: 4]:
-        around = spectrum[(freqs >= freqs[i] / 1.5) & (freqs <= freqs[i] * 1.5)]
-        r = spectrum[i] / np.median(around)
-        if r > ratio and spectrum[i] > MIN_PEAK_NOISE * noise:
-            best, ratio = i, r
-    if best is None or ratio < MIN_PEAK_RATIO:
-        return None
-    top = best - 4 + int(np.argmax(spectrum[max(best - 4, 0) : best + 5]))
-    half = spectrum[top] / np.sqrt(2)
-    left, right = top, top
-    while left > 0 and spectrum[left] > half:
-        left -= 1
-    while right < spectrum.size - 1 and spectrum[right] > half:
-        right += 1
-    width = freqs[right] - freqs[left]
-    resolution = 1.0 / (n * step)
-    zeta = width / (2 * freqs[top]) if width > 2 * resolution else DEFAULT_DAMPING_RATIO
-    zeta = float(np.clip(zeta, *DAMPING_RANGE))
-    return Resonance(float(freqs[top]) / np.sqrt(1 - 2 * zeta**2), zeta, math.nan)
 
 
 def compensate(record: ImpactRecord, resonance: Resonance) -> ImpactRecord:
