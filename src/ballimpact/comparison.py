@@ -51,7 +51,11 @@ def compare(measured: dict[str, float], simulated: dict[str, float], nrmse: floa
 
 
 def features_pulse(features) -> tuple[np.ndarray, np.ndarray]:
-    """The contact pulse of `ImpactFeatures` (its times already count from contact start)."""
+    """The contact pulse of `ImpactFeatures` as measured (times from contact start): its
+    samples, noise and all (`samples_time_s`, `samples_force_n`) when the values came from a
+    fitted pulse, else its curve."""
+    if getattr(features, "samples_time_s", None) is not None:
+        return features.samples_time_s, features.samples_force_n
     return features.time_s, features.force_n
 
 
@@ -100,11 +104,12 @@ def measured_like(test, run):
 
     features = test.features
     spacing = features.sample_interval_s or float(np.median(np.diff(features.time_s)))
-    fraction = max(1e-3, features.window.threshold_n / features.values["P6"])
     # a test described by its fitted pulse (the default since issue 39): the model's pulse is
-    # described the same way, as a record of the test's noise would be (the same smoothing)
-    fitted = {"method": "fit", "noise_rms_n": features.window.noise_rms_n} \
-        if features.method == "fit" else {}
+    # described the same way, as a record of the test's noise would be (its threshold from that
+    # noise, the same smoothing)
+    fitted = {"method": "fit", "noise_rms_n": features.window.noise_rms_n,
+              "smoothing": features.smoothing} if features.method == "fit" else {}
+    fraction = 1e-3 if fitted else max(1e-3, features.window.threshold_n / features.values["P6"])
     record = run if isinstance(run, ImpactRecord) else run.record()
     resampled = resample(record, 1.0 / spacing, method="linear")
     # notes on the model's own pulse (its impulse over the test's window) are nothing the user

@@ -221,6 +221,13 @@ class ImpactFeatures:
     method: str = "samples"
     uncertainty: dict[str, float] | None = None
     sample_interval_s: float | None = None  # the record's median time step (s)
+    #: the record's samples over the contact (times from its start, the ends at zero force):
+    #: what a model's pulse is compared with (`comparison.features_pulse`), noise and all, so
+    #: that misfits and their standard errors see the measurement as it was; for `samples` the
+    #: same as `time_s`, `force_n`
+    samples_time_s: np.ndarray | None = None
+    samples_force_n: np.ndarray | None = None
+    smoothing: float | None = None  # the fitted pulse's spline smoothing (unit interval, peak)
 
     @property
     def impulse_check_passed(self) -> bool | None:
@@ -337,6 +344,7 @@ def extract_features(
     method: str = "samples",
     uncertainty: bool = False,
     noise_rms_n: float | None = None,
+    smoothing: float | None = None,
 ) -> ImpactFeatures:
     """The 19 characteristic values and the load-cell identities of one impact.
 
@@ -357,7 +365,8 @@ def extract_features(
       contact threshold above `threshold_fraction` of the peak is described by its samples.
     - `noise_rms_n`: describe the record as one of this noise (N RMS) would be described (its
       threshold, the fit's smoothing and the edges' weight against their prior): a model's clean
-      pulse compared with a noisy test (`comparison.measured_like`).
+      pulse compared with a noisy test (`comparison.measured_like`), with the test's spline
+      `smoothing` (`ImpactFeatures.smoothing`).
     - `uncertainty`: also the standard uncertainty of every value from the record's noise
       (`reconstruct.bootstrap_uncertainty`; `ImpactFeatures.uncertainty`).
 
@@ -380,7 +389,7 @@ def extract_features(
     if method not in METHODS:
         raise InputError(f"method: {method!r}; allowed: {', '.join(METHODS)}")
     window, curve, fitted = _window_and_curve(record, threshold_fraction, noise_factor, method,
-                                              noise_rms_n=noise_rms_n)
+                                              noise_rms_n=noise_rms_n, smoothing=smoothing)
     impulse = curve.integral(0.0, curve.duration_s)
     wav = str(record.metadata.get("file", "")).lower().endswith(".wav")
     check_momentum(impulse, mass, v_in, record.rebound_speed_m_s, allow, wav=wav)
@@ -440,7 +449,19 @@ def extract_features(
         method="samples" if fitted is None else "fit",
         uncertainty=spread,
         sample_interval_s=float(np.median(np.diff(record.time_s))),
+        **_samples_pulse(record, window, fitted),
+        smoothing=None if fitted is None else fitted.smoothing,
     )
+
+
+def _samples_pulse(record: ImpactRecord, window: ContactWindow, fitted) -> dict[str, Any]:
+    """`samples_time_s`, `samples_force_n` of a fitted pulse (none for the samples')."""
+    if fitted is None:
+        return {}
+    inside = (record.time_s > window.start_s) & (record.time_s < window.end_s)
+    t = np.concatenate([[window.start_s], record.time_s[inside], [window.end_s]])
+    f = np.concatenate([[0.0], record.force_n[inside], [0.0]])
+    return {"samples_time_s": t - window.start_s, "samples_force_n": f}
 
 
 #: The pulse descriptions of `extract_features(method=...)`.
@@ -448,15 +469,15 @@ METHODS = ("samples", "fit")
 
 
 def _window_and_curve(record: ImpactRecord, threshold_fraction: float, noise_factor: float,
-                      method: str, like=None, noise_rms_n: float | None = None):
+                      method: str, like=None, noise_rms_n: float | None = None,
+                      smoothing: float | None = None):
     """The contact window (its ends the curve's, for `fit`), the pulse curve and, for `fit`,
     the `reconstruct.FittedPulse` (None otherwise); `like` as in `fitted_pulse_curve`;
     `noise_rms_n` as in `extract_features`."""
+    raised = threshold_fraction
     if noise_rms_n:
-        threshold_fraction = max(threshold_fraction,
-                                 noise_factor * noise_rms_n / float(record.force_n.max()))
-    window = contact_window(record, threshold_fraction=threshold_fraction,
-                            noise_factor=noise_factor)
+        raised = max(threshold_fraction, noise_factor * noise_rms_n / float(record.force_n.max()))
+    window = contact_window(record, threshold_fraction=raised, noise_factor=noise_factor)
     if noise_rms_n:
         window = replace(window, noise_rms_n=noise_rms_n)
     # a record whose noise does not raise the threshold (a simulation, a clean record) is
@@ -464,7 +485,7 @@ def _window_and_curve(record: ImpactRecord, threshold_fraction: float, noise_fac
     if method == "fit" and window.threshold_n > threshold_fraction * record.force_n.max():
         from .reconstruct import fitted_pulse_curve
 
-        fitted = fitted_pulse_curve(record, window, like)
+        fitted = fitted_pulse_curve(record, window, like, smoothing)
         if fitted is not None:
             return (replace(window, start_s=fitted.start.time_s, end_s=fitted.end.time_s),
                     fitted.curve, fitted)

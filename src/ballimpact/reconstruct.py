@@ -89,10 +89,12 @@ def fitted_edges(record: ImpactRecord, window: ContactWindow,
 
 
 def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
-                       like: FittedPulse | None = None) -> FittedPulse | None:
+                       like: FittedPulse | None = None,
+                       smoothing: float | None = None) -> FittedPulse | None:
     """The smooth pulse of `record` (see the module); None when fewer than 5 samples lie between
     the fitted edges. `like`, the fit of a record of the same pulse (a bootstrap draw's original),
-    gives the edges' first guess and the smoothing, so that only the fits run again."""
+    gives the edges' first guess and the smoothing, so that only the fits run again; `smoothing`
+    alone sets the spline's (another record's: a model's pulse smoothed as its test was)."""
     from scipy.interpolate import make_smoothing_spline
 
     from .features import PulseCurve
@@ -113,8 +115,8 @@ def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
     # seconds and newtons
     span, scale = x[-1] - x[0], max(float(np.max(np.abs(y))), 1e-300)
     u, v = (x - x[0]) / span, y / scale
-    lam = (discrepancy_smoothing(u, v, weight, window.noise_rms_n / scale) if like is None
-           else like.smoothing)
+    lam = (like.smoothing if like is not None else smoothing if smoothing is not None
+           else discrepancy_smoothing(u, v, weight, window.noise_rms_n / scale))
     unit = make_smoothing_spline(u, v, w=weight, lam=lam)
     spline = lambda time: scale * unit((time - x[0]) / span)  # noqa: E731
     middle = np.linspace(start.top_s, end.top_s,
