@@ -55,6 +55,28 @@ def _interrupt_at_once(signum, frame) -> None:
     _exit_interrupted(open_line=line_open())
 
 
+#: Seconds a verb's clean-up has after Ctrl-C before the program ends regardless: an interrupt
+#: that lands where an exception is swallowed (a library's broad `except`) must still end it.
+CLEAN_UP_DEADLINE_S = 3.0
+
+
+def _interrupt_with_deadline(signum, frame) -> None:
+    """The SIGINT handler during a verb's run: KeyboardInterrupt for its clean-up, and a timer
+    that ends the program with exit 130 if it is still running `CLEAN_UP_DEADLINE_S` later."""
+    import threading
+
+    from ..progress import line_open
+
+    def overdue() -> None:
+        hint = getattr(_running[-1], "resume_hint", None) if _running else None
+        _exit_interrupted(hint, open_line=line_open())
+
+    timer = threading.Timer(CLEAN_UP_DEADLINE_S, overdue)
+    timer.daemon = True
+    timer.start()
+    raise KeyboardInterrupt
+
+
 def _set_sigint(handler) -> None:
     """Install `handler` for SIGINT unless SIGINT is ignored (a shell's background job, nohup)."""
     try:
@@ -159,7 +181,7 @@ def _main(argv: list[str] | None, program: bool = False) -> int:
     failed_check = None
     try:
         if program:  # the verb's run: KeyboardInterrupt, so that its clean-up runs
-            _set_sigint(signal.default_int_handler)
+            _set_sigint(_interrupt_with_deadline)
         argv = sys.argv[1:] if argv is None else argv
         args = build_parser(argv[0] if argv else None).parse_args(argv)
         if program:
