@@ -174,8 +174,6 @@ def curve_on(curve, start_s: float, time_s: np.ndarray) -> np.ndarray:
 def bootstrap_uncertainty(record: ImpactRecord, curve, start_s: float, window: ContactWindow,
                           values_of, draws: int = DRAWS, seed: int = 0) -> dict[str, float]:
     """Standard uncertainty of each value of `values_of(record) -> dict` (see the module)."""
-    from .records import contact_window
-
     clean = curve_on(curve, start_s, record.time_s)
     contact = (record.time_s >= start_s) & (record.time_s <= start_s + curve.duration_s)
     misfit = rms(record.force_n[contact] - clean[contact]) if contact.any() else 0.0

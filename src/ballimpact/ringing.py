@@ -12,7 +12,6 @@ not raised (docs/features.md, "Load-cell ringing").
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
