@@ -31,8 +31,8 @@ import numpy as np
 
 from ballimpact import ImpactRecord, extract_features, process, pulses
 from ballimpact.errors import InputError
+from ballimpact.verdict import Z90
 
-Z90 = 1.6448536269514722
 #: Values whose error is reported as a difference, not relative: a skewness near zero (a
 #: half-sine's is 0) has no relative error.
 ABSOLUTE = ("P14",)

@@ -34,6 +34,35 @@ class ProcessedImpact:
     features: ImpactFeatures
 
 
+#: Load-cell resonances below this (Hz) are taken for kHz typed as Hz: no ball rig's cell rings
+#: that slowly (8-25 kHz for the rigs of ball tests; docs/features.md "Load-cell ringing").
+MIN_RESONANCE_HZ = 500.0
+
+
+def check_resonance(resonance_hz: float, damping_ratio: float, record: ImpactRecord) -> None:
+    """A load-cell resonance given by the user (`--load-cell-hz`, `--load-cell-damping`):
+    `InputError` naming the flag for a resonance in kHz, one above the record's Nyquist
+    frequency, or a damping ratio outside (0, 1) (a percentage named as such)."""
+    from .records import sample_rate_hz
+
+    check_positive("resonance_hz (--load-cell-hz)", resonance_hz)
+    if resonance_hz < MIN_RESONANCE_HZ:
+        raise InputError(f"resonance_hz (--load-cell-hz) = {resonance_hz:g}: allowed range "
+                         f"[{MIN_RESONANCE_HZ:g}, Nyquist) Hz; {resonance_hz:g} looks like kHz "
+                         f"given as Hz (use {resonance_hz * 1e3:g})")
+    nyquist = 0.5 * sample_rate_hz(record)
+    if resonance_hz >= nyquist:
+        raise InputError(f"resonance_hz (--load-cell-hz) = {resonance_hz:g}: at or above the "
+                         f"record's Nyquist frequency {nyquist:g} Hz, where nothing of it can be "
+                         "seen or divided out")
+    if 1 < damping_ratio <= 100:
+        raise InputError(f"damping_ratio (--load-cell-damping) = {damping_ratio:g}: allowed "
+                         f"range (0, 1); {damping_ratio:g} looks like a percentage: use "
+                         f"{damping_ratio / 100:g}")
+    check_range("damping_ratio (--load-cell-damping)", damping_ratio, 0.0, 1.0,
+                low_open=True, high_open=True)
+
+
 def without_ringing(record: ImpactRecord, resonance_hz: float | None = None,
                     damping_ratio: float = DEFAULT_DAMPING_RATIO) -> ImpactRecord:
     """`record` with the load cell's resonance divided out (`ringing.compensate`): the one
@@ -106,9 +135,7 @@ def process(
         if resample_hz is not None:
             raw = resample(raw, resample_hz)
         if resonance_hz is not None:
-            check_positive("resonance_hz (--load-cell-hz)", resonance_hz)
-            check_range("damping_ratio (--load-cell-damping)", damping_ratio, 0.0, 1.0,
-                        low_open=True, high_open=True)
+            check_resonance(resonance_hz, damping_ratio, raw)
         compensated = without_ringing(raw, resonance_hz, damping_ratio) if ringing else raw
         filtered = apply_filter(compensated, filter, window_s=window_s)
         features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow,

@@ -61,8 +61,6 @@ COVERAGE_FACTORS: dict[str, float] = {
     "energy_lost_j": 1.76,
     "dynamic_stiffness_n_m": 2.33,
 }
-#: Two-sided 90% interval of a normal distribution, in standard uncertainties.
-Z90 = 1.6448536269514722
 
 
 @dataclass(frozen=True)
@@ -191,6 +189,9 @@ def bootstrap_uncertainty(record: ImpactRecord, curve, start_s: float, window: C
         for key, value in values.items():
             samples.setdefault(key, []).append(value)
     # the smoothing's bias shows as the draws' mean moving off the value they were drawn from
+    # the bias: the draws' mean against the draws' own procedure (one start of the edge fits,
+    # the record's smoothing) on the record itself, not against the full fit's values, which
+    # may sit in another of the edge fit's minima
     reference = values_of(record)
     return {key: coverage_factor(key) * float(np.hypot(np.std(v, ddof=1),
                                                        np.mean(v) - reference[key]))

@@ -117,10 +117,3 @@ def miss_words(name: str, value: float, allowed: float) -> str:
 def verdict_line(verdict: dict[str, Any]) -> str:
     """'passed' or 'FAILED: <each miss>'."""
     return "passed" if verdict["passed"] else "FAILED: " + "; ".join(verdict["missed"])
-
-
-def check_tolerance_value(name: str, value: float) -> float:
-    """A single tolerance, as `Tolerances` checks it (`InputError` naming its flag)."""
-    if name not in FLAGS:
-        raise InputError(f"tolerance {name!r}: allowed {', '.join(FLAGS)}")
-    return getattr(Tolerances(**{name: value}), name)
