@@ -17,8 +17,7 @@ from numpy.polynomial import Polynomial
 
 from .errors import InputError, InputWarning
 from .checks import check_positive
-from .records import (MIN_BASELINE_SAMPLES, ImpactRecord, contact_window, pre_impact_slice,
-                      rms, sample_rate_hz)
+from .records import ImpactRecord, baseline_noise_rms, contact_window, rms, sample_rate_hz
 
 #: SAE J211-1 design frequency of the 2-pole Butterworth stage, as a multiple of the CFC number.
 #: Run forwards and backwards, the 4-pole phaseless filter is -3 dB at about 1.65 x CFC (Hz).
@@ -211,8 +210,7 @@ def _smoothed(record, smooth, settings, *, tangential: bool = True) -> ImpactRec
     shear = record.tangential_force_n
     force = smooth(record.force_n)
     change = rms(force - record.force_n)
-    pre = record.force_n[pre_impact_slice(record.force_n, record.time_s)]
-    noise = rms(pre - np.mean(pre)) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
+    noise = baseline_noise_rms(record.time_s, record.force_n)
     settings = {**settings, "filter_change_rms_n": change}
     if noise > 0 and change < NO_EFFECT_FRACTION * noise:
         where = f"{record.metadata['file']}: " if "file" in record.metadata else ""

@@ -246,8 +246,7 @@ def contact_window(
         if np.min(force) < 0:
             raise InputError("force_n: no positive pulse (is the load-cell polarity inverted?)")
         raise InputError("force_n: no pulse (the force is zero throughout)")
-    pre = force[pre_impact_slice(force, time)]
-    noise = rms(pre) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
+    noise = baseline_noise_rms(time, force)
     threshold = max(threshold_fraction * peak, noise_factor * noise)
 
     below = force <= threshold
@@ -271,6 +270,13 @@ def contact_window(
     start = _edge_zero(time, force, first, step=+1)
     end = _edge_zero(time, force, last, step=-1)
     return ContactWindow(first, last, start, end, threshold, noise)
+
+
+def baseline_noise_rms(time_s: np.ndarray, force_n: np.ndarray) -> float:
+    """RMS (N) of the samples surely before the impact (`pre_impact_slice`; the offset removed
+    first, `remove_baseline`), 0 when fewer than `MIN_BASELINE_SAMPLES`: the record's noise."""
+    pre = force_n[pre_impact_slice(force_n, time_s)]
+    return rms(pre) if pre.size >= MIN_BASELINE_SAMPLES else 0.0
 
 
 def rms(values: np.ndarray) -> float:

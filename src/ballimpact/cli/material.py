@@ -293,12 +293,7 @@ def _prony_terms(text: str, names: list[str]) -> tuple[str, list[dict]]:
     elif layer not in names:
         raise InputError(f"--prony {text}: no layer {layer!r}; layers: {', '.join(names)}")
     path = Path(file)
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"--prony {path}: cannot read ({error})") from None
-    except json.JSONDecodeError as error:
-        raise InputError(f"--prony {path}: not JSON ({error.msg}, line {error.lineno})") from None
+    data = _read_json(path, "--prony ")
     if isinstance(data, dict) and not isinstance(data.get("prony"), list) and isinstance(
             data.get("material"), dict):
         data = data["material"]
@@ -358,13 +353,19 @@ def _ball(args: argparse.Namespace) -> dict[str, Any]:
 
 
 # ---- check --------------------------------------------------------------------------------------
-def _read_material(path: Path) -> dict:
+def _read_json(path: Path, flag: str = "") -> Any:
+    """The JSON in `path`; `InputError` starting with `flag` and the path when it cannot be
+    read or is not JSON."""
     try:
-        data = json.loads(path.read_text())
+        return json.loads(path.read_text())
     except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{path}: cannot read ({error})") from None
+        raise InputError(f"{flag}{path}: cannot read ({error})") from None
     except json.JSONDecodeError as error:
-        raise InputError(f"{path}: not JSON ({error.msg}, line {error.lineno})") from None
+        raise InputError(f"{flag}{path}: not JSON ({error.msg}, line {error.lineno})") from None
+
+
+def _read_material(path: Path) -> dict:
+    data = _read_json(path)
     if isinstance(data, dict) and isinstance(data.get("material"), dict):
         data = data["material"]  # the JSON `material fit --json` prints
     if not isinstance(data, dict):
