@@ -116,6 +116,12 @@ def _find_resonance(record: ImpactRecord, window: ContactWindow) -> Resonance | 
     shift = np.arange(rows)[:, None] - stride * np.arange(nodes)[None, :]
     hat = np.clip(1 - np.abs(np.arange(1 - stride, stride)) / stride, 0.0, None)
     roughness = np.diff(np.eye(nodes), 2, axis=0)
+    # the force may kink where the contact starts and ends (a damped ball's pulse ends on a
+    # slope): a prior that smoothed those kinks had the cell's gain make up their ringing, and
+    # the damping ratio ran to its lower bound
+    for edge_s in (window.start_s, window.end_s):
+        node = int(round((np.searchsorted(t, edge_s) - first) / stride))
+        roughness[max(0, node - 2) : node + 1] = 0.0
     # a small ridge: the straight lines that D2 does not see get a proper (wide) prior too
     penalty = roughness.T @ roughness + 1e-9 * np.eye(nodes)
     identity = _shifted(hat, shift, stride)
