@@ -9,7 +9,7 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from ballimpact import apply_filter, load_record, process, pulses
+from ballimpact import apply_filter, process, pulses
 from ballimpact.errors import InputWarning
 from ballimpact.records import contact_window, remove_baseline
 from ballimpact.ringing import find_resonance

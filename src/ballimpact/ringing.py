@@ -138,8 +138,8 @@ def _find_resonance(record: ImpactRecord, window: ContactWindow) -> Resonance | 
     low, high = MIN_CYCLES_PER_CONTACT / window.duration_s, 0.4 / step
     if high <= low:
         return None
-    grid = [(fn, zeta) for fn in np.geomspace(low, high, 1 + int(np.log(high / low) / np.log(GRID_STEP)))
-            for zeta in GRID_DAMPING]
+    frequencies = np.geomspace(low, high, 1 + int(np.log(high / low) / np.log(GRID_STEP)))
+    grid = [(fn, zeta) for fn in frequencies for zeta in GRID_DAMPING]
     costs = [cost(fn, zeta)[0] for fn, zeta in grid]
     fn0, zeta0 = grid[int(np.argmin(costs))]
 
