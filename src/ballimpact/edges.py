@@ -43,15 +43,12 @@ POWER_PRIOR = (1.5, 0.25)
 @dataclass(frozen=True)
 class EdgeFit:
     """One edge of the pulse: zero-force time `time_s` (s), shape `amplitude_n` (N) times
-    ((t - time_s) / (top_s - time_s))^`exponent`, fitted up to `top_s` (s) on `samples` samples
-    (`side` +1 the start, -1 the end)."""
+    ((t - time_s) / (top_s - time_s))^`exponent`, fitted up to `top_s` (s)."""
 
     time_s: float
     top_s: float
     amplitude_n: float
     exponent: float
-    samples: int
-    side: int
 
     def force(self, time_s: np.ndarray) -> np.ndarray:
         """The fitted edge shape at `time_s` (N): zero outside the contact."""
@@ -110,7 +107,7 @@ def fit_edge(time_s: np.ndarray, force_n: np.ndarray, peak_index: int, first: in
     t0, amplitude, power = (float(v) for v in best.x)
     if side < 0:
         t0, t_top = -t0, -t_top
-    return EdgeFit(t0, t_top, amplitude, power, int(y.size), side)
+    return EdgeFit(t0, t_top, amplitude, power)
 
 
 def _top_index(f: np.ndarray, edge: int, limit: int, peak: float) -> int:

@@ -223,8 +223,8 @@ class ImpactFeatures:
     sample_interval_s: float | None = None  # the record's median time step (s)
     #: the record's samples over the contact (times from its start, the ends at zero force):
     #: what a model's pulse is compared with (`comparison.features_pulse`), noise and all, so
-    #: that misfits and their standard errors see the measurement as it was; for `samples` the
-    #: same as `time_s`, `force_n`
+    #: that misfits and their standard errors see the measurement as it was; None for
+    #: `samples`, whose `time_s`, `force_n` are the samples
     samples_time_s: np.ndarray | None = None
     samples_force_n: np.ndarray | None = None
     smoothing: float | None = None  # the fitted pulse's spline smoothing (unit interval, peak)

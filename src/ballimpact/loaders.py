@@ -41,6 +41,7 @@ import numpy as np
 from .errors import InputError, InputWarning
 from .fileio import is_number, read_table
 from .checks import check_positive
+from .datasets import DATA
 from .datasets import resolve as resolve_builtin
 from .records import ImpactRecord
 
@@ -89,8 +90,6 @@ COMPONENT_KEYS = tuple(f"{phase}_{part}" for phase in PHASES for part in (
 NOTE_KEYS = ("comment", "source")
 #: Two speed parts that disagree by more than this fraction of the total speed are an error.
 COMPONENT_TOLERANCE = 0.01
-#: The package's own records (the built-in sample and speed set): see `process(warn_noisy=...)`.
-BUILTIN_DATA = Path(__file__).resolve().parent / "data"
 
 
 #: Force units a header may name -> newtons: 1 lbf = 4.4482216152605 N (exact: 0.45359237 kg times
@@ -678,7 +677,8 @@ def load_record(path: str | Path, **given: Any) -> ImpactRecord:
     metadata: dict[str, Any] = {"source": str(path), "file": str(path)}
     if side.is_file():
         metadata["side_file"] = str(side)
-    if path.resolve().is_relative_to(BUILTIN_DATA):
+    # the package's own records (the sample, the speed set): see `process(warn_noisy=...)`
+    if path.resolve().is_relative_to(DATA):
         metadata["builtin"] = True
     for key in ("full_scale_n", "fe_lead_samples", "columns", "ignored_columns"):
         if key in columns:

@@ -2,7 +2,7 @@
 
 `fitted_pulse_curve`: the contact start and end fitted with the shape a contact must have
 (`edges.fit_edge`), the samples between them smoothed by a cubic smoothing spline whose smoothing
-is chosen from the record itself (generalised cross-validation: no window to pick, and a clean
+is chosen from the record itself (the discrepancy principle: no window to pick, and a clean
 record is left as it is), both ends pinned at zero force. The curve is returned as a fine
 piecewise-linear `features.PulseCurve`, so the 19 values come from it exactly as from a
 simulated pulse.
@@ -109,7 +109,7 @@ def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
     x, y = x[keep], y[keep]
     weight = np.ones(x.size)
     weight[[0, -1]] = 100.0
-    # on the unit interval and in units of the peak: the cross-validation is ill-conditioned in
+    # on the unit interval and in units of the peak: the smoothing search is ill-conditioned in
     # seconds and newtons
     span, scale = x[-1] - x[0], max(float(np.max(np.abs(y))), 1e-300)
     u, v = (x - x[0]) / span, y / scale
@@ -146,18 +146,29 @@ SMOOTHING_RANGE = (1e-14, 1e-2)
 
 def discrepancy_smoothing(x: np.ndarray, y: np.ndarray, weight: np.ndarray, noise: float) -> float:
     """The smoothing parameter whose spline leaves residuals of the record's own noise level
-    `noise` (Morozov's discrepancy principle: sum of squared residuals = samples x noise^2),
-    by bisection on its logarithm; the least smoothing for a noise-free record."""
+    `noise` (Morozov's discrepancy principle: sum of squared residuals = samples x noise^2);
+    the least smoothing for a noise-free record."""
     from scipy.interpolate import make_smoothing_spline
 
-    low, high = np.log(SMOOTHING_RANGE[0]), np.log(SMOOTHING_RANGE[1])
     if noise <= 0:
-        return float(np.exp(low))
-    target = x.size * noise**2
-    for _ in range(30):
+        return SMOOTHING_RANGE[0]
+
+    def squared_residual(lam: float) -> float:
+        residual = y - make_smoothing_spline(x, y, w=weight, lam=lam)(x)
+        return float(np.sum(residual**2))
+
+    return discrepancy_weight(squared_residual, x.size * noise**2, SMOOTHING_RANGE, steps=30)
+
+
+def discrepancy_weight(squared_residual, target: float, bounds: tuple[float, float],
+                       steps: int) -> float:
+    """The weight in `bounds` whose fit leaves `squared_residual(weight)` (growing with the
+    weight) at `target` (Morozov's discrepancy principle), by `steps` bisections of its
+    logarithm."""
+    low, high = np.log(bounds[0]), np.log(bounds[1])
+    for _ in range(steps):
         middle = 0.5 * (low + high)
-        residual = y - make_smoothing_spline(x, y, w=weight, lam=float(np.exp(middle)))(x)
-        if float(np.sum(residual**2)) > target:
+        if squared_residual(float(np.exp(middle))) > target:
             high = middle
         else:
             low = middle

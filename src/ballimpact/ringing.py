@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .reconstruct import discrepancy_weight
 from .records import ContactWindow, ImpactRecord
 
 #: Fewest samples in the contact, and after it, that the search needs.
@@ -159,11 +160,12 @@ def _find_resonance(record: ImpactRecord, window: ContactWindow) -> Resonance | 
     # a ball rings too, but only a cell rings on after the contact: its free vibration must be
     # seen there (the FE pulses' own contact ringing explained within the contact was taken
     # for a cell of damping ratio 0.1-0.17 at 17-20 kHz when this was not asked)
+    recorded = cell @ s
     free = y[support:]
-    seen = float(free @ free - np.sum((free - (cell @ s)[support:]) ** 2))
+    seen = float(free @ free - np.sum((free - recorded[support:]) ** 2))
     if seen < FREE_DETECTION:
         return None
-    amplitude = float(np.max(np.abs(cell @ s - identity @ s))) * noise
+    amplitude = float(np.max(np.abs(recorded - identity @ s))) * noise
     if amplitude > MAX_RINGING * float(np.max(f)):
         return None
     return Resonance(fn, zeta, amplitude)
@@ -201,19 +203,15 @@ def _shifted(response: np.ndarray, shift: np.ndarray, stride: int) -> np.ndarray
 def _discrepancy_roughness(y: np.ndarray, basis: np.ndarray, penalty: np.ndarray,
                            rows: int) -> float:
     """The roughness weight whose smoothest curve `basis` @ s leaves residuals of unit
-    variance over the first `rows` samples of `y` (in noise units: Morozov's discrepancy
-    principle), by bisection on its logarithm."""
+    variance over the first `rows` samples of `y` (in noise units: the discrepancy principle)."""
     y, basis = y[:rows], basis[:rows]
     normal, rhs = basis.T @ basis, basis.T @ y
-    low, high = np.log(1e-6), np.log(1e12)
-    for _ in range(40):
-        middle = 0.5 * (low + high)
-        residual = y - basis @ np.linalg.solve(normal + np.exp(middle) * penalty, rhs)
-        if float(residual @ residual) > rows:
-            high = middle
-        else:
-            low = middle
-    return float(np.exp(0.5 * (low + high)))
+
+    def squared_residual(lam: float) -> float:
+        residual = y - basis @ np.linalg.solve(normal + lam * penalty, rhs)
+        return float(residual @ residual)
+
+    return discrepancy_weight(squared_residual, rows, (1e-6, 1e12), steps=40)
 
 
 def compensate(record: ImpactRecord, resonance: Resonance) -> ImpactRecord:

@@ -46,10 +46,10 @@ import numpy as np
 
 from .errors import InputError, InputWarning
 from .features import dynamic_stiffness
+from .loaders import LBF_N
 from .plausibility import check_ball_mass
 
-#: 1 lbf in N (exact by definition: 0.45359237 kg x 9.80665 m/s^2) and 1 in in m (exact)
-LBF_N = 4.4482216152605
+#: 1 in in m (exact); 1 lbf in N is the loaders' unit table's (`loaders.LBF_N`)
 INCH_M = 0.0254
 #: 60 mph in m/s (exact: 60 x 1609.344 m / 3600 s), the inbound speed of F1887 and F2845
 SIXTY_MPH_M_S = 26.8224

@@ -1,8 +1,9 @@
 """The verdict of a model against a test: force NRMSE, COR, contact time and peak force together.
 
 A model "passes" a test only when every criterion does. Each criterion's miss is allowed up to its
-tolerance plus the test's own 90% uncertainty of that feature (`ImpactFeatures.uncertainty`: a
-noisy record cannot demand more than it measures). The default tolerances are about twice the
+tolerance plus, for COR, contact time and peak force, the test's own 90% uncertainty of that
+feature (`ImpactFeatures.uncertainty`: a noisy record cannot demand more than it measures; the
+force NRMSE has none). The default tolerances are about twice the
 90th percentiles of the built-in universal model's own noisy closed loop (docs/universal.md:
 force NRMSE 2.6%, COR 0.017, contact time 1.9%, peak force about 1.5%), so that a model as good as
 the universal ball is on its own FE pulses passes, and one clearly worse does not
@@ -64,8 +65,10 @@ def add_tolerance_flags(parser) -> None:
     for name, flag in FLAGS.items():
         parser.add_argument(flag, type=float, default=None, metavar="X",
                             dest=f"max_{name}",
-                            help=f"largest {words[name]} the model check allows, plus the test's "
-                                 f"90%% uncertainty of it (default {getattr(defaults, name):g})")
+                            help=f"largest {words[name]} the model check allows"
+                                 + ("" if name == "force_nrmse" else
+                                    ", plus the test's 90%% uncertainty of it")
+                                 + f" (default {getattr(defaults, name):g})")
 
 
 def tolerances_from(args) -> Tolerances:

@@ -88,7 +88,9 @@ def add_parser(verbs) -> argparse.ArgumentParser:
 
 
 def parse_test(text: str) -> tuple[Path, float | None, str | None]:
-    prefix = text[:8] if text.lower().startswith("builtin:") else ""  # builtin:NAME[:SPEED]
+    from ..datasets import PREFIX, is_builtin
+
+    prefix = text[:len(PREFIX)] if is_builtin(text) else ""  # builtin:NAME[:SPEED]
     path, _, rest = text[len(prefix):].partition(":")
     path = prefix + path
     speed_text, _, layer = rest.partition(":")

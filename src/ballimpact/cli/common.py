@@ -15,7 +15,7 @@ from ..errors import InputError
 from ..features import DEFAULT_IMPULSE_TOLERANCE, METHODS
 from ..filters import FILTER_NAMES
 from ..loaders import load_record
-from ..pipeline import ProcessedImpact, process
+from ..pipeline import DEFAULT_DAMPING_RATIO, ProcessedImpact, process
 from ..plausibility import CHECKS
 
 #: Flags that mean the same in every verb: each is accepted wherever the other is (one name
@@ -129,12 +129,14 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
                         help="fit: the contact's start and end fitted with the shape a contact "
                              "must have, smoothed between them, with uncertainties (default); "
                              "samples: piecewise linear through the samples, ends from the "
-                             "noise threshold (before issue 39)")
+                             "noise threshold (the pulse as described before issue 39; a "
+                             "ringing load cell is divided out all the same)")
     parser.add_argument("--load-cell-hz", type=float, metavar="HZ",
                         help="the load cell's mounted resonance (Hz): divided out of the record "
-                             "(default: found where the record rings on after the contact)")
-    parser.add_argument("--load-cell-damping", type=float, default=0.03, metavar="ZETA",
-                        help="its damping ratio (default 0.03)")
+                             "(default: found from the record's own ringing, in and after "
+                             "the contact)")
+    parser.add_argument("--load-cell-damping", type=float, default=DEFAULT_DAMPING_RATIO,
+                        metavar="ZETA", help=f"its damping ratio (default {DEFAULT_DAMPING_RATIO})")
     parser.add_argument("--impulse-tolerance", type=float, default=DEFAULT_IMPULSE_TOLERANCE,
                         help="relative misfit allowed between impulse and m(v_in + v_out) "
                              f"(default {DEFAULT_IMPULSE_TOLERANCE})")

@@ -36,8 +36,8 @@ def add_parser(verbs) -> None:
                     "speed-range: a warning); estimates on the edge of the model's training "
                     "range and intervals clipped by it give warnings. The FE check judges force "
                     "NRMSE, COR, contact time and peak force together (--max-* flags; the "
-                    "test's own 90%% uncertainty is added to each). Exit codes: 0 done (the FE "
-                    "check passed), 2 bad input, 1 failed run, 3 the FE check missed a criterion "
+                    "test's own 90%% uncertainty is added to all but the NRMSE). Exit codes: 0 "
+                    "done (the FE check passed), 2 bad input, 1 failed run, 3 the FE check missed a criterion "
                     "(the result is printed and its files written all the same).")
     identify.add_argument("files", type=Path, nargs="+", metavar="FILE",
                           help="test record(s): CSV with unit headers or WAV")
