@@ -416,9 +416,7 @@ def extract_features(
     for note in notes:
         warnings.warn(note, InputWarning, stacklevel=2)
 
-    values = curve_values(curve, mass, v_in, v_out)
-    velocity = curve.velocity(v_in, mass)
-    displacement = curve.displacement(velocity, mass)
+    values, quantities, velocity, displacement = _describe(curve, mass, v_in, v_out)
     spread = None
     if uncertainty:
         from .reconstruct import bootstrap_uncertainty
@@ -433,14 +431,10 @@ def extract_features(
         window=window,
         mass_kg=mass,
         rebound_speed_source=source,
-        impulse_n_s=impulse,
         impulse_expected_n_s=expected,
         impulse_relative_error=relative_error,
         impulse_tolerance=impulse_tolerance,
-        impulse_cor=impulse / (mass * v_in) - 1.0,
-        max_compression_m=float(np.max(displacement)),
-        energy_lost_j=curve.work(velocity, mass),
-        dynamic_stiffness_n_m=dynamic_stiffness(values["P6"], mass, v_in),
+        **quantities,
         time_s=curve.knots_s,
         force_n=curve.knots_n,
         velocity_m_s=velocity,
@@ -497,9 +491,20 @@ def _all_values(curve: PulseCurve, mass: float, v_in: float,
     """The 19 values and the load-cell quantities of `curve` (the bootstrap's draws)."""
     impulse = curve.integral(0.0, curve.duration_s)
     v_out = impulse / mass - v_in if measured_rebound is None else measured_rebound
+    values, quantities, _, _ = _describe(curve, mass, v_in, v_out)
+    return {**values, **quantities}
+
+
+def _describe(curve: PulseCurve, mass: float, v_in: float, v_out: float):
+    """The 19 values of `curve`, its load-cell quantities (impulse, impulse COR, largest
+    compression, energy lost, dynamic stiffness: `ImpactFeatures`' fields), and the ball's
+    velocity (m/s) and displacement (m) through the contact."""
     values = curve_values(curve, mass, v_in, v_out)
     velocity = curve.velocity(v_in, mass)
-    return {**values, "impulse_n_s": impulse, "impulse_cor": impulse / (mass * v_in) - 1.0,
-            "max_compression_m": float(np.max(curve.displacement(velocity, mass))),
-            "energy_lost_j": curve.work(velocity, mass),
-            "dynamic_stiffness_n_m": dynamic_stiffness(values["P6"], mass, v_in)}
+    displacement = curve.displacement(velocity, mass)
+    impulse = curve.integral(0.0, curve.duration_s)
+    quantities = {"impulse_n_s": impulse, "impulse_cor": impulse / (mass * v_in) - 1.0,
+                  "max_compression_m": float(np.max(displacement)),
+                  "energy_lost_j": curve.work(velocity, mass),
+                  "dynamic_stiffness_n_m": dynamic_stiffness(values["P6"], mass, v_in)}
+    return values, quantities, velocity, displacement
