@@ -323,14 +323,12 @@ def _impact_shot(method: Method, path: Path, ball: str, mass_kg: float | None,
             "rebound_speed_source": features.rebound_speed_source, "mass_kg": record.mass_kg}
     shot.update(impact_quantities(method, features.values["P17"],
                                   features.dynamic_stiffness_n_m, features.values["P6"]))
-    # the record's own standard uncertainty of each quantity (docs/features.md, "Uncertainty")
-    u = features.uncertainty or {}
-    spread = {"cor": u.get("P17"), "dynamic_stiffness_n_m": u.get("dynamic_stiffness_n_m"),
-              "peak_force_n": u.get("P6")}
-    shot["uncertainty"] = {key: spread[key] for key in shot if key in spread}
-    if "dynamic_stiffness_n_m" in shot and spread["dynamic_stiffness_n_m"] is not None:
-        shot["uncertainty"]["dynamic_stiffness_lbf_in"] = \
-            spread["dynamic_stiffness_n_m"] / (LBF_N / INCH_M)
+    # the record's own standard uncertainty of each quantity (docs/features.md, "Uncertainty"):
+    # the quantities are linear in the features, so their uncertainties convert alike
+    u = features.uncertainty
+    shot["uncertainty"] = {} if not u else impact_quantities(
+        method, u.get("P17", math.nan), u.get("dynamic_stiffness_n_m", math.nan),
+        u.get("P6", math.nan))
     return shot
 
 
