@@ -293,3 +293,25 @@ def test_model_compression_equals_fe_compress(reference_run, capsys):
     assert result["result"]["force_at_6_35_mm_lbf"] == pytest.approx(
         curve.force_n[-1] / 4.4482216152605, rel=REL)
     assert result["cost"]["increments"] == curve.increments
+
+
+def test_a_noisy_records_uncertainty_is_given_in_each_unit_of_the_method(tmp_path, capsys):
+    """A noisy record: each shot's standard uncertainty in every unit the method reports, the
+    lbf/in one the N/m one over 175.1268 (both from the record's bootstrap, docs/features.md)."""
+    from ballimpact.pulses import hunt_crossley_pulse, load_cell_record
+
+    pulse, duration, _ = hunt_crossley_pulse(0.5, SIXTY_MPH_M_S, MASS_KG)
+    record = load_cell_record(pulse, duration, 100e3, noise=0.01, rng=np.random.default_rng(2))
+    path = tmp_path / "ballA_01.csv"
+    path.write_text("time_s,force_n\n" + "".join(
+        f"{t!r},{f!r}\n" for t, f in zip(record.time_s.tolist(), record.force_n.tolist())))
+    path.with_suffix(".json").write_text(json.dumps(
+        {"impact_speed_m_s": SIXTY_MPH_M_S, "mass_kg": MASS_KG}))
+    result, _ = run_json(capsys, "dynamic-stiffness", tmp_path)
+    u = result["shots"][0]["uncertainty"]
+    assert u["dynamic_stiffness_n_m"] > 0 and u["peak_force_n"] > 0
+    assert u["dynamic_stiffness_lbf_in"] == pytest.approx(
+        u["dynamic_stiffness_n_m"] / 175.12683524647637, rel=1e-12)
+    cor, _ = run_json(capsys, "cor", tmp_path)
+    shot = cor["shots"][0]
+    assert set(shot["uncertainty"]) == {"cor"} and shot["uncertainty"]["cor"] > 0
