@@ -10,6 +10,7 @@ lists the checks, their thresholds and their overrides.
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Collection, Iterable
 
@@ -399,6 +400,21 @@ _BALL_SLIPS: dict[str, dict[float, str]] = {
 #: A typical value of each (a cricket ball's), to pick the likeliest of several slips.
 _BALL_TYPICAL = {"outer radius": 0.036, "mass": 0.16, "density": 1000.0,
                  "shear modulus": 1e7, "bulk modulus": 1e9}
+
+
+def check_ball_diameter(diameter_m: float, name: str) -> float:
+    """A ball diameter (m) within those of solid sports balls (`BALL_RANGES`' outer radii); a
+    diameter in millimetres or centimetres is named as such (`ball_unit_slip`)."""
+    if isinstance(diameter_m, bool) or not (isinstance(diameter_m, (int, float))
+                                            and math.isfinite(diameter_m) and diameter_m > 0):
+        raise InputError(f"{name} = {diameter_m!r}: expected a positive diameter in m")
+    low, high, _ = BALL_RANGES["outer radius"]
+    if not 2 * low <= diameter_m <= 2 * high:
+        slip = ball_unit_slip("outer radius", diameter_m / 2)
+        hint = f": looks like {slip[1]}; use {diameter_m * slip[0]:g}" if slip else ""
+        raise InputError(f"{name} = {diameter_m:g} m is outside {2 * low:g}..{2 * high:g} m, "
+                         f"the diameters of solid sports balls{hint}")
+    return float(diameter_m)
 
 
 def check_ball_mass(mass_kg: float, where: str) -> float:

@@ -16,7 +16,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..errors import InputError
-from ..plausibility import BALL_RANGES, ball_unit_slip, check_ball_mass
+from ..checks import check_positive
+from ..plausibility import BALL_RANGES, ball_unit_slip, check_ball_diameter, check_ball_mass
 
 #: largest relative difference between a given mass and the one the densities give
 MASS_TOLERANCE = 0.01
@@ -24,27 +25,6 @@ MASS_TOLERANCE = 0.01
 
 def _shell_volume_m3(inner_m: float, outer_m: float) -> float:
     return 4.0 / 3.0 * math.pi * (outer_m ** 3 - inner_m ** 3)
-
-
-def _finite_positive(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not (
-            math.isfinite(value) and value > 0):
-        raise InputError(f"{what} = {value!r}: must be a finite number > 0")
-    return float(value)
-
-
-def _check_diameter(diameter_m: float) -> float:
-    what = "diameter_m (--diameter-m)"
-    diameter_m = _finite_positive(diameter_m, what)
-    low, high, _ = BALL_RANGES["outer radius"]
-    radius = diameter_m / 2.0
-    if not low <= radius <= high:
-        slip = ball_unit_slip("outer radius", radius)
-        hint = (f": it looks like {slip[1]} given as metres (use {diameter_m * slip[0]:g})"
-                if slip else ": give the diameter in metres")
-        raise InputError(f"{what} = {diameter_m:g} m: allowed {2 * low:g}..{2 * high:g} m, the "
-                         f"diameters of solid sports balls{hint}")
-    return diameter_m
 
 
 def _layer_radii(layer_radii_m: Sequence[float] | None, n: int, outer_m: float) -> list[float]:
@@ -57,7 +37,7 @@ def _layer_radii(layer_radii_m: Sequence[float] | None, n: int, outer_m: float) 
                              f"the inner {n - 1} (m, from the centre out; the last layer ends at "
                              f"the ball's radius {outer_m:g} m)")
         return [outer_m]
-    radii = [_finite_positive(r, what) for r in layer_radii_m]
+    radii = [check_positive(what, r) for r in layer_radii_m]
     if len(radii) == n and math.isclose(radii[-1], outer_m, rel_tol=1e-9):
         radii = radii[:-1]
     if len(radii) != n - 1:
@@ -88,7 +68,7 @@ def _densities(densities_kg_m3: Sequence[float | None] | None, mass_kg: float | 
     if len(densities_kg_m3) != n:
         raise InputError(f"{what}: {len(densities_kg_m3)} values for {n} layers (one each, from "
                          "the centre out; one may be 'auto')")
-    given = [None if d is None else _finite_positive(d, what) for d in densities_kg_m3]
+    given = [None if d is None else check_positive(what, d) for d in densities_kg_m3]
     auto = [i for i, d in enumerate(given) if d is None]
     if len(auto) > 1:
         raise InputError(f"{what}: {len(auto)} layers are 'auto'; at most one density can be "
@@ -144,7 +124,7 @@ def ball_from_materials(materials: Sequence[dict], diameter_m: float, *,
     n = len(materials)
     if n == 0:
         raise InputError("materials: at least one material (one per layer)")
-    diameter_m = _check_diameter(diameter_m)
+    diameter_m = check_ball_diameter(diameter_m, "diameter_m (--diameter-m)")
     if mass_kg is not None:
         mass_kg = check_ball_mass(mass_kg, "mass_kg (--mass-kg)")
     elif densities_kg_m3 is None or any(d is None for d in densities_kg_m3):

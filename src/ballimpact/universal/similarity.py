@@ -23,8 +23,7 @@ import math
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from ..errors import InputError
-from ..plausibility import BALL_RANGES, check_ball_mass, check_ball_values
+from ..plausibility import check_ball_diameter, check_ball_mass, check_ball_values
 
 GROUPS = ("rho_v2_over_mu0", "c01_over_c10", "g1", "tau1_v_over_r")
 
@@ -102,19 +101,9 @@ def map_ranges(ranges: dict[str, list[float]], source: BallSize, target: BallSiz
 
 
 def check_diameter(diameter_m: float, flag: str = "--ball-diameter-m") -> float:
-    """A ball diameter (m) within those of solid sports balls (`plausibility.BALL_RANGES`'s
-    radii); one in millimetres is named as such."""
-    if not (isinstance(diameter_m, (int, float)) and math.isfinite(diameter_m)
-            and diameter_m > 0):
-        raise InputError(f"ball_diameter_m ({flag}) = {diameter_m!r}: expected a positive "
-                         "diameter in m")
-    low, high, _ = BALL_RANGES["outer radius"]
-    if not 2 * low <= diameter_m <= 2 * high:
-        hint = (f": looks like millimetres; use {diameter_m / 1000:g}"
-                if 2 * low <= diameter_m / 1000 <= 2 * high else "")
-        raise InputError(f"ball_diameter_m ({flag}) = {diameter_m:g} m is outside "
-                         f"{2 * low:g}..{2 * high:g} m, the diameters of solid sports balls{hint}")
-    return float(diameter_m)
+    """A ball diameter (m) within those of solid sports balls (`plausibility.check_ball_diameter`;
+    one in millimetres is named as such)."""
+    return check_ball_diameter(diameter_m, f"ball_diameter_m ({flag})")
 
 
 def check_size(diameter_m: float, mass_kg: float, allow: Collection[str] = (),
