@@ -120,3 +120,17 @@ def miss_words(name: str, value: float, allowed: float) -> str:
 def verdict_line(verdict: dict[str, Any]) -> str:
     """'passed' or 'FAILED: <each miss>'."""
     return "passed" if verdict["passed"] else "FAILED: " + "; ".join(verdict["missed"])
+
+
+def raise_if_missed(checks: list, result: Any, check: str, subject: str) -> None:
+    """`CheckFailed` (exit 3, `result` printed all the same) naming each test of `checks`,
+    (label, `judge`'s verdict or None where none ran), whose `check` ("FE check", "model
+    check") missed and what it missed; `subject` is what does not reproduce the test."""
+    from .errors import CheckFailed
+
+    missed = [(label, verdict) for label, verdict in checks
+              if verdict is not None and not verdict["passed"]]
+    if missed:
+        words = "; ".join(f"{label}: {', '.join(verdict['missed'])}" for label, verdict in missed)
+        raise CheckFailed(f"the {check} missed for {len(missed)} of {len(checks)} tests: "
+                          f"{words}; {subject} does not reproduce the test (see --plot)", result)

@@ -10,8 +10,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import CheckFailed, InputError, InputWarning
-from ..verdict import add_tolerance_flags, tolerances_from
+from ..errors import InputError, InputWarning
+from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from
 from ..repeats import expand_records
 from .common import (
     add_processing,
@@ -103,7 +103,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
             plot_fit(fitted, args.plot, title=str(args.files[0].name))
             result["plot"] = str(args.plot)
         result["wall_time_s"] = time.perf_counter() - started
-        raise_if_missed([(args.files[0], result["check"])], result)
+        raise_if_missed([(args.files[0], result["check"])], result, "model check", "the model")
         return result
     table, fits = lumped.fit_speed_table(processed, model, labels=[str(p) for p in args.files],
                                          **options)
@@ -134,7 +134,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         plot_speed_fits(fits, args.plot)
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
-    raise_if_missed(list(zip(table.labels, checks)), result)
+    raise_if_missed(list(zip(table.labels, checks)), result, "model check", "the model")
     return result
 
 
@@ -149,16 +149,6 @@ def model_check(fitted, processed, tolerances) -> dict[str, Any]:
                          {"P1": fitted.contact_time_s, "P6": fitted.peak_force_n,
                           "P17": fitted.cor}, fitted.nrmse)
     return {**comparison, **judge(comparison, tolerances, processed.features.uncertainty)}
-
-
-def raise_if_missed(checks: list, result: dict[str, Any]) -> None:
-    """`CheckFailed` (exit 3, the result printed all the same) naming each fit whose model check
-    missed and what it missed."""
-    missed = [(str(path), check) for path, check in checks if not check["passed"]]
-    if missed:
-        words = "; ".join(f"{path}: {', '.join(check['missed'])}" for path, check in missed)
-        raise CheckFailed(f"the model check missed for {len(missed)} of {len(checks)} tests: "
-                          f"{words}; the model does not reproduce the test (see --plot)", result)
 
 
 #: The usual slips of a parameter's unit (`ballimpact models`), as (factor to SI, unit typed),

@@ -9,8 +9,9 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import CheckFailed, InputError, InputWarning
-from ..verdict import add_tolerance_flags, given_flags, tolerances_from, verdict_line
+from ..errors import InputError, InputWarning
+from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
+                       verdict_line)
 from ..fileio import check_distinct_files
 from ..repeats import DEFAULT_SPEED_TOLERANCE
 from .common import (
@@ -128,7 +129,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         plot_identification([(p.name, pr, f) for p, pr, f in results], args.plot)
         out["plot"] = str(args.plot)
     out["wall_time_s"] = time.perf_counter() - started
-    check_fe(args, results, out)
+    raise_if_missed([(path, found.verification) for path, _, found in results], out,
+                    "FE check", "the identified ball")
     return out
 
 
@@ -238,19 +240,6 @@ def _print_repeats(repeated: list[dict[str, Any]]) -> None:
             low, high = pulse["params_interval_90"][name]
             print(f"  {name:<8} {mean:11.5g} +/- {group['params_sd'][name]:.3g} {unit:<3} "
                   f"mean pulse {pulse['params'][name]:.5g} [{low:.4g} .. {high:.4g}]")
-
-
-def check_fe(args: argparse.Namespace, results: list, out: dict[str, Any]) -> None:
-    """`CheckFailed` (exit 3) naming the tests whose FE check missed, and each criterion missed
-    by how much."""
-    missed = [(path, found) for path, _, found in results
-              if found.verification is not None and not found.verification["passed"]]
-    if missed:
-        words = "; ".join(f"{path}: {', '.join(found.verification['missed'])}"
-                          for path, found in missed)
-        raise CheckFailed(f"the FE check missed for {len(missed)} of {len(results)} tests: "
-                          f"{words}; the identified ball does not reproduce the test (see "
-                          "--plot)", out)
 
 
 def speed_table_ball(found: list, model, groups: list[float]) -> dict[str, Any]:
