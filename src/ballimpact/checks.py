@@ -52,6 +52,18 @@ def check_range(name: str, value: Any, low: float = -math.inf, high: float = mat
     return float(value)
 
 
+def check_fraction(name: str, value: Any, high: float = 1.0, *, high_open: bool = False) -> float:
+    """`value` as a fraction in (0, `high`] ((0, `high`) with `high_open`), else `check_range`'s
+    `InputError`; a value up to 100 times `high`, a percentage typed for the fraction, is named
+    as one ("3 looks like a percentage: use 0.03")."""
+    if (isinstance(value, numbers.Real) and not isinstance(value, bool)
+            and high < value <= 100 * high):
+        raise InputError(f"{name} = {value:g}: allowed range "
+                         f"{allowed_range(0.0, high, True, high_open, '')}; {value:g} looks like a "
+                         f"percentage: use {value / 100:g}")
+    return check_range(name, value, 0.0, high, low_open=True, high_open=high_open)
+
+
 def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
     """`value` as a float > 0 (>= 0 with `allow_zero`): anything `float()` takes, a number read
     from a file as text too; else `check_range`'s `InputError`."""

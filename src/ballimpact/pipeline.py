@@ -17,7 +17,7 @@ from .plausibility import (
     noisy_window_note,
     select_pulse,
 )
-from .checks import check_positive, check_range
+from .checks import check_fraction, check_positive
 
 #: Damping ratio of a load cell whose resonance is given without one (`--load-cell-hz`).
 DEFAULT_DAMPING_RATIO = 0.03
@@ -55,12 +55,7 @@ def check_resonance(resonance_hz: float, damping_ratio: float, record: ImpactRec
         raise InputError(f"resonance_hz (--load-cell-hz) = {resonance_hz:g}: at or above the "
                          f"record's Nyquist frequency {nyquist:g} Hz, where nothing of it can be "
                          "seen or divided out")
-    if 1 < damping_ratio <= 100:
-        raise InputError(f"damping_ratio (--load-cell-damping) = {damping_ratio:g}: allowed "
-                         f"range (0, 1); {damping_ratio:g} looks like a percentage: use "
-                         f"{damping_ratio / 100:g}")
-    check_range("damping_ratio (--load-cell-damping)", damping_ratio, 0.0, 1.0,
-                low_open=True, high_open=True)
+    check_fraction("damping_ratio (--load-cell-damping)", damping_ratio, high_open=True)
 
 
 def without_ringing(record: ImpactRecord, resonance_hz: float | None = None,

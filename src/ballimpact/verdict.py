@@ -16,8 +16,7 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from .checks import check_range
-from .errors import InputError
+from .checks import check_fraction
 
 #: Two-sided 90% interval of a normal distribution, in standard uncertainties.
 Z90 = 1.6448536269514722
@@ -35,12 +34,7 @@ class Tolerances:
 
     def __post_init__(self) -> None:
         for name, flag in FLAGS.items():
-            value = getattr(self, name)
-            if isinstance(value, (int, float)) and 1 < value <= 100:
-                raise InputError(f"max_{name} ({flag}) = {value:g}: allowed range (0, 1], a "
-                                 f"fraction; {value:g} looks like a percentage: use "
-                                 f"{value / 100:g}")
-            check_range(f"max_{name} ({flag})", value, 0.0, 1.0, low_open=True)
+            check_fraction(f"max_{name} ({flag})", getattr(self, name))
 
     def to_dict(self) -> dict[str, float]:
         return asdict(self)

@@ -8,7 +8,6 @@ that the model's training range cut short says so (a warning naming the paramete
 
 from __future__ import annotations
 
-import math
 import time
 import warnings
 from collections.abc import Collection
@@ -17,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_fraction
 from ..errors import InputError, InputWarning
 from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
@@ -358,14 +358,8 @@ def warn_failed_model(model: UniversalModel) -> None:
 
 
 def check_max_nrmse(value: float) -> float:
-    """A force NRMSE limit: a fraction in (0, 1]."""
-    value = float(value)
-    if not (math.isfinite(value) and 0 < value <= 1):
-        hint = f"; {value:g} looks like a percentage: use {value / 100:g}" \
-            if 1 < value <= 100 else ""
-        raise InputError(f"max_nrmse (--max-nrmse) = {value:g}: expected a fraction of the "
-                         f"test's peak force in (0, 1], e.g. 0.05 for 5%{hint}")
-    return value
+    """A force NRMSE limit: a fraction of the test's peak force in (0, 1]."""
+    return check_fraction("max_nrmse (--max-nrmse)", float(value))
 
 
 def verify_run(spec: dict, measured_features, options=None, allow: Collection[str] = ()):
