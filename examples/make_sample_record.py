@@ -12,9 +12,9 @@ Run from the repository root: `python examples/make_sample_record.py`.
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from ballimpact.lumped import hunt_crossley_lambda
+from ballimpact.pulses import hunt_crossley_pulse
 
 MASS_KG = 0.16
 IMPACT_SPEED_M_S = 20.8
@@ -27,27 +27,12 @@ NOISE_FRACTION = 0.01
 SEED = 20081
 
 
-def simulate(lam: float):
-    force = lambda y, v: STIFFNESS_N_M15 * max(y, 0.0) ** 1.5 * (1 + lam * v)  # noqa: E731
-
-    def rhs(t, state):
-        y, v = state
-        return [v, -force(y, v) / MASS_KG]
-
-    leave = lambda t, state: state[0]  # noqa: E731
-    leave.terminal, leave.direction = True, -1
-    solution = solve_ivp(rhs, (0, 0.01), [0.0, IMPACT_SPEED_M_S], events=leave, rtol=1e-11,
-                         atol=1e-14, dense_output=True, max_step=1e-6)
-    contact = solution.t_events[0][0]
-    rebound = -solution.sol(contact)[1]
-    return solution.sol, contact, rebound, force
-
-
 def main() -> None:
     lam = hunt_crossley_lambda(TARGET_COR, IMPACT_SPEED_M_S)
-    motion, contact, rebound, force = simulate(lam)
+    pulse, contact, rebound = hunt_crossley_pulse(TARGET_COR, IMPACT_SPEED_M_S, MASS_KG,
+                                                  STIFFNESS_N_M15)
     time = np.arange(-1e-3, contact + 1e-3, 1 / RATE_HZ)
-    clean = np.array([force(*motion(t)) if 0 <= t <= contact else 0.0 for t in time])
+    clean = pulse(time)
     peak = clean.max()
     rng = np.random.default_rng(SEED)
     after = np.clip(time, 0, None)
