@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .reconstruct import discrepancy_weight
-from .records import ContactWindow, ImpactRecord
+from .records import ContactWindow, ImpactRecord, pre_impact_slice, sample_rate_hz
 
 #: Fewest samples in the contact, and after it, that the search needs.
 MIN_SAMPLES = 16
@@ -216,12 +216,15 @@ def _discrepancy_roughness(y: np.ndarray, basis: np.ndarray, penalty: np.ndarray
 
 def compensate(record: ImpactRecord, resonance: Resonance) -> ImpactRecord:
     """`record` with the resonance divided out of its force (uniform sampling), above it cut by
-    a zero-phase 4-pole Butterworth magnitude at the resonance frequency."""
-    step = float(np.median(np.diff(record.time_s)))
+    a zero-phase 4-pole Butterworth magnitude at the resonance frequency. The pre-impact
+    offset (`records.pre_impact_slice`) is taken off before the zero padding and put back: an
+    offset would end in a step there, which the division by H would make ring."""
+    step = 1.0 / sample_rate_hz(record)
     n = record.force_n.size
     size = 1 << int(np.ceil(np.log2(2 * n)))  # padded: no wrap-around of the ringing
     padded = np.full(size, 0.0)
-    base = np.mean(record.force_n[: max(1, n // 10)])
+    pre = record.force_n[pre_impact_slice(record.force_n, record.time_s)]
+    base = float(np.mean(pre)) if pre.size else 0.0
     padded[:n] = record.force_n - base
     ratio = np.fft.rfftfreq(size, step) / resonance.frequency_hz
     inverse = 1 - ratio**2 + 2j * resonance.damping_ratio * ratio  # 1 / H
