@@ -425,7 +425,7 @@ def extract_features(
             _, c, _ = _window_and_curve(draw, threshold_fraction, noise_factor, method, fitted)
             return _all_values(c, mass, v_in, record.rebound_speed_m_s)
 
-        spread = bootstrap_uncertainty(record, curve, window.start_s, window, values_of)
+        spread = bootstrap_uncertainty(record, curve, window, values_of)
     return ImpactFeatures(
         values={key: float(value) for key, value in values.items()},
         window=window,

@@ -180,9 +180,11 @@ def curve_on(curve, start_s: float, time_s: np.ndarray) -> np.ndarray:
     return np.interp(time_s - start_s, curve.knots_s, curve.knots_n, left=0.0, right=0.0)
 
 
-def bootstrap_uncertainty(record: ImpactRecord, curve, start_s: float, window: ContactWindow,
-                          values_of, draws: int = DRAWS, seed: int = 0) -> dict[str, float]:
-    """Standard uncertainty of each value of `values_of(record) -> dict` (see the module)."""
+def bootstrap_uncertainty(record: ImpactRecord, curve, window: ContactWindow, values_of,
+                          draws: int = DRAWS, seed: int = 0) -> dict[str, float]:
+    """Standard uncertainty of each value of `values_of(record) -> dict` (see the module);
+    `curve`'s times run from the `window`'s start."""
+    start_s = window.start_s
     clean = curve_on(curve, start_s, record.time_s)
     contact = (record.time_s >= start_s) & (record.time_s <= start_s + curve.duration_s)
     misfit = rms(record.force_n[contact] - clean[contact]) if contact.any() else 0.0
