@@ -37,7 +37,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from bench_fe import universal_sets  # noqa: E402
 
 from ballimpact.fe import SolverOptions, load_ball, simulate, simulate_batch  # noqa: E402
-from ballimpact.fe.solver import default_group_size  # noqa: E402
+from ballimpact.fe.engine import default_group_size  # noqa: E402
 
 START = time.perf_counter()
 
@@ -93,14 +93,15 @@ def batch_run(n: int, precision: str, group_size: int | None) -> dict:
 
 
 def oblique_run(precision: str, divisions: int) -> list:
-    from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
+    from ballimpact.fe import Hexahedral, simulate
+    from ballimpact.oblique import ImpactCondition, Options3D
 
     ball = load_ball("cricket-universal", impact_speed_m_s=37.0)
     condition = ImpactCondition(37.0, 56.0, 0.0, 0.3)
     options = Options3D(divisions=divisions, precision=precision)
     runs = []
     for label in ("first", "compiled"):
-        wall, r = timed(simulate_oblique, ball, condition, options)
+        wall, r = timed(lambda: simulate(ball, condition, geometry=Hexahedral(options)))
         runs.append({"precision": precision, "call": label, "wall_s": wall,
                      "element_updates_per_s": r.elements * r.steps / wall, "steps": r.steps,
                      "elements": r.elements, "normal_cor": r.normal_cor,

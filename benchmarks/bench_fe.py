@@ -7,8 +7,9 @@ Prints one JSON object:
   reduced integration float64 (the default), float32, and full integration = the F-bar element of
   the previous engine, with the new increment), the first call (`first_call_s`, mostly
   compilation), the median of 3 later calls (`wall_time_per_simulation_s`), compile estimate,
-  steps, elements, element updates per second, the figures of the run, and the ratio to the
-  thesis' ABAQUS time;
+  steps, elements, element updates per second, the figures of the run, the fingerprint of its
+  histories (`history_digest`: equal digests, the same bits) and the ratio to the thesis' ABAQUS
+  time;
 - `previous_engine`: the engine before issue 9 (F-bar, element-by-element increment 0.9 L/c_d),
   emulated in the same run by `integration="full"` with the increment scaled to the old one
   (`time_step_scale` = old / new increment; the per-chunk re-estimate stays, a few % of a run),
@@ -43,7 +44,7 @@ import numpy as np
 from ballimpact.fe import SolverOptions, load_ball, simulate, simulate_batch
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import MooneyRivlin, PronyTerm
-from ballimpact.fe.solver import default_group_size
+from ballimpact.fe.engine import default_group_size
 
 THESIS_S = {"cricket-universal": 25.0, "cricket-3layer": 87.0}
 INDEPENDENT_CODE_S = 122.0  # the same Mooney-Rivlin impact in an independent explicit code
@@ -68,6 +69,7 @@ def one_ball(name, speed, options, label):
             "thesis_abaqus_s": THESIS_S[name], "speedup_vs_thesis": THESIS_S[name] / wall,
             "peak_force_n": result.peak_force_n, "contact_time_s": result.contact_time_s,
             "cor": result.cor, "energy_balance_error": result.energy_balance_error,
+            "history_digest": result.history_digest(),
             "hourglass_fraction_of_peak_internal_energy":
                 result.energies_j["peak_hourglass_energy_j"]
                 / result.energies_j["peak_internal_energy_j"]}
@@ -76,11 +78,11 @@ def one_ball(name, speed, options, label):
 def old_increment_s(ball_name, speed):
     """The previous engine's increment: 0.9 x min(L_e / c_d) (L_e = area / longest diagonal)
     with the bulk-viscosity factor, and its contact-spring limit."""
-    from ballimpact.fe.solver import kernel_for
+    from ballimpact.fe.engine import Axisymmetric, kernel_for
 
     ball = load_ball(ball_name, impact_speed_m_s=speed)
     options = SolverOptions(integration="full")
-    geom = kernel_for(ball, options).geom
+    geom = kernel_for(ball, Axisymmetric(options))[0].geom
     c_d = np.array([np.sqrt(layer.material.wave_modulus_pa() / layer.density_kg_m3)
                     for layer in ball.layers])
     element_layer = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.layer_slices)])

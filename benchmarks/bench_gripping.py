@@ -20,7 +20,8 @@ import numpy as np
 
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique_batch
+from ballimpact.fe import Hexahedral, simulate_batch
+from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.elastic_reference import normalised_curves
 
 ANGLES_DEG, SPEED_M_S, FRICTION = (5.0, 10.0, 20.0, 30.0, 45.0, 60.0), 3.0, 0.3
@@ -46,10 +47,10 @@ def main() -> None:
     _, reference_s = timed(lambda: normalised_curves(np.linspace(0.05, 12.0, 200), 0.3))
     single = [ImpactCondition(SPEED_M_S, 30.0, 0.0, FRICTION)]
     sweep = [ImpactCondition(SPEED_M_S, a, 0.0, FRICTION) for a in ANGLES_DEG]
-    _, single_first_s = timed(lambda: simulate_oblique_batch(ball, single, options))
-    one, single_s = timed(lambda: simulate_oblique_batch(ball, single, options))
-    _, sweep_first_s = timed(lambda: simulate_oblique_batch(ball, sweep, options))
-    runs, sweep_s = timed(lambda: simulate_oblique_batch(ball, sweep, options))
+    _, single_first_s = timed(lambda: simulate_batch(ball, single, geometry=Hexahedral(options)))
+    one, single_s = timed(lambda: simulate_batch(ball, single, geometry=Hexahedral(options)))
+    _, sweep_first_s = timed(lambda: simulate_batch(ball, sweep, geometry=Hexahedral(options)))
+    runs, sweep_s = timed(lambda: simulate_batch(ball, sweep, geometry=Hexahedral(options)))
     print(json.dumps({
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, JAX {jax.__version__} "
                    f"on {jax.default_backend()}",

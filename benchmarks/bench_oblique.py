@@ -25,8 +25,8 @@ import time
 import jax
 import jax.monitoring
 
-from ballimpact.fe import load_ball, simulate
-from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
+from ballimpact.fe import Hexahedral, load_ball, simulate
+from ballimpact.oblique import ImpactCondition, Options3D
 
 SPEED_M_S, FRICTION = 37.0, 0.3
 
@@ -55,7 +55,7 @@ def main() -> None:
         options = Options3D(divisions=args.divisions, precision=precision)
         compiling = sum(COMPILE_EVENTS.values())
         started = time.perf_counter()
-        r = simulate_oblique(ball, condition, options)
+        r = simulate(ball, condition, geometry=Hexahedral(options))
         wall = time.perf_counter() - started
         compiling = sum(COMPILE_EVENTS.values()) - compiling
         compiled = any(r["precision"] == precision for r in runs)
@@ -70,6 +70,7 @@ def main() -> None:
                      "rebound_spin_rad_s": r.rebound_spin_rad_s,
                      "peak_force_n": r.peak_force_n, "contact_time_s": r.contact_time_s,
                      "energy_balance_error": r.energy_balance_error,
+                     "history_digest": r.history_digest(),
                      "frictional_dissipation_j": r.energies_j["frictional_dissipation_j"],
                      "initial_kinetic_energy_j": r.energies_j["initial_kinetic_energy_j"]})
     normal_speed = SPEED_M_S * math.cos(math.radians(56.0))

@@ -29,7 +29,7 @@ from pathlib import Path
 import jax
 
 from ballimpact.fe import SolverOptions, simulate
-from ballimpact.fe.solver import default_group_size
+from ballimpact.fe.engine import default_group_size
 from ballimpact.sweep import ROW_KEYS, run_sweep, sweep_balls, sweep_row
 
 BALL = "cricket-universal"

@@ -29,8 +29,9 @@ import numpy as np
 from ballimpact import fe
 from ballimpact.fe.steps import cast
 from ballimpact.fe.programs import compiled_run
-from ballimpact.oblique import ImpactCondition, Options3D, Target, simulate_oblique
-from ballimpact.oblique import solver
+from ballimpact.fe.engine import kernel_for
+from ballimpact.fe.hex.geometry import model_arrays
+from ballimpact.oblique import ImpactCondition, Options3D, Target
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "examples"))
@@ -40,9 +41,10 @@ import oblique_gripping as gripping  # noqa: E402
 
 def increments_s(ball, condition, options, target) -> tuple[float, float]:
     """(node by node, every pair) stable increments (s) at the first touch."""
-    _, half, options = solver._checked(ball, [condition], options, target)
-    kernel, _ = solver.kernel_for(ball, target, options, half)
-    params = solver.model_arrays(ball, target, kernel, options, condition)
+    geometry = fe.Hexahedral(options).checked(ball, [condition], target)
+    options = geometry.options
+    kernel, _ = kernel_for(ball, geometry, target)
+    params = model_arrays(ball, target, kernel, options, condition)
     mass, s = params.mass_kg, np.asarray(kernel.contact_nodes)
     top = mass[np.asarray(kernel.target["top"])]
     every_pair = params._replace(contact_spring_factor=np.full(
@@ -62,7 +64,7 @@ def increments_s(ball, condition, options, target) -> tuple[float, float]:
 def case(name, ball, condition, options, target) -> dict:
     node_by_node, every_pair = increments_s(ball, condition, options, target)
     started = time.perf_counter()
-    run = simulate_oblique(ball, condition, options, target)
+    run = fe.simulate(ball, condition, geometry=fe.Hexahedral(options), target=target)
     return {"case": name, "elements": run.elements, "steps": run.steps,
             "run_with_compilation_s": time.perf_counter() - started,
             "increment_node_by_node_s": node_by_node, "increment_every_pair_s": every_pair,

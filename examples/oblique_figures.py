@@ -19,7 +19,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch  # noqa: E402
 
 from ballimpact.fe import load_ball  # noqa: E402
-from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique  # noqa: E402
+from ballimpact.fe import Hexahedral, simulate  # noqa: E402
+from ballimpact.oblique import ImpactCondition, Options3D  # noqa: E402
 from ballimpact.oblique.output import section_figure  # noqa: E402
 from ballimpact.oblique.plots import plot_oblique  # noqa: E402
 
@@ -61,8 +62,8 @@ def main() -> None:
     args = parser.parse_args()
     convention(args.out / "oblique-convention.png")
     ball = load_ball("cricket-universal", impact_speed_m_s=25.0)
-    result = simulate_oblique(ball, ImpactCondition(37.0, 56.0, 0.0, 0.3),
-                              Options3D(divisions=args.divisions, chunk_steps=50, frames=1))
+    result = simulate(ball, ImpactCondition(37.0, 56.0, 0.0, 0.3), geometry=Hexahedral(
+        Options3D(divisions=args.divisions, chunk_steps=50, frames=1)))
     plot_oblique([result], args.out / "oblique-histories.png")
     peak = min(range(len(result.frames)),
                key=lambda i: abs(result.frames[i]["time_s"] - result.time_of_peak_s))

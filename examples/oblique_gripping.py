@@ -46,9 +46,10 @@ import numpy as np
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.estimates import hertz_contact_radius_m
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique_batch
+from ballimpact.fe import Hexahedral, simulate_batch
+from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.elastic_reference import ElasticSphere, oblique_impact
-from ballimpact.oblique.target import Target, TargetLayer
+from ballimpact.fe.hex.target import Target, TargetLayer
 
 RADIUS_M, DENSITY_KG_M3, YOUNGS_PA = 0.036, 800.0, 100e6
 NORMAL_SPEED_M_S, DIAGNOSIS_NORMAL_SPEED_M_S = 0.25, 2.0
@@ -131,8 +132,8 @@ def run(nu: float, psi_values, options: Options3D = MESH, friction: float = FRIC
         if psi in done:
             continue
         started = time.perf_counter()
-        (result,) = simulate_oblique_batch(ball, conditions([psi], friction, normal_speed),
-                                           options, target)
+        (result,) = simulate_batch(ball, conditions([psi], friction, normal_speed),
+                                   geometry=Hexahedral(options), target=target)
         (row,) = compare(ball, nu, [result], same_material_plane=target is not None)
         row["wall_time_s"] = time.perf_counter() - started
         done[psi] = (result, row)

@@ -19,7 +19,8 @@ import numpy as np
 
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique_batch
+from ballimpact.fe import Hexahedral, simulate_batch
+from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.plots import plot_sweep, sweep_points
 from ballimpact.oblique.rigid_body import rigid_lines
 
@@ -50,7 +51,8 @@ def run(divisions: int, psi_values=PSI, group: int = 5):
     results = []
     runs = conditions(psi_values)
     for start in range(0, len(runs), group):
-        results += simulate_oblique_batch(sphere(), runs[start:start + group], options)
+        results += simulate_batch(sphere(), runs[start:start + group],
+                                  geometry=Hexahedral(options))
         print(f"  {len(results)} of {len(runs)} runs", file=sys.stderr, flush=True)
     return results
 

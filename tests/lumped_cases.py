@@ -1,4 +1,6 @@
-"""Synthetic impact tests from known lumped-model parameters, for the identification tests."""
+"""Synthetic impact tests from known lumped-model parameters. The tests take these as fixtures
+from tests/conftest.py (`single_params`, `three_params`, `clean_pulse`, `noisy_pulse`, the same
+values); this module stays only for benchmarks/bench_lumped.py, which imports it."""
 
 import numpy as np
 

@@ -13,9 +13,8 @@ import pytest
 
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball, simulate
-from ballimpact.fe import solver as fe_solver
+from ballimpact.fe import SolverOptions, engine
 from ballimpact.fe.progress import RunEstimate
-from ballimpact.oblique import solver as oblique_solver
 from ballimpact.plausibility import BALL_RANGES, CHECKS, check_ball
 
 RUBBER = {"model": "neo_hookean", "c10_pa": 1.0e6}
@@ -39,8 +38,7 @@ def no_meshing(monkeypatch):
     """Every case must fail before a mesh is built (a mis-scaled ball can exhaust memory)."""
     def refuse(*args, **kwargs):
         raise AssertionError("meshed before the input was checked")
-    monkeypatch.setattr(fe_solver, "kernel_for", refuse)
-    monkeypatch.setattr(oblique_solver, "kernel_for", refuse)
+    monkeypatch.setattr(engine, "kernel_for", refuse)
     import ballimpact.export as export
 
     monkeypatch.setattr(export, "ball_geometry", refuse)
@@ -217,13 +215,13 @@ def test_3d_mp4_without_ffmpeg(bad_input, tmp_path, monkeypatch):
 
 
 def test_api_narrow_target_is_refused_before_meshing():
-    from ballimpact.oblique import ImpactCondition, estimate_oblique
-    from ballimpact.oblique.target import Target
+    from ballimpact.fe import Hexahedral, ImpactCondition, estimate
+    from ballimpact.fe.hex.target import Target
 
     narrow = Target.from_dict({**TARGET, "half_width_m": 0.01}, where="target")
     with pytest.raises(InputError, match="half_width_m = 0.01 m is less than the ball's radius"):
-        estimate_oblique(load_ball("cricket-3layer"), [ImpactCondition(speed_m_s=20.0)],
-                         target=narrow)
+        estimate(load_ball("cricket-3layer"), ImpactCondition(speed_m_s=20.0),
+                 geometry=Hexahedral(), target=narrow)
 
 
 def test_3d_unresolved_contact_names_the_3d_options():
@@ -439,24 +437,24 @@ def test_large_run_check_judges_a_size_once_per_process(fresh_judgements, monkey
     balls = [load_ball("cricket-3layer")] * 4
     available = [16 * GIB]
     monkeypatch.setattr(fresh_judgements, "available_memory_bytes", lambda: available[0])
-    fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(), group_size=4)
+    engine.check_memory(engine.Axisymmetric(), balls, [20.0] * 4, group_size=4)
     available[0] = 1.0  # the dip
-    fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(), group_size=4)
-    fe_solver.check_run_memory(balls[:2], [20.0] * 2, fe_solver.SolverOptions())
+    engine.check_memory(engine.Axisymmetric(), balls, [20.0] * 4, group_size=4)
+    engine.check_memory(engine.Axisymmetric(), balls[:2], [20.0] * 2)
     with pytest.raises(InputError, match="would need about"):
-        fe_solver.check_run_memory(balls, [20.0] * 4, fe_solver.SolverOptions(element_size_m=1e-3),
-                                   group_size=4)
+        engine.check_memory(engine.Axisymmetric(SolverOptions(element_size_m=1e-3)), balls,
+                            [20.0] * 4, group_size=4)
 
 
 def test_large_run_allowed_warns_once_for_the_same_run(fresh_judgements, monkeypatch):
-    """`estimate_run` then `simulate` (the command line's order) check the same run: one
+    """`fe.estimate` then `fe.simulate` (the command line's order) check the same run: one
     warning."""
     monkeypatch.setattr(fresh_judgements, "available_memory_bytes", lambda: 1.0)
-    ball, options = load_ball("cricket-3layer"), fe_solver.SolverOptions()
+    ball, geometry = load_ball("cricket-3layer"), engine.Axisymmetric()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         for _ in range(2):
-            fe_solver.check_run_memory([ball], [20.0], options, {"large-run"})
+            engine.check_memory(geometry, [ball], [20.0], None, {"large-run"})
     assert [str(w.message)[:25] for w in caught] == ["large-run: the run would "]
     with pytest.raises(InputError, match="large-run"):  # not allowed: still refused
-        fe_solver.check_run_memory([ball], [20.0], options)
+        engine.check_memory(geometry, [ball], [20.0])

@@ -12,13 +12,11 @@ import json
 import numpy as np
 import pytest
 
-from calibrate_cases import half_sine_record
-
 MAT = "layers.ball.material."
 
 
 @pytest.fixture(scope="module")
-def record(tmp_path_factory):
+def record(tmp_path_factory, half_sine_record):
     return half_sine_record(tmp_path_factory.mktemp("calibrate-bad-input"), contact_s=5e-4)
 
 

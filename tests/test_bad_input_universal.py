@@ -193,7 +193,7 @@ def test_report_noise_out_of_range(noise, tmp_path, bad_input):
 def test_report_noise_as_a_percentage_names_the_slip(tmp_path, bad_input):
     fake_study(tmp_path / "s")
     bad_input(["universal", "report", "--closed-loop", tmp_path / "s", "--noise", "1"],
-              "--noise 1", "looks like a percentage: use 0.01")
+              "--noise = 1", "looks like a percentage: use 0.01")
 
 
 def test_report_plot_suffix(tmp_path, bad_input):
@@ -267,7 +267,7 @@ def run(folder, *flags):
     (["--range", "g1=0.5:0.2"], ["g1", "LOW < HIGH", "swapped"]),
     (["--range", "c10_pa=4e6:4e6"], ["c10_pa", "LOW < HIGH"]),
     (["--range", f"impact_speed_m_s=5:{SPEEDS[1] + 10:g}"],
-     ["impact_speed_m_s", f"{SPEEDS[0]:g}:{SPEEDS[1]:g}"]),
+     ["impact_speed_m_s HIGH", f"allowed range [{SPEEDS[0]:g}, {SPEEDS[1]:g}] m/s"]),
     (["--range", "c01_pa=-5e6:1e6"], ["c01_pa", "mu0"]),
     (["--range", "g1=0.2"], ["--range", "LOW:HIGH"]),
     (["--workers", "2", "--scheduler", "tcp://x:1"], ["--workers", "--scheduler", "give one"]),
@@ -394,7 +394,7 @@ def test_train_on_a_batch_of_another_design(tmp_path, bad_input):
     (["--width", "0"], ["--width 0", ">= 1"]),
     (["--seed", "-1"], ["--seed -1", ">= 0"]),
     (["--noise-augment", "0.7"], ["--noise-augment", "[0, 0.5)"]),
-    (["--noise-augment", "2"], ["--noise-augment 2", "looks like a percentage: use 0.02"]),
+    (["--noise-augment", "2"], ["--noise-augment = 2", "looks like a percentage: use 0.02"]),
 ])
 def test_train_flags(flags, fragments, tmp_path, bad_input):
     fake_study(tmp_path / "s")

@@ -10,7 +10,7 @@ from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.fe import describe_presets, load_ball, simulate
 from ballimpact.fe.materials import MooneyRivlin, NeoHookean, OgdenHyperfoam
-from ballimpact.fe.solver import SolverOptions
+from ballimpact.fe import SolverOptions
 
 EXAMPLES = Path(__file__).parent.parent / "examples" / "balls"
 COARSE = SolverOptions(element_size_m=4e-3)

@@ -237,10 +237,8 @@ def test_problem_defaults_to_its_tests_objectives(files):
     assert problem.objectives == ("compression",)
 
 
-def test_mixed_gradient_stage_refused(files, tmp_path):
+def test_mixed_gradient_stage_refused(files, tmp_path, half_sine_record):
     """A gradient stage over a compression and an impact test is refused before any run."""
-    from calibrate_cases import half_sine_record
-
     from ballimpact.errors import InputError
 
     record = half_sine_record(tmp_path, contact_s=5e-4)

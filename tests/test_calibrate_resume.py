@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import build_parser, main
-from calibrate_cases import half_sine_record
 
 # the module (the package's `search` is the function of the same name)
 search_module = importlib.import_module("ballimpact.calibrate.search")
@@ -25,7 +24,7 @@ MAT = "layers.ball.material."
 
 
 @pytest.fixture(scope="module")
-def record(tmp_path_factory):
+def record(tmp_path_factory, half_sine_record):
     return half_sine_record(tmp_path_factory.mktemp("calibrate-resume"), contact_s=4.5e-4)
 
 

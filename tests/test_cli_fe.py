@@ -212,9 +212,9 @@ def test_progress_lines_go_to_stderr(capsys, monkeypatch):
 
 def test_large_run_warns_before_it_starts(capsys, monkeypatch):
     """(The 3d solver's: tests/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
-    from ballimpact.fe import solver
+    from ballimpact.fe import Axisymmetric
 
-    monkeypatch.setattr(solver, "ELEMENT_STEPS_WARNING", 1e3)
+    monkeypatch.setattr(Axisymmetric, "ELEMENT_STEPS_WARNING", 1e3)
     code, out, err = run(capsys, "simulate", "--ball", "cricket-universal", "--speed-m-s", 10,
                          *COARSE, "--json")
     assert code == 0, err
@@ -225,22 +225,23 @@ def test_large_run_warns_before_it_starts(capsys, monkeypatch):
 
 
 def test_guard_flags_a_very_fine_mesh_not_the_default():
-    from ballimpact.fe import load_ball
-    from ballimpact.fe.solver import ELEMENT_STEPS_WARNING, estimate_run
+    from ballimpact.fe import Axisymmetric, estimate, load_ball
 
     ball = load_ball("cricket-universal", impact_speed_m_s=25.0)
-    default = estimate_run(ball, 25.0)
+    default = estimate(ball, 25.0)
     assert default.warning() is None
     # on the high side of the real run (1482 elements, 2371 steps), within a factor 2
     assert default.elements == 1482 and 2371 <= default.steps <= 2 * 2371
-    fine = estimate_run(ball, 25.0, SolverOptions(element_size_m=1.5e-4))
-    assert fine.element_steps > ELEMENT_STEPS_WARNING
+    fine = estimate(ball, 25.0, geometry=Axisymmetric(SolverOptions(element_size_m=1.5e-4)))
+    assert fine.element_steps > Axisymmetric.ELEMENT_STEPS_WARNING
     assert fine.warning().startswith("large run: about ")
 
 
 def test_guard_in_the_help(capsys):
-    from ballimpact.fe.solver import ELEMENT_STEPS_WARNING
-    from ballimpact.oblique.solver import ELEMENT_STEPS_WARNING as ELEMENT_STEPS_WARNING_3D
+    from ballimpact.fe import Axisymmetric, Hexahedral
+
+    ELEMENT_STEPS_WARNING = Axisymmetric.ELEMENT_STEPS_WARNING
+    ELEMENT_STEPS_WARNING_3D = Hexahedral.ELEMENT_STEPS_WARNING
 
     with pytest.raises(SystemExit):
         main(["simulate", "--help"])

@@ -8,22 +8,28 @@ import pytest
 from ballimpact import InputError
 from ballimpact.cli import main
 from ballimpact.lumped import SpeedTable
-from lumped_cases import SINGLE, clean, noisy
 
 FIT_KEYS = {"model", "params", "units", "rmse_n", "nrmse", "wall_time_s", "standard_errors",
             "history", "seed", "method", "cor", "contact_time_s", "measured"}
 
 
-def write_test(folder, name, speed, noise=0.01, seed=None):
-    seed = int(speed) if seed is None else seed
-    record = noisy(clean("single_element", SINGLE, speed), noise, seed=seed)
-    path = folder / f"{name}.csv"
-    np.savetxt(path, np.c_[record.time_s, record.force_n], delimiter=",", header="time_s,force_n",
-               comments="")
-    (folder / f"{name}.json").write_text(json.dumps(
-        {"mass_kg": record.mass_kg, "impact_speed_m_s": speed,
-         "rebound_speed_m_s": record.rebound_speed_m_s}))
-    return path
+@pytest.fixture
+def write_test(single_params, clean_pulse, noisy_pulse):
+    """`write_test(folder, name, speed, noise=0.01, seed=None)`: a noisy single-element test
+    (the conftest's known parameters) written as `folder/name.csv` with its JSON side file."""
+
+    def write(folder, name, speed, noise=0.01, seed=None):
+        seed = int(speed) if seed is None else seed
+        record = noisy_pulse(clean_pulse("single_element", single_params, speed), noise, seed=seed)
+        path = folder / f"{name}.csv"
+        np.savetxt(path, np.c_[record.time_s, record.force_n], delimiter=",",
+                   header="time_s,force_n", comments="")
+        (folder / f"{name}.json").write_text(json.dumps(
+            {"mass_kg": record.mass_kg, "impact_speed_m_s": speed,
+             "rebound_speed_m_s": record.rebound_speed_m_s}))
+        return path
+
+    return write
 
 
 #: Tolerances that let any fit pass its model check: for the tests of tables and output, whose
@@ -39,7 +45,7 @@ def run(capsys, *argv):
     return code, out, err
 
 
-def test_fit_json_has_the_contract_keys(capsys, tmp_path):
+def test_fit_json_has_the_contract_keys(capsys, tmp_path, write_test, single_params):
     path = write_test(tmp_path, "a", 20.0)
     plot = tmp_path / "fit.png"
     code, out, err = run(capsys, "fit", path, "--model", "single_element", "--json", "--plot", plot,
@@ -49,13 +55,13 @@ def test_fit_json_has_the_contract_keys(capsys, tmp_path):
     assert FIT_KEYS <= set(result)
     assert result["model"] == "single_element" and result["seed"] == 4
     assert result["units"] == {"k": "N/m^alpha", "alpha": "1", "c": "N s/m"}
-    assert result["params"]["alpha"] == pytest.approx(SINGLE["alpha"], rel=0.03)
+    assert result["params"]["alpha"] == pytest.approx(single_params["alpha"], rel=0.03)
     assert 0.005 < result["nrmse"] < 0.015
     assert len(result["history"]["best_fitness"]) == 40
     assert plot.stat().st_size > 10_000
 
 
-def test_fit_several_speeds_writes_a_table(capsys, tmp_path):
+def test_fit_several_speeds_writes_a_table(capsys, tmp_path, write_test):
     paths = [write_test(tmp_path, name, speed) for name, speed in (("fast", 20.0), ("slow", 10.0))]
     table = tmp_path / "table.csv"
     code, out, err = run(capsys, "fit", *LOOSE, *paths, "--model", "hunt_crossley", "--method", "de",
@@ -69,7 +75,7 @@ def test_fit_several_speeds_writes_a_table(capsys, tmp_path):
     assert "fit 2/2" in err
 
 
-def test_hunt_crossley_bounds_are_in_the_units_of_k_and_round_trip(capsys, tmp_path):
+def test_hunt_crossley_bounds_are_in_the_units_of_k_and_round_trip(capsys, tmp_path, write_test):
     """`bounds` of a power-law k are in N/m^n (not the force at y_ref that is searched), contain
     the fitted k, and `--bound` with them gives the same bounds back."""
     path = write_test(tmp_path, "a", 20.0)
@@ -104,7 +110,7 @@ def notes(err):
     return [line for line in err.splitlines() if line.startswith("note:")]
 
 
-def test_fit_repeats_at_one_speed_keep_a_row_each(capsys, tmp_path):
+def test_fit_repeats_at_one_speed_keep_a_row_each(capsys, tmp_path, write_test):
     paths = [write_test(tmp_path, name, 20.0, seed=seed)
              for name, seed in (("first", 1), ("second", 2))]
     code, out, err = run(capsys, "fit", *LOOSE, *paths, "--model", "hunt_crossley", "--method", "de",
@@ -127,7 +133,7 @@ def test_fit_repeats_at_one_speed_keep_a_row_each(capsys, tmp_path):
                                                            rel=1e-12)
 
 
-def test_fit_repeated_and_distinct_speeds(capsys, tmp_path):
+def test_fit_repeated_and_distinct_speeds(capsys, tmp_path, write_test):
     paths = [write_test(tmp_path, name, speed, seed=seed)
              for name, speed, seed in (("fast1", 20.0, 1), ("slow", 10.0, 2), ("fast2", 20.0, 3))]
     table_csv = tmp_path / "table.csv"
@@ -153,7 +159,7 @@ def test_fit_repeated_and_distinct_speeds(capsys, tmp_path):
         SpeedTable.from_dict(json.loads(out)["table"]).params_at(10.0)
 
 
-def test_fit_table_text_output(capsys, tmp_path):
+def test_fit_table_text_output(capsys, tmp_path, write_test):
     path = write_test(tmp_path, "a", 20.0)
     code, out, err = run(capsys, "fit", path, "--model", "hertz", "--generations", 10)
     assert "hertz by GA" in out and "NRMSE" in out and "COR" in out
@@ -165,7 +171,7 @@ def test_fit_table_text_output(capsys, tmp_path):
     assert len(errors) == 1 and "(--max-cor-error)" in errors[0] and "a.csv" in errors[0]
 
 
-def test_the_model_check_passes_the_model_that_made_the_record(capsys, tmp_path):
+def test_the_model_check_passes_the_model_that_made_the_record(capsys, tmp_path, write_test):
     """The single-element model fitted to its own noisy pulse passes every criterion (the
     defaults, plus the test's 90% uncertainty) and exits 0; the check is in the JSON."""
     path = write_test(tmp_path, "a", 20.0)
@@ -201,14 +207,14 @@ def test_models_lists_the_registry(capsys):
     (["--model", "single_element", "--table", "t.csv"], "--table: needs several files"),
     (["--model", "single_element", "--seed", "-1"], "seed"),
 ])
-def test_fit_bad_input_exits_2(capsys, tmp_path, extra, message):
+def test_fit_bad_input_exits_2(capsys, tmp_path, extra, message, write_test):
     path = write_test(tmp_path, "a", 20.0)
     code, out, err = run(capsys, "fit", path, *extra)
     assert code == 2
     assert err.startswith("error:") and message in err and err.count("\n") == 1
 
 
-def test_fit_flags_parameters_the_record_does_not_determine(capsys, tmp_path):
+def test_fit_flags_parameters_the_record_does_not_determine(capsys, tmp_path, write_test):
     """Three units fitted to one unit's pulse: a parameter whose standard error exceeds its value
     is "not identified" in the JSON, on stderr (naming the file) and in the text output."""
     path = write_test(tmp_path, "one_unit", 20.0)
@@ -228,7 +234,7 @@ def test_fit_flags_parameters_the_record_does_not_determine(capsys, tmp_path):
     assert flagged == unknown
 
 
-def test_fit_repeats_at_scattered_speeds_are_grouped(capsys, tmp_path):
+def test_fit_repeats_at_scattered_speeds_are_grouped(capsys, tmp_path, write_test):
     """Repeats aimed at one speed land a little apart: within 5% of each other they are one
     group, whose parameters' mean and SD are reported."""
     paths = [write_test(tmp_path, name, speed, seed=seed)

@@ -11,7 +11,6 @@ from ballimpact import InputError
 from ballimpact import lumped
 from ballimpact.cli import main
 from ballimpact.checks import shown
-from lumped_cases import SINGLE, clean
 
 COMMAND = [sys.executable, "-m", "ballimpact.cli"]
 
@@ -48,39 +47,37 @@ def test_shown_prints_plain_numbers():
     assert shown("one") == "'one'"
 
 
+#: each call takes `pulse`, which makes a clean single-element record when called
 @pytest.mark.parametrize("call, message", [
-    (lambda: lumped.simulate("kelvin_voigt", {"k": np.float64("nan"), "c": 1.0},
-                             impact_speed_m_s=10.0, mass_kg=0.16),
+    (lambda pulse: lumped.simulate("kelvin_voigt", {"k": np.float64("nan"), "c": 1.0},
+                                   impact_speed_m_s=10.0, mass_kg=0.16),
      "params.k: must be a finite number, got nan"),
-    (lambda: lumped.simulate("kelvin_voigt", {"k": 1e6, "c": 1.0}, impact_speed_m_s=10.0,
-                             mass_kg=np.float64(-0.16)),
+    (lambda pulse: lumped.simulate("kelvin_voigt", {"k": 1e6, "c": 1.0}, impact_speed_m_s=10.0,
+                                   mass_kg=np.float64(-0.16)),
      "mass_kg: must be > 0, got -0.16"),
-    (lambda: lumped.hunt_crossley_lambda(np.float64(1.5), 10.0),
+    (lambda pulse: lumped.hunt_crossley_lambda(np.float64(1.5), 10.0),
      "cor: must be in (0, 0.999999], got 1.5"),
-    (lambda: lumped.hunt_crossley_cor(np.float64(-0.1), 10.0),
+    (lambda pulse: lumped.hunt_crossley_cor(np.float64(-0.1), 10.0),
      "lambda: must be >= 0 s/m, got -0.1"),
-    (lambda: lumped.fit(clean("single_element", SINGLE), "single_element",
-                        cor_weight=np.float64(-1.0)),
+    (lambda pulse: lumped.fit(pulse(), "single_element", cor_weight=np.float64(-1.0)),
      "cor_weight: must be >= 0, got -1"),
-    (lambda: lumped.fit(clean("single_element", SINGLE), "single_element", seed=np.int64(-1)),
+    (lambda pulse: lumped.fit(pulse(), "single_element", seed=np.int64(-1)),
      "seed: must be an integer >= 0, got -1"),
-    (lambda: lumped.fit(clean("single_element", SINGLE), "single_element",
-                        bounds={"alpha": np.array([2.0, 1.0])}),
+    (lambda pulse: lumped.fit(pulse(), "single_element", bounds={"alpha": np.array([2.0, 1.0])}),
      "bounds.alpha: need low < high, got [2, 1]"),
-    (lambda: lumped.fit(clean("single_element", SINGLE), "single_element",
-                        fixed={"alpha": np.float64("inf")}),
+    (lambda pulse: lumped.fit(pulse(), "single_element", fixed={"alpha": np.float64("inf")}),
      "fixed.alpha: must be finite, got inf"),
 ])
-def test_messages_show_plain_numbers(call, message):
+def test_messages_show_plain_numbers(call, message, single_params, clean_pulse):
     """Each of these printed `np.float64(...)` (or `np.int64(...)`) under NumPy 2."""
     with pytest.raises(InputError) as raised:
-        call()
+        call(lambda: clean_pulse("single_element", single_params))
     assert str(raised.value) == message
 
 
-def test_cli_bound_message_shows_plain_numbers(capsys, tmp_path):
+def test_cli_bound_message_shows_plain_numbers(capsys, tmp_path, single_params, clean_pulse):
     path = tmp_path / "a.csv"
-    record = clean("single_element", SINGLE)
+    record = clean_pulse("single_element", single_params)
     np.savetxt(path, np.c_[record.time_s, record.force_n], delimiter=",",
                header="time_s,force_n", comments="")
     code = main(["fit", str(path), "--model", "single_element", "--mass-kg", "0.16",

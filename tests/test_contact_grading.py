@@ -9,10 +9,10 @@ from ballimpact.errors import InputError
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
-from ballimpact.oblique.contact_grading import grading_for_contact
+from ballimpact.fe.hex.contact_grading import grading_for_contact
 from ballimpact.fe.hex.mesh import pole_spacing_m
 from ballimpact.fe.hex.mesh import ball_mesh
-from ballimpact.oblique.solver import estimate_oblique
+from ballimpact.fe import Hexahedral, estimate
 
 BALL = BallModel("sphere", (Layer("sphere", 0.036, 800.0, material_from_dict(
     {"model": "linear_elastic", "youngs_modulus_pa": 1e8, "poissons_ratio": 0.23})),))
@@ -39,10 +39,11 @@ def test_contact_radius_is_hertz_and_grading_reaches_it():
 
 def test_options_choose_the_grading_for_the_slowest_normal_speed():
     conditions = [ImpactCondition(2.0, 0.0), ImpactCondition(4.0, 60.0)]   # v_n 2 and 2
-    est = estimate_oblique(BALL, conditions, Options3D(divisions=8, contact_elements=2.0))
+    est = estimate(BALL, conditions, geometry=Hexahedral(Options3D(divisions=8,
+                                                                   contact_elements=2.0)))
     graded, _ = grading_for_contact(BALL, 2.0, 8, 2.0)
-    assert est.elements == estimate_oblique(
-        BALL, conditions, Options3D(divisions=8, pole_grading=graded)).elements
+    assert est.elements == estimate(
+        BALL, conditions, geometry=Hexahedral(Options3D(divisions=8, pole_grading=graded))).elements
     assert graded > 1.0
 
 

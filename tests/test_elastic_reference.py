@@ -168,10 +168,11 @@ def _measured(name):
 
 def test_reference_against_kharaz_measurements():
     """Alumina spheres on glass (Kharaz, Gorham & Salman 2001; data/kharaz2001_*.csv), the
-    reference with both bodies' moduli, each point at its measured Psi (normal COR 0.98):
-    tangential COR within 0.035 at all 8 angles (largest 0.032, at 9.6 deg) and normalised
-    spin within 0.21 at all 7 (the measured spin scatters by 0.2 about the sliding value 2.5;
-    largest 0.204 at Psi 19.2, 0.077 at 6 deg)."""
+    reference with both bodies' moduli, each point at its measured Psi (normal COR 0.98), as
+    docs/oblique.md quotes it: tangential COR within 0.032 at all 8 angles (largest 0.0316, at
+    9.6 deg) and normalised spin within 0.08 at the 3 angles below gross sliding (largest 0.077,
+    at 6 deg); above it the reference spins at the sliding value 2.5 and the measured spin
+    scatters about it by 0.2 (largest 0.204, at Psi 19.2)."""
     radius = 0.0025
     alumina = ElasticSphere(radius, 4000 * 4 / 3 * np.pi * radius ** 3, 380e9, 0.23,
                             plane_youngs_modulus_pa=70e9, plane_poissons_ratio=0.25)
@@ -185,8 +186,11 @@ def test_reference_against_kharaz_measurements():
         ref = [oblique_impact(alumina, vn, p * mu * vn, 0.0, mu) for p, vn in zip(psi, v_n)]
         if column == "tangential_cor":
             got = np.array([r["tangential_cor"][0] for r in ref])
-            assert np.max(np.abs(got - data[column].to_numpy())) < 0.035
+            assert np.max(np.abs(got - data[column].to_numpy())) < 0.032
         else:
             got = np.array([r["normalised_spin"][0] for r in ref])
             measured = data[column].to_numpy() * radius / (mu * (1 + e_n) * v_n)
-            assert np.max(np.abs(got - measured)) < 0.21
+            sliding = np.abs(got - 2.5) < 1e-6  # gross sliding: the rigid-body value 1 / k^2
+            assert sliding.sum() == 4  # 31 to 60 deg; 6, 11 and 21 deg below it
+            assert np.max(np.abs(got - measured)[~sliding]) < 0.08
+            assert np.max(np.abs(got - measured)[sliding]) < 0.21

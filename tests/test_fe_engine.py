@@ -12,7 +12,8 @@ from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.axi.kernel import ball_arrays
 from ballimpact.fe.steps import cast
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.fe.solver import SolverOptions, kernel_for, simulate, simulate_batch
+from ballimpact.fe import Axisymmetric, SolverOptions, simulate, simulate_batch
+from ballimpact.fe.engine import kernel_for
 
 RADIUS, DENSITY = 0.036, 800.0
 UNIVERSAL = {"model": "mooney_rivlin", "c10_pa": 4.72e6, "c01_pa": -0.45e6,
@@ -29,7 +30,7 @@ def test_lanczos_increment_matches_arpack(integration):
     against ARPACK (scipy eigsh) on the same operator: within 1e-6, never below."""
     ball = _sphere(UNIVERSAL)
     options = SolverOptions(element_size_m=3e-3, integration=integration)
-    kernel = kernel_for(ball, options)
+    kernel, _ = kernel_for(ball, Axisymmetric(options))
     with jax.enable_x64(True):
         params = jax.tree_util.tree_map(jnp.asarray, cast(ball_arrays(ball, kernel.geom, options),
                                                           np.float64))

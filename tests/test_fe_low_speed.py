@@ -1,6 +1,6 @@
 """Slow impacts, the textbook Hertz case (issue 24): a homogeneous linear-elastic ball at 0.1,
 0.3 and 1 m/s against the Hertz closed form (`closedform.hertz_impact`), and the warning when
-the contact patch is narrower than the mesh resolves (`fe.solver.contact_resolution_note`)."""
+the contact patch is narrower than the mesh resolves (`fe.engine.contact_resolution_note`)."""
 
 import math
 import warnings
@@ -9,7 +9,7 @@ import pytest
 
 from ballimpact.errors import InputWarning
 from ballimpact.fe import SolverOptions, load_ball, simulate
-from ballimpact.fe import solver as fe_solver
+from ballimpact.fe import engine
 from ballimpact.fe.estimates import hertz_contact_radius_m
 from ballimpact.closedform import hertz_impact
 
@@ -66,13 +66,13 @@ def test_unresolved_contact_warns_before_meshing(monkeypatch):
     """At 0.01 m/s the patch (Hertz radius ~1.2 mm) spans 0.8 of the default 1.5 mm elements."""
     ball = load_ball(BALL)
     assert hertz_contact_radius_m(ball, 0.01) < 2 * 1.5e-3
-    note = fe_solver.contact_resolution_note(ball, 0.01, 1.5e-3)
+    note = engine.contact_resolution_note(ball, 0.01, 1.5e-3)
     assert note.startswith("contact not resolved: at 0.01 m/s") and "pole_element_size_m" in note
-    assert fe_solver.contact_resolution_note(ball, 0.1, 5e-4) is None
+    assert engine.contact_resolution_note(ball, 0.1, 5e-4) is None
 
     def refuse(*args, **kwargs):
         raise RuntimeError("meshed")
-    monkeypatch.setattr(fe_solver, "kernel_for", refuse)
+    monkeypatch.setattr(engine, "kernel_for", refuse)
     with pytest.warns(InputWarning, match="^contact not resolved"), \
             pytest.raises(RuntimeError, match="meshed"):
         simulate(ball, 0.01)

@@ -13,7 +13,7 @@ import pytest
 from ballimpact.errors import InputError
 from ballimpact.fe import load_ball, simulate
 from ballimpact.fe.materials import NeoHookean, Sym, Yeoh, energy_and_stress, material_from_dict
-from ballimpact.fe.solver import SolverOptions
+from ballimpact.fe import SolverOptions
 
 YEOH = {"model": "yeoh", "c10_pa": 1.1e6, "c20_pa": -4.0e4, "c30_pa": 1.5e3}
 OGDEN = {"model": "ogden", "terms": [{"mu_pa": 1.6e6, "alpha": 2.6}, {"mu_pa": 2.0e3, "alpha": 6.0},

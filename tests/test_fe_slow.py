@@ -3,7 +3,7 @@
 import pytest
 
 from ballimpact.fe.ball import load_ball
-from ballimpact.fe.solver import SolverOptions, simulate
+from ballimpact.fe import SolverOptions, simulate
 
 pytestmark = pytest.mark.slow
 

@@ -10,7 +10,7 @@ import pytest
 from ballimpact.errors import InputError, SimulationError
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.fe.solver import SolverOptions, simulate, simulate_batch
+from ballimpact.fe import SolverOptions, simulate, simulate_batch
 
 RADIUS, DENSITY, E, SPEED = 0.036, 800.0, 10e6, 1.0
 # Hertz needs the contact patch (radius ~7 mm here) resolved: 2 mm elements, 0.5 mm at the pole.

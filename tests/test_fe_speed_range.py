@@ -14,10 +14,9 @@ from ballimpact.cli import main
 from ballimpact.cli.demo import DEMO_IMPACTS
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball, simulate, simulate_batch
-from ballimpact.fe import solver as fe_solver
-from ballimpact.fe.solver import SolverOptions
+from ballimpact.fe import engine
+from ballimpact.fe import SolverOptions
 from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique, simulate_oblique_batch
-from ballimpact.oblique import solver as oblique_solver
 from ballimpact.plausibility import CHECKS, FE_3D_SPEED_RANGE_M_S, FE_SPEED_RANGE_M_S
 
 LOW, HIGH = FE_SPEED_RANGE_M_S
@@ -37,8 +36,7 @@ def no_meshing(monkeypatch):
     """Any attempt to mesh or compile fails the test: the check must come first."""
     def refuse(*args, **kwargs):
         raise AssertionError("meshed before the speed check")
-    monkeypatch.setattr(fe_solver, "kernel_for", refuse)
-    monkeypatch.setattr(oblique_solver, "kernel_for", refuse)
+    monkeypatch.setattr(engine, "kernel_for", refuse)
 
 
 @pytest.mark.parametrize("ball, speed, solver", [
@@ -153,7 +151,7 @@ def test_internal_callers_stay_inside_the_range():
     assert LOW <= low and high <= HIGH
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no speed-range warning for a speed inside
-        fe_solver.impact_speeds([LOW, 20.8, HIGH], 3)
+        engine.check_speeds([LOW, 20.8, HIGH], engine.Axisymmetric())
 
 
 @pytest.mark.slow

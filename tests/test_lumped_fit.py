@@ -5,7 +5,6 @@ import pytest
 
 from ballimpact import InputError
 from ballimpact.lumped import SpeedTable, fit, fit_speed_table
-from lumped_cases import SINGLE, THREE, clean, noisy
 
 
 def relative_errors(fitted, true):
@@ -13,39 +12,41 @@ def relative_errors(fitted, true):
 
 
 @pytest.mark.parametrize("method", ["ga", "de"])
-def test_noise_free_single_element_recovered(method):
-    result = fit(clean("single_element", SINGLE), "single_element", method=method, seed=1)
-    assert max(abs(e) for e in relative_errors(result, SINGLE).values()) < 1e-3
+def test_noise_free_single_element_recovered(method, single_params, clean_pulse):
+    result = fit(clean_pulse("single_element", single_params), "single_element", method=method,
+                 seed=1)
+    assert max(abs(e) for e in relative_errors(result, single_params).values()) < 1e-3
     assert result.nrmse < 1e-4
     assert len(result.history_best) == result.generations == 40
     assert all(b <= m for b, m in zip(result.history_best, result.history_mean))
     assert result.history_best == sorted(result.history_best, reverse=True)
 
 
-def test_single_element_with_two_percent_noise():
+def test_single_element_with_two_percent_noise(single_params, clean_pulse, noisy_pulse):
     """With 2% (of peak) white noise at 200 kHz the exponent comes back within 3%; k and c are
     within three of the standard errors the fit reports (k alone is not determined to 3% by such
     a record: k y^alpha trades k against alpha, see docs/lumped.md)."""
-    record = noisy(clean("single_element", SINGLE), 0.02, seed=3)
+    record = noisy_pulse(clean_pulse("single_element", single_params), 0.02, seed=3)
     result = fit(record, "single_element", seed=3)
-    errors = relative_errors(result, SINGLE)
+    errors = relative_errors(result, single_params)
     assert abs(errors["alpha"]) < 0.03
     for name in ("k", "c"):
-        assert abs(result.params[name] - SINGLE[name]) < 3 * result.standard_errors[name], name
+        error = abs(result.params[name] - single_params[name])
+        assert error < 3 * result.standard_errors[name], name
     assert 0.017 < result.nrmse < 0.023  # at the noise floor: no over- or under-fitting
 
 
-def test_three_element_curve_reproduced():
+def test_three_element_curve_reproduced(three_params, clean_pulse, noisy_pulse):
     """Its 12 parameters are not unique; the force curve is: within 2% NRMSE of the noise-free
     curve when fitted to a record with 2% noise."""
-    truth = clean("three_element", THREE)
-    result = fit(noisy(truth, 0.02, seed=0), "three_element", seed=0)
+    truth = clean_pulse("three_element", three_params)
+    result = fit(noisy_pulse(truth, 0.02, seed=0), "three_element", seed=0)
     exact = np.interp(result.time_s, truth.time_s, truth.force_n)
     assert np.sqrt(np.mean((result.fitted_force_n - exact) ** 2)) / truth.force_n.max() < 0.02
 
 
-def test_three_element_with_a_fixed_unit_mass():
-    result = fit(clean("three_element", THREE), "three_element", fixed={"m1": 0.06},
+def test_three_element_with_a_fixed_unit_mass(three_params, clean_pulse):
+    result = fit(clean_pulse("three_element", three_params), "three_element", fixed={"m1": 0.06},
                  generations=30)
     assert result.params["m1"] == 0.06
     assert result.params["m2"] + result.params["m3"] == pytest.approx(0.10, rel=1e-12)
@@ -57,10 +58,10 @@ def test_three_element_with_a_fixed_unit_mass():
         assert bounds["low"] <= result.params[f"k{i}"] <= bounds["high"]
 
 
-def test_hunt_crossley_by_de_with_fixed_exponent_and_weights():
+def test_hunt_crossley_by_de_with_fixed_exponent_and_weights(clean_pulse):
     params = {"k": 2e7, "n": 1.5, "lambda": 0.03}
-    result = fit(clean("hunt_crossley", params), "hunt_crossley", method="de", fixed={"n": 1.5},
-                 cor_weight=1.0, contact_time_weight=1.0)
+    result = fit(clean_pulse("hunt_crossley", params), "hunt_crossley", method="de",
+                 fixed={"n": 1.5}, cor_weight=1.0, contact_time_weight=1.0)
     assert result.params["n"] == 1.5 and "n" not in result.bounds
     # the weights pull towards the measured COR and contact time; the latter, read off the
     # 200 kHz samples, is slightly off the exact one, so k and lambda move a little
@@ -70,8 +71,8 @@ def test_hunt_crossley_by_de_with_fixed_exponent_and_weights():
     assert result.weights == {"cor": 1.0, "contact_time": 1.0}
 
 
-def test_user_bounds_that_exclude_the_truth_cost_fitness():
-    record = clean("single_element", SINGLE)
+def test_user_bounds_that_exclude_the_truth_cost_fitness(single_params, clean_pulse):
+    record = clean_pulse("single_element", single_params)
     free = fit(record, "single_element", generations=20)
     bounded = fit(record, "single_element", bounds={"alpha": (1.0, 1.2), "k": (1e5, 1e9)},
                   generations=20)
@@ -97,9 +98,9 @@ def test_user_bounds_that_exclude_the_truth_cost_fitness():
     ({"fixed": {"alpha": "one"}}, "fixed.alpha: must be a number"),
     ({"fixed": {"k": -1e7}}, r"fixed: params.k = -1e\+07: allowed range \(0, inf\)"),
 ])
-def test_bad_fit_options_name_the_field(options, message):
+def test_bad_fit_options_name_the_field(options, message, single_params, clean_pulse):
     with pytest.raises(InputError, match=message):
-        fit(clean("single_element", SINGLE), "single_element", **options)
+        fit(clean_pulse("single_element", single_params), "single_element", **options)
 
 
 @pytest.mark.parametrize("options, message", [
@@ -107,14 +108,14 @@ def test_bad_fit_options_name_the_field(options, message):
     ({"fixed": {"m3": 0.02}}, "fixed.m3: the last unit mass is the rest"),
     ({"bounds": {"m1": (0.01, 0.05)}}, "bounds.m1: unit masses are searched as shares"),
 ])
-def test_bad_unit_mass_options(options, message):
+def test_bad_unit_mass_options(options, message, single_params, clean_pulse):
     with pytest.raises(InputError, match=message):
-        fit(clean("single_element", SINGLE), "three_element", **options)
+        fit(clean_pulse("single_element", single_params), "three_element", **options)
 
 
-def test_speed_table_fits_and_interpolates():
+def test_speed_table_fits_and_interpolates(clean_pulse):
     params = {"k": 2e7, "n": 1.5, "lambda": 0.03}
-    records = [clean("hunt_crossley", params, speed) for speed in (20.0, 10.0)]
+    records = [clean_pulse("hunt_crossley", params, speed) for speed in (20.0, 10.0)]
     table, results = fit_speed_table(records, "hunt_crossley", progress=False, generations=20)
     assert table.speeds_m_s == (10.0, 20.0)
     for column in (table.params["k"], table.params["lambda"]):
@@ -155,9 +156,9 @@ def test_bad_speed_tables(arguments, message):
         SpeedTable("kelvin_voigt", *arguments)
 
 
-def test_fit_speed_table_labels_follow_the_sorted_rows():
+def test_fit_speed_table_labels_follow_the_sorted_rows(clean_pulse):
     params = {"k": 2e7, "n": 1.5, "lambda": 0.03}
-    records = [clean("hunt_crossley", params, speed) for speed in (20.0, 10.0, 20.0)]
+    records = [clean_pulse("hunt_crossley", params, speed) for speed in (20.0, 10.0, 20.0)]
     table, results = fit_speed_table(records, "hunt_crossley", progress=False, generations=2,
                                      population=8, polish=False, labels=["a", "b", "c"])
     assert table.speeds_m_s == (10.0, 20.0, 20.0) and table.labels == ("b", "a", "c")
@@ -166,8 +167,8 @@ def test_fit_speed_table_labels_follow_the_sorted_rows():
         fit_speed_table(records, "hunt_crossley", labels=["a"])
 
 
-def test_polish_improves_on_the_search_alone():
-    record = noisy(clean("single_element", SINGLE), 0.02, seed=5)
+def test_polish_improves_on_the_search_alone(single_params, clean_pulse, noisy_pulse):
+    record = noisy_pulse(clean_pulse("single_element", single_params), 0.02, seed=5)
     searched = fit(record, "single_element", polish=False, generations=20, seed=5)
     polished = fit(record, "single_element", generations=20, seed=5)
     assert not searched.polished and polished.polished
@@ -202,7 +203,8 @@ def test_parameter_standard_errors_are_the_gauss_newton_ones_or_inf():
     assert np.all(np.isinf(standard_errors(jac[:3], r[:3], np.eye(3))))  # no dof
 
 
-def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero():
+def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero(
+        single_params, clean_pulse, noisy_pulse):
     """A model with a parameter that its force ignores: `pinv` with clipped variances gave it a
     standard error of 0, the most certain of all; it is inf, listed as not identified, and null
     in JSON."""
@@ -221,21 +223,24 @@ def test_a_parameter_without_effect_gets_an_infinite_standard_error_not_zero():
         bounds=lambda scale: {**single_element.bounds(scale), "unused": (0.0, 1.0)},
         split=lambda p, mass: (p[None, :3], jnp.atleast_1d(mass)),
         force=single_element.force)
-    result = fit(noisy(clean("single_element", SINGLE), 0.01, seed=1), model, seed=1)
+    record = noisy_pulse(clean_pulse("single_element", single_params), 0.01, seed=1)
+    result = fit(record, model, seed=1)
     assert np.isinf(result.standard_errors["unused"])
     assert result.not_identified == ["unused"]
     assert result.notes["unused"] == ("unused: not identified (standard error inf: the record "
                                       "does not determine it)")
-    for name in SINGLE:  # the others are determined as without it
+    for name in single_params:  # the others are determined as without it
         assert 0 < result.standard_errors[name] < 0.2 * abs(result.params[name]), name
     assert json_safe(result.to_dict())["standard_errors"]["unused"] is None
 
 
-def test_three_element_on_a_single_element_pulse_flags_what_it_cannot_determine():
+def test_three_element_on_a_single_element_pulse_flags_what_it_cannot_determine(
+        single_params, clean_pulse, noisy_pulse):
     """Three units fitted to one unit's pulse: some of the twelve parameters are one of many
     sets that fit as well. Each whose standard error exceeds its value is listed, with a note;
     none is reported as determined with an error larger than itself."""
-    result = fit(noisy(clean("single_element", SINGLE), 0.01, seed=0), "three_element", seed=1)
+    record = noisy_pulse(clean_pulse("single_element", single_params), 0.01, seed=0)
+    result = fit(record, "three_element", seed=1)
     assert result.nrmse < 0.02  # the curve is fitted (1% noise)...
     unknown = result.not_identified
     assert any(name.startswith("k") for name in unknown)  # ...its stiffnesses are not

@@ -98,9 +98,8 @@ def test_bad_input(tmp_path, bad_input):
 
 
 def test_prony_branch(tmp_path, capsys):
-    viscoelastic = pytest.importorskip("ballimpact.material.viscoelastic")
-    if not hasattr(viscoelastic, "fit_relaxation") or not hasattr(viscoelastic, "merge_prony"):
-        pytest.skip("viscoelastic API not there yet")
+    """`material fit --model prony --merge`: a relaxation test's Prony terms merged into a
+    hyperelastic material file (the library functions: tests/test_material_prony.py)."""
     t = np.geomspace(1e-6, 1e-1, 40)
     ratio = 1 - 0.3 * (1 - np.exp(-t / 1e-4)) - 0.2 * (1 - np.exp(-t / 1e-2))
     path = tmp_path / "relax.csv"

@@ -133,8 +133,12 @@ def test_relative_error_is_weighted_lstsq_skipping_zero_stress():
 
 
 def test_ogden_three_terms_on_treloar_three_modes():
+    """docs/materials.md, "Treloar (1944)": pooled R^2 0.9980 and every mode's above 0.996
+    (measured 0.998004 pooled; 0.9976, 0.9965, 0.9961 uniaxial, equibiaxial, planar)."""
     fit = fit_hyperelastic(treloar(), "ogden", order=3, starts=7)
-    assert fit.r2["overall"] >= 0.99
+    assert fit.r2["overall"] >= 0.998
+    modes = {name: r2 for name, r2 in fit.r2.items() if name != "overall"}
+    assert len(modes) == 3 and all(r2 > 0.996 for r2 in modes.values()), modes
     # Ogden's sufficient condition for stability in this form: every mu_i > 0
     assert all(t["mu_pa"] > 0 for t in fit.material["terms"])
     material_from_dict(fit.material)

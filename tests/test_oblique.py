@@ -16,11 +16,10 @@ from ballimpact.cli import main
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import Sym, energy_and_stress, material_from_dict
-from ballimpact.fe.solver import SolverOptions, simulate
+from ballimpact.fe import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, rigid_oblique_impact,
                                 simulate_oblique, simulate_oblique_batch)
 from ballimpact.fe.hex import element as hexa
-from ballimpact.oblique import solver as oblique_solver
 from ballimpact.fe.hex.mesh import ball_mesh, centre_jacobian_det, graded_depths_m, slab_mesh
 from ballimpact.oblique.output import animate_section, write_series
 
@@ -341,9 +340,9 @@ def test_stiff_target_reproduces_the_rigid_plane():
 
 
 def test_large_run_warns_before_compiling(monkeypatch):
-    estimate = oblique_solver.estimate_oblique(_ball(), [ImpactCondition(5.0)], COARSE)
+    estimate = fe.estimate(_ball(), ImpactCondition(5.0), geometry=fe.Hexahedral(COARSE))
     assert estimate.warning() is None and estimate.elements > 0 and estimate.steps > 0
-    monkeypatch.setattr(oblique_solver, "ELEMENT_STEPS_WARNING", 1e3)
+    monkeypatch.setattr(fe.Hexahedral, "ELEMENT_STEPS_WARNING", 1e3)
     assert estimate.element_steps > 1e3
 
     def refuse(*args):
@@ -352,7 +351,7 @@ def test_large_run_warns_before_compiling(monkeypatch):
     monkeypatch.setattr(driver, "compiled_run", refuse)
     with pytest.warns(InputWarning, match="^large run: about .* element updates"), \
             pytest.raises(RuntimeError, match="compiled"):
-        simulate_oblique(_ball(), ImpactCondition(5.0), COARSE)
+        fe.simulate(_ball(), ImpactCondition(5.0), geometry=fe.Hexahedral(COARSE))
 
 
 def test_bad_inputs_name_the_field():
@@ -379,7 +378,7 @@ def test_cli_3d_json_vtk_and_animation(capsys, tmp_path, monkeypatch):
             super().__init__(end_time_s, chunk_steps, quiet_s=0.0, interval_s=0.0)
 
     monkeypatch.setattr(fe, "RunProgress", Chatty)
-    monkeypatch.setattr(oblique_solver, "ELEMENT_STEPS_WARNING", 1e3)  # the guard fires
+    monkeypatch.setattr(fe.Hexahedral, "ELEMENT_STEPS_WARNING", 1e3)  # the guard fires
     code = main(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "20",
                  "--angle-deg", "30", "--spin-rad-s", "-50", "--friction", "0.3", "--divisions",
                  "8", "--json", "--vtk", str(pvd), "--animate", str(gif), "--plot", str(plot)])
@@ -435,7 +434,7 @@ def test_estimate_ball_mesh_counts_without_meshing(radii, divisions, half):
 
 
 def test_slab_cells_are_counted_before_meshing():
-    from ballimpact.oblique.solver import _mesh_size, mesh_for
+    from ballimpact.fe.hex.geometry import mesh_for, mesh_size as _mesh_size
 
     target = Target.from_dict({"name": "pad", "half_width_m": 0.1, "layers": [
         {"thickness_m": 0.02, "density_kg_m3": 100.0, "material": ELASTIC}]})
@@ -463,7 +462,7 @@ def test_slab_cells_are_counted_before_meshing():
 def test_lightest_partner_is_the_effective_mass_of_the_bilinear_contact():
     """A point pressed on a surface node meets that node's mass; pressed only between nodes it
     meets more (1 / m = sum w_j^2 / m_j: four equal nodes at a cell's centre act as 4 m)."""
-    from ballimpact.oblique.solver import _lightest_partner_kg
+    from ballimpact.fe.hex.geometry import _lightest_partner_kg
 
     line = np.array([0.0, 1.0, 2.0, 3.0])
     masses = np.full((4, 4), 2.0)
@@ -485,8 +484,8 @@ def test_lightest_partner_is_the_effective_mass_of_the_bilinear_contact():
 def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
     """Rigid plane: 1 everywhere. On a slab: 1 + m / m_t (> 1) for the nodes near the first
     touch, 1 far from it (the equator), never more than the bound over every pair."""
-    from ballimpact.oblique.solver import (_checked, _contact_spring_factors, kernel_for,
-                                           model_arrays)
+    from ballimpact.fe.engine import kernel_for
+    from ballimpact.fe.hex.geometry import _contact_spring_factors, model_arrays
 
     ball = _ball()
     slab = Target.from_dict({"name": "slab", "half_width_m": 0.08, "layers": [
@@ -494,8 +493,8 @@ def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
     condition = ImpactCondition(3.0, 20.0, 0.0, 0.3)
     for target in (None, slab):
         for options in (Options3D(divisions=8), Options3D(divisions=8, slab_depth_growth=1.2)):
-            _, half, options = _checked(ball, [condition], options, target)
-            kernel, mesh = kernel_for(ball, target, options, half)
+            geometry = fe.Hexahedral(options).checked(ball, [condition], target)
+            kernel, mesh = kernel_for(ball, geometry, target)
             mass = model_arrays(ball, target, kernel, options, condition).mass_kg
             factors = _contact_spring_factors(ball, target, kernel, mass, condition, options)
             if target is None:

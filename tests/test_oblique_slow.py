@@ -10,7 +10,7 @@ import pytest
 from ballimpact.fe import load_ball
 from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.materials import material_from_dict
-from ballimpact.fe.solver import SolverOptions, simulate
+from ballimpact.fe import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, simulate_oblique,
                                 simulate_oblique_batch)
 from ballimpact.oblique.plots import sweep_points

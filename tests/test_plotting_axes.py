@@ -24,7 +24,6 @@ from ballimpact.pipeline import process
 from ballimpact.universal import load_model
 from ballimpact.universal import plots as universal_plots
 from ballimpact.universal.model import TARGETS
-from lumped_cases import SINGLE, clean, noisy
 
 DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -57,10 +56,10 @@ def user_figure():
 
 
 @pytest.fixture(scope="module")
-def impact():
+def impact(single_params, clean_pulse, noisy_pulse):
     """A processed synthetic impact (filtered, so both force curves are drawn) and a short
     lumped-model fit of it."""
-    record = noisy(clean("single_element", SINGLE, 20.0), 0.01, seed=1)
+    record = noisy_pulse(clean_pulse("single_element", single_params, 20.0), 0.01, seed=1)
     processed = process(record, filter="cfc12000")
     result = fit_lumped(record, "single_element", generations=4, population=8, seed=0,
                         polish=False)

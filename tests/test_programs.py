@@ -91,23 +91,27 @@ def test_without_a_folder_nothing_is_written(tmp_path, monkeypatch):
 def test_the_kernel_fingerprint_follows_the_mesh_and_the_material_model():
     ball = load_ball("cricket-universal", impact_speed_m_s=20.0)
     options = SolverOptions(element_size_m=4e-3)
-    from ballimpact.fe.solver import kernel_for
+    from ballimpact.fe.engine import Axisymmetric, kernel_for
 
-    same = programs.fingerprint(kernel_for(ball, options))
-    assert programs.fingerprint(kernel_for(ball, SolverOptions(element_size_m=4e-3))) == same
-    assert programs.fingerprint(kernel_for(ball, SolverOptions(element_size_m=3e-3))) != same
-    assert programs.fingerprint(kernel_for(ball, SolverOptions(
-        element_size_m=4e-3, integration="full"))) != same
+    def kernel(options):
+        return kernel_for(ball, Axisymmetric(options))[0]
+
+    same = programs.fingerprint(kernel(options))
+    assert programs.fingerprint(kernel(SolverOptions(element_size_m=4e-3))) == same
+    assert programs.fingerprint(kernel(SolverOptions(element_size_m=3e-3))) != same
+    assert programs.fingerprint(kernel(SolverOptions(element_size_m=4e-3,
+                                                     integration="full"))) != same
 
 
 def test_the_kernel_fingerprint_is_the_same_in_another_process():
     code = ("from ballimpact.fe import SolverOptions, load_ball, programs; "
-            "from ballimpact.fe.solver import kernel_for; "
-            "from ballimpact.oblique import Options3D, solver; "
+            "from ballimpact.fe import Axisymmetric, Hexahedral, Options3D; "
+            "from ballimpact.fe.engine import kernel_for; "
             "ball = load_ball('cricket-universal', impact_speed_m_s=20.0); "
-            "print(programs.fingerprint(kernel_for(ball, SolverOptions(element_size_m=4e-3)))); "
-            "print(programs.fingerprint(solver.kernel_for(ball, None, Options3D(divisions=6), "
-            "True)[0]))")
+            "print(programs.fingerprint(kernel_for(ball, Axisymmetric(SolverOptions("
+            "element_size_m=4e-3)))[0])); "
+            "print(programs.fingerprint(kernel_for(ball, Hexahedral(Options3D(divisions=6), "
+            "half=True))[0]))")
     runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            check=True).stdout.split() for _ in range(2)]
     assert runs[0] == runs[1] and len(runs[0]) == 2

@@ -13,7 +13,6 @@ from ballimpact.errors import InputError
 from ballimpact.report import parse_models
 from ballimpact.report.browser import check_page, find_browser
 from ballimpact.report.inputs import builtin_ball, builtin_files, label_tests
-from report_cases import fail_model
 
 #: the built-in sample's generating constants (examples/make_sample_record.py)
 SAMPLE_K, SAMPLE_N, SAMPLE_LAMBDA, SAMPLE_COR = 2.06e7, 1.5, 0.057001, 0.55
@@ -166,10 +165,10 @@ def test_bad_input_exits_2_naming_it(tmp_path, capsys, argv, message):
     assert not (tmp_path / "r").exists()
 
 
-def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, monkeypatch, capsys):
+def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, fail_model, capsys):
     from ballimpact.errors import SimulationError
 
-    fail_model(monkeypatch, SimulationError("inverted element at t = 1e-4 s"), "kelvin_voigt")
+    fail_model(SimulationError("inverted element at t = 1e-4 s"), "kelvin_voigt")
     code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz,kelvin_voigt",
                        "--out", tmp_path / "r", "--quiet")
     # an elastic ball cannot give the sample's COR: no model passes its check, exit 3 (issue 39),
@@ -182,7 +181,7 @@ def test_a_failed_run_is_listed_and_the_report_goes_on(tmp_path, monkeypatch, ca
                                    "error": "inverted element at t = 1e-4 s"}]
     assert "Failed runs" in (tmp_path / "r" / "report.html").read_text()
 
-    fail_model(monkeypatch, SimulationError("energy blow-up"))  # nothing to report: a failed run
+    fail_model(SimulationError("energy blow-up"))  # nothing to report: a failed run
     code, _, err = run(capsys, "report", "--builtin", "sample", "--models", "hertz", "--out",
                        tmp_path / "s", "--quiet")
     assert code == 1 and "every model run failed: hertz at 20.8 m/s: energy blow-up" in err

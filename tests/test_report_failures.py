@@ -13,7 +13,6 @@ from ballimpact.calibrate.problem import CalibrationTest
 from ballimpact.cli import main
 from ballimpact.lumped import simulate
 from ballimpact.report.models import measured_like
-from report_cases import fail_model
 
 #: a cricket ball (160 g) as a Hunt-Crossley contact: peak 3.1, 7.5 and 14 kN, COR 0.79-0.51
 BALL = {"k": 2.06e7, "n": 1.5, "lambda": 0.057}
@@ -97,13 +96,13 @@ def test_the_three_noisy_tests_of_the_issue_give_a_whole_report(tmp_path, capsys
     assert "does not leave the surface" not in captured.err
 
 
-def test_a_pair_that_fails_as_bad_input_is_a_failed_row(tmp_path, monkeypatch, capsys):
+def test_a_pair_that_fails_as_bad_input_is_a_failed_row(tmp_path, fail_model, capsys):
     """An InputError from one model at one test (a pulse that cannot be measured, a ball out of
     its speed range) is a failed row with its reason; the other models' results stay."""
     from ballimpact.errors import InputError
 
-    fail_model(monkeypatch, InputError("force_n: no sample at or below zero force where the "
-                                       "record ends"), "kelvin_voigt")
+    fail_model(InputError("force_n: no sample at or below zero force where the "
+                          "record ends"), "kelvin_voigt")
     out = tmp_path / "r"
     code = main(["report", "--builtin", "sample", "--models", "hertz,kelvin_voigt", "--out",
                  str(out), "--quiet"])
@@ -124,9 +123,9 @@ def test_a_pair_that_fails_as_bad_input_is_a_failed_row(tmp_path, monkeypatch, c
     assert page.index("Failed runs") < page.index("Accuracy per model and speed")
 
 
-def test_every_pair_refused_as_bad_input_exits_2(tmp_path, monkeypatch, bad_input):
+def test_every_pair_refused_as_bad_input_exits_2(tmp_path, fail_model, bad_input):
     from ballimpact.errors import InputError
 
-    fail_model(monkeypatch, InputError("impact speed 0.5 m/s is below the FE engine's 1 m/s"))
+    fail_model(InputError("impact speed 0.5 m/s is below the FE engine's 1 m/s"))
     bad_input(["report", "--builtin", "sample", "--models", "hertz", "--out", tmp_path / "r",
                "--quiet"], "every model run failed: hertz at 20.8 m/s: impact speed 0.5")

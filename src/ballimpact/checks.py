@@ -1,16 +1,18 @@
 """How a bad number is refused, everywhere: one message shape,
 "NAME = VALUE: allowed range [LOW, HIGH] UNIT" (an open end in parentheses; "NAME = VALUE:
 expected a finite number in ..." for text, NaN or infinity), with the value shown as the user
-would write it (`shown`), and the checks of specification objects (`check_keys`,
-`spec_number`)."""
+would write it (`shown`); the same shape for a value only warned about,
+"NAME = VALUE: outside the RANGE [LOW, HIGH] UNIT: CONSEQUENCE" (`warn_outside_range`); and the
+checks of specification objects (`check_keys`, `spec_number`)."""
 
 from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from typing import Any
 
-from .errors import InputError
+from .errors import InputError, InputWarning
 
 
 def shown(value: Any) -> str:
@@ -35,33 +37,72 @@ def allowed_range(low: float, high: float, low_open: bool = False, high_open: bo
     return f"{opening}{low:g}, {high:g}{closing}" + (f" {unit}" if unit else "")
 
 
+def is_finite_number(value: Any) -> bool:
+    """Whether `value` is a finite real number (NumPy scalars included; not a bool)."""
+    return (isinstance(value, numbers.Real) and not isinstance(value, bool)
+            and math.isfinite(value))
+
+
+def in_range(value: float, low: float, high: float, low_open: bool = False,
+             high_open: bool = False) -> bool:
+    """Whether the number `value` lies in [low, high] (an end excluded where it is open)."""
+    return ((value > low if low_open else value >= low)
+            and (value < high if high_open else value <= high))
+
+
+def range_text(name: str, value: Any, label: str, low: float, high: float,
+               low_open: bool = False, high_open: bool = False, unit: str = "",
+               note: str = "") -> str:
+    """The one message shape of a value and its range: "name = value: label [low, high] unit",
+    then " (note)" if a note is given; `label` is "allowed range" for an error."""
+    allowed = allowed_range(low, high, low_open, high_open, unit)
+    return f"{name} = {shown(value)}: {label} {allowed}" + (f" ({note})" if note else "")
+
+
 def check_range(name: str, value: Any, low: float = -math.inf, high: float = math.inf, *,
-                low_open: bool = False, high_open: bool = False, unit: str = "") -> float:
+                low_open: bool = False, high_open: bool = False, unit: str = "",
+                note: str = "") -> float:
     """`value` as a float when it is a finite real number (not a bool) in the range, else
     `InputError` "name = value: allowed range [low, high] unit" ("expected a finite number (in
-    [low, high] unit)" for what is not one)."""
-    allowed = allowed_range(low, high, low_open, high_open, unit)
-    if not (isinstance(value, numbers.Real) and not isinstance(value, bool)
-            and math.isfinite(value)):
+    [low, high] unit)" for what is not one), then " (note)" if a note is given (what the value
+    means)."""
+    if not is_finite_number(value):
         bounded = low > -math.inf or high < math.inf
+        allowed = allowed_range(low, high, low_open, high_open, unit)
         raise InputError(f"{name} = {shown(value)}: expected a finite number"
-                         + (f" in {allowed}" if bounded else ""))
-    if not ((value > low if low_open else value >= low)
-            and (value < high if high_open else value <= high)):
-        raise InputError(f"{name} = {shown(value)}: allowed range {allowed}")
+                         + (f" in {allowed}" if bounded else "") + (f" ({note})" if note else ""))
+    if not in_range(value, low, high, low_open, high_open):
+        raise InputError(range_text(name, value, "allowed range", low, high, low_open,
+                                    high_open, unit, note))
     return float(value)
 
 
-def check_fraction(name: str, value: Any, high: float = 1.0, *, high_open: bool = False) -> float:
-    """`value` as a fraction in (0, `high`] ((0, `high`) with `high_open`), else `check_range`'s
-    `InputError`; a value up to 100 times `high`, a percentage typed for the fraction, is named
-    as one ("3 looks like a percentage: use 0.03")."""
-    if (isinstance(value, numbers.Real) and not isinstance(value, bool)
-            and high < value <= 100 * high):
-        raise InputError(f"{name} = {value:g}: allowed range "
-                         f"{allowed_range(0.0, high, True, high_open, '')}; {value:g} looks like a "
-                         f"percentage: use {value / 100:g}")
-    return check_range(name, value, 0.0, high, low_open=True, high_open=high_open)
+def warn_outside_range(name: str, value: float, label: str, low: float, high: float, *,
+                       unit: str = "", consequence: str = "", stacklevel: int = 2) -> bool:
+    """An `InputWarning` "name = value: outside the label [low, high] unit: consequence" when the
+    number `value` lies outside the closed range (the shape of `check_range`'s error, for a value
+    that is only doubtful: `label` "model's training range"). Returns whether it warned;
+    `stacklevel` counts from the caller."""
+    if in_range(value, low, high):
+        return False
+    message = range_text(name, value, f"outside the {label}", low, high, unit=unit)
+    warnings.warn(message + (f": {consequence}" if consequence else ""), InputWarning,
+                  stacklevel=stacklevel + 1)
+    return True
+
+
+def check_fraction(name: str, value: Any, high: float = 1.0, *, high_open: bool = False,
+                   allow_zero: bool = False, note: str = "") -> float:
+    """`value` as a fraction in (0, `high`] ((0, `high`) with `high_open`; from 0 with
+    `allow_zero`), else `check_range`'s `InputError` (with `note`); a value up to 100 times
+    `high`, a percentage typed for the fraction, is named as one ("3 looks like a percentage:
+    use 0.03")."""
+    if is_finite_number(value) and high < value <= 100 * high:
+        raise InputError(range_text(name, value, "allowed range", 0.0, high, not allow_zero,
+                                    high_open, note=note)
+                         + f"; {shown(value)} looks like a percentage: use {value / 100:g}")
+    return check_range(name, value, 0.0, high, low_open=not allow_zero, high_open=high_open,
+                       note=note)
 
 
 def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:

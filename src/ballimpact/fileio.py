@@ -1,6 +1,6 @@
 """Files written so that an interrupt never leaves half of one, NPZ files read without
-unpickling anything, and the CSV tables with a unit header that the test readers share
-(`read_table`).
+unpickling anything, and the CSV tables with a unit header: every table the package writes goes
+through `table_text` / `write_table`, and the test readers share `read_table`.
 
 `replacing(path)` yields a temporary path beside `path` (`STEM.tmp.SUFFIX`: the same folder, so
 the rename is atomic on POSIX, and the same suffix, which some writers need: `np.savez` appends
@@ -12,12 +12,14 @@ the next write replaces; the old `path`, or none, stays whole.
 from __future__ import annotations
 
 import math
+import numbers
 import os
 import zipfile
 import zlib
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -47,6 +49,60 @@ def write_atomic(path: Path, text: str) -> None:
     """Write `text` to `path` through `replacing`: the old file or the new one, never a part."""
     with replacing(path) as tmp:
         tmp.write_text(text)
+
+
+#: the number format of a table when its writer names none: 10 significant digits
+TABLE_NUMBER_FORMAT = ".10g"
+
+
+def table_cell(value: Any, number_format: str = TABLE_NUMBER_FORMAT) -> str:
+    """One CSV cell: a real number in `number_format` (a format spec: ".10g"; "" for the shortest
+    text that reads back to the same float), an integer in full, a non-finite number or None
+    empty, a bool or text as written, quoted (RFC 4180) where it holds a comma, a quote or a line
+    break."""
+    if value is None:
+        return ""
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return format(float(value), number_format) if math.isfinite(value) else ""
+    text = str(value)
+    if any(c in text for c in ',"\r\n'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
+def table_text(columns: Sequence[str], rows: Iterable[Sequence[Any]],
+               number_format: str = TABLE_NUMBER_FORMAT) -> str:
+    """A CSV table: the header `columns` (each name ending in its SI unit: `time_s`, `force_n`;
+    none for a ratio), then a line per row of `rows` (a sequence in the columns' order, or a
+    mapping from column name to value), cells by `table_cell` with `number_format`, each line
+    ending in a line feed. Raises ValueError for a row with another number of cells."""
+    columns = list(columns)
+    lines = [",".join(table_cell(name) for name in columns)]
+    for row in rows:
+        row = [row[name] for name in columns] if isinstance(row, Mapping) else list(row)
+        if len(row) != len(columns):
+            raise ValueError(f"table row {len(lines)}: {len(row)} cells for {len(columns)} "
+                             "columns")
+        lines.append(",".join(table_cell(value, number_format) for value in row))
+    return "\n".join(lines) + "\n"
+
+
+def column_rows(*arrays) -> list[list[float]]:
+    """The rows of equal-length column arrays (a history: one array per column), for
+    `table_text` / `write_table`."""
+    return np.column_stack([np.asarray(a, dtype=float) for a in arrays]).tolist()
+
+
+def write_table(path: Path, columns: Sequence[str], rows: Iterable[Sequence[Any]],
+                number_format: str = TABLE_NUMBER_FORMAT) -> str:
+    """`table_text` written to `path` through `replacing` (never half a table). Returns the path
+    as text (for a command's JSON)."""
+    write_atomic(Path(path), table_text(columns, rows, number_format))
+    return str(path)
 
 
 def first_line(error: BaseException) -> str:

@@ -8,10 +8,11 @@ us; forces in N, kN, lbf, kgf; velocity in m/s; a load-cell voltage (`ch1 (V)`, 
 `ch1_v`) turned into newtons by the sensitivity and gain, as a WAV file's. Values are converted
 to SI. A column that is not needed (another channel) is left out with a warning; where two could
 be the time or the force, `time_column` / `force_column` choose (a name or a 0-based position).
-The histories `simulate --csv` writes load too: their force column is `contact_force_n`
-(axisymmetric) or `normal_force_n` (`--solver 3d`), their other columns are left out, and since
+The histories `simulate --csv` writes load too: their force column is `contact_force_n` (either
+geometry; `normal_force_n` in 3D files written before issue 40), their other columns are left
+out, and since
 they start at first contact the zero-force samples before it are put back (as
-`FEResult.record()` does).
+`fe.ImpactResult.record()` does).
 
 WAV: the sample rate comes from the file; samples are read as fractions of full scale (integer
 PCM divided by its full-scale code, float samples as they are) times `full_scale_v`, then turned
@@ -55,14 +56,14 @@ CSV_COLUMNS: dict[str, tuple[str, float]] = {
     "velocity_m_s": ("velocity_m_s", 1.0),
     "tangential_force_n": ("tangential_force_n", 1.0),
     "tangential_force_kn": ("tangential_force_n", 1e3),
-    # the force columns of `simulate --csv`: axisymmetric, and --solver 3d
+    # the force columns of `simulate --csv`: either geometry, and --solver 3d before issue 40
     "contact_force_n": ("force_n", 1.0),
     "normal_force_n": ("force_n", 1.0),
 }
 #: Force columns that mark an FE history written by `simulate --csv`.
 FE_FORCE_COLUMNS = ("contact_force_n", "normal_force_n")
 #: Zero-force samples put back before first contact in an FE history: this fraction of its
-#: samples, at least 3 (as `FEResult.record()`).
+#: samples, at least 3 (as `fe.ImpactResult.record()`).
 FE_LEAD_FRACTION = 0.05
 #: Record field -> the quantity it holds, as a unit-less header would name it.
 _QUANTITY = {"time_s": "time", "force_n": "force", "velocity_m_s": "velocity",

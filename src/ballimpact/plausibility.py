@@ -39,7 +39,7 @@ CHECKS: dict[str, str] = {
 #: 3e-4. Axisymmetric: 0.001 to 80 m/s; at 100 m/s both stop unstable (energy error above 5%).
 #: 3D: 0.001 to 45 m/s; the three-layer ball stops unstable from 50 m/s. Below about 1 m/s the
 #: speed is not the limit but the mesh: a contact patch narrower than two pole elements is not
-#: resolved, and the solvers warn (`fe.solver.contact_resolution_note`).
+#: resolved, and the solvers warn (`fe.engine.contact_resolution_note`).
 FE_SPEED_RANGE_M_S = (0.001, 80.0)
 FE_3D_SPEED_RANGE_M_S = (0.001, 45.0)
 #: what was checked, per solver (for the message)

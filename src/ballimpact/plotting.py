@@ -163,7 +163,7 @@ def _draw_fit_curves(ax, result, color: str, label: str | None = None) -> None:
 
 
 def draw_fe_forces(ax, results):
-    """The contact force against time of FE results (`fe.FEResult`s) on `ax`, one colour each
+    """The contact force against time of FE results (`fe.ImpactResult`s) on `ax`, one colour each
     (ms, kN), with a legend. Returns `ax`."""
     # the property cycle's colours, as the sections of `plot_fe` are drawn in other Axes
     colors = matplotlib.rcParams["axes.prop_cycle"].by_key()["color"]

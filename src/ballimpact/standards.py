@@ -375,7 +375,7 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
     """The method run on a ball model: `ball_spec` a preset, a ball file or a dict
     (`fe.load_ball`). Impact methods: `fe.simulate` on a rigid plane at the method's speed
     (`nominal` m/s to run another, reported as such); the COR and the dynamic stiffness
-    F_peak^2 / (m v^2) with m the mass of the run's mesh (`FEResult.mass_kg`). Compression:
+    F_peak^2 / (m v^2) with m the mass of the run's mesh (`ImpactResult.mass_kg`). Compression:
     `fe.compress` (long-term curve: the method is slow) to 6.35 mm in `steps` increments; a ball whose constants depend on the
     impact speed (cricket-universal) takes them at the impact methods' speed.
 

@@ -11,7 +11,6 @@ their layer structure and differ in constants, which is what `simulate_batch` vm
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from collections.abc import Sequence
@@ -60,7 +59,7 @@ def parse_speeds(text: str) -> tuple[float, ...]:
 
 @dataclass(frozen=True, eq=False)
 class Sweep:
-    """One ball run at several impact speeds (m/s): `results[i]` (`fe.FEResult`) at
+    """One ball run at several impact speeds (m/s): `results[i]` (`fe.ImpactResult`) at
     `speeds_m_s[i]`, the balls actually run (one per speed) and the batch's wall time (s)."""
 
     label: str
@@ -156,15 +155,12 @@ def compare_rows(sweeps: Sequence[Sweep]) -> list[dict[str, Any]]:
 
 
 def write_table(rows: Sequence[dict[str, Any]], path: str | Path) -> str:
-    """`rows` as CSV (header from the first row's keys, SI units in the names; numbers with 10
-    significant digits)."""
+    """`rows` as CSV (`fileio.write_table`: the header from the first row's keys, SI units in
+    the names; numbers with 10 significant digits, a non-finite one empty)."""
+    from .fileio import write_table as write_csv
+
     rows = list(rows)
-    with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(list(rows[0]))
-        for row in rows:
-            writer.writerow([f"{v:.10g}" if isinstance(v, float) else v for v in row.values()])
-    return str(path)
+    return write_csv(Path(path), list(rows[0]), rows, ".10g")
 
 
 # --------------------------------------------------------------------------- plots

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import fnmatch
 import re
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from ..progress import progress_line
 from .compression import is_compression, refine_compression
 from .decision import decide
 from .evaluate import compare_run, objective_values
@@ -97,10 +97,6 @@ class StageResult:
         return out
 
 
-def _say(message: str) -> None:
-    print(message, file=sys.stderr, flush=True)
-
-
 def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str,
               population: int, generations: int, seed: int, decision: str, weights,
               out: Path | None, resume: bool, max_evaluations: int,
@@ -114,7 +110,7 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
     if method in ("nsga2", "nsga2+gradient"):
         def progress(g, total, runs):
             if verbose:
-                _say(f"  {stage.name}: generation {g}/{total}, {runs} FE runs, "
+                progress_line(f"  {stage.name}: generation {g}/{total}, {runs} FE runs, "
                      f"{time.perf_counter() - started:.0f} s")
         found = search(problem, options, population=population, generations=generations,
                        seed=seed, out=out, resume=resume, progress=progress)
@@ -124,11 +120,11 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
         u = found.unit[front[result.decision.index]]
         fe_runs += found.fe_runs
         if verbose:
-            _say(f"  {stage.name}: chose by {result.decision.reason}")
+            progress_line(f"  {stage.name}: chose by {result.decision.reason}")
     if method in ("gradient", "nsga2+gradient"):
         def progress(i, misfit):
             if verbose:
-                _say(f"  {stage.name}: gradient refinement, misfit evaluation {i}: "
+                progress_line(f"  {stage.name}: gradient refinement, misfit evaluation {i}: "
                      f"{misfit:.4g} ({time.perf_counter() - started:.0f} s)")
         if all(is_compression(t) for t in problem.tests):
             result.refinement = refine_compression(problem, options, start=u,
@@ -155,10 +151,9 @@ def run_stage(problem: CalibrationProblem, stage: Stage, options, *, method: str
 
 
 def _stage_files(result: StageResult, out: Path) -> None:
-    """The stage's pictures, and its Pareto front as `pareto.csv` (parameters, objectives)."""
-    import pyarrow as pa
-    import pyarrow.csv as pacsv
-
+    """The stage's pictures, and its Pareto front as `pareto.csv` (parameters, objectives;
+    numbers as the shortest text that reads back exactly)."""
+    from ..fileio import write_table
     from .plots import plot_convergence, plot_pareto, plot_pulses
 
     if result.search is not None:
@@ -166,7 +161,7 @@ def _stage_files(result: StageResult, out: Path) -> None:
         rows = result.to_dict()["pareto"]
         columns = {**{p: [r["parameters"][p] for r in rows] for p in result.problem.names},
                    **{o: [r["objectives"][o] for r in rows] for o in result.problem.objectives}}
-        pacsv.write_csv(pa.table(columns), out / "pareto.csv")
+        write_table(out / "pareto.csv", list(columns), zip(*columns.values()), "")
         plot_pareto(result.search, int(front[result.decision.index]), out / "pareto.png",
                     f"{result.stage.name}: {result.search.algorithm}, "
                     f"{len(result.search.unit)} designs")
@@ -330,7 +325,7 @@ def calibrate(template: dict, tests: list, bounds: dict[str, tuple[float, float]
         if folder is not None:
             folder.mkdir(parents=True, exist_ok=True)
         if verbose:
-            _say(f"stage {k + 1}/{len(stages)}: {stage.name}")
+            progress_line(f"stage {k + 1}/{len(stages)}: {stage.name}")
         result = run_stage(problem, stage, options, method=method, population=population,
                            generations=generations, seed=seed, decision=decision,
                            weights=weights, out=folder, resume=stage_resume,

@@ -66,7 +66,7 @@ def evaluate(problem: CalibrationProblem, unit: np.ndarray, options) -> Evaluati
     import time
 
     from ..fe import load_ball, simulate_batch
-    from ..fe.solver import FailedRun
+    from ..fe.result import FailedRun
     from .compression import is_compression
 
     started = time.perf_counter()

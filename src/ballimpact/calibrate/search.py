@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..fileio import first_line, replacing, write_atomic
+from ..fileio import first_line, replacing, write_atomic, write_table
 from .evaluate import evaluate
 from .problem import CalibrationProblem
 
@@ -363,15 +363,15 @@ def _columns(problem: CalibrationProblem, rows: dict) -> dict[str, list]:
 
 
 def _write_evaluations(problem: CalibrationProblem, rows: dict, out: Path) -> None:
-    """Every evaluated design so far, atomically (Parquet; CSV beside it for reading)."""
+    """Every evaluated design so far, atomically (Parquet; CSV beside it for reading, numbers
+    as the shortest text that reads back exactly, `fileio.write_table`)."""
     import pyarrow as pa
-    import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
 
-    table = pa.table(_columns(problem, rows))
-    for name, write in ((EVALUATIONS_FILE, pq.write_table), ("evaluations.csv", pacsv.write_csv)):
-        with replacing(out / name) as tmp:
-            write(table, tmp)
+    columns = _columns(problem, rows)
+    with replacing(out / EVALUATIONS_FILE) as tmp:
+        pq.write_table(pa.table(columns), tmp)
+    write_table(out / "evaluations.csv", list(columns), zip(*columns.values()), "")
 
 
 def _saved_rows(out: Path | None) -> int:

@@ -1,6 +1,6 @@
 """`ballimpact simulate --solver 3d --angle-deg 5,10,20,30,45,60`: an angle sweep of the 3D solver.
 
-All angles run as one vmapped batch (`oblique.simulate_oblique_batch`) at one speed, friction and
+All angles run as one vmapped batch (`fe.simulate_batch` on `fe.Hexahedral`) at one speed, friction and
 spin. Each run is normalised as Maw, Barber & Fawcett (1976) did (`oblique.rigid_body`): incidence
 Psi = 2 (v_x - w R) / (mu (1 + e_n) v_n) and rebound spin Omega = w' R / (mu (1 + e_n) v_n),
 each with the run's own normal COR e_n. A one-layer ball of a purely elastic material (no Prony
@@ -17,11 +17,12 @@ import time
 from dataclasses import replace
 from typing import Any
 
+from ..checks import allowed_range, check_range
 from ..errors import InputError
 
 #: the angles a sweep accepts (deg from the normal; `ImpactCondition.angle_deg`'s range)
 ANGLE_RANGE_DEG = (0.0, 89.0)
-_RANGE = f"allowed range [{ANGLE_RANGE_DEG[0]:g}, {ANGLE_RANGE_DEG[1]:g}] deg"
+_RANGE = f"allowed range {allowed_range(*ANGLE_RANGE_DEG, unit='deg')}"
 #: points of the elastic reference curves (Psi from `REFERENCE_PSI_MIN` to max(12, 1.1 max Psi))
 REFERENCE_POINTS = 200
 REFERENCE_PSI_MIN = 0.05
@@ -33,8 +34,9 @@ ROW_FIELDS = ("angle_deg", "psi", "normal_cor", "tangential_cor", "contact_point
 
 def parse_angles(text: str) -> tuple[float, ...]:
     """Angles from the surface normal (deg) from a comma-separated list ("5,10,20"): each item a
-    number in `ANGLE_RANGE_DEG`, none empty, none given twice (a repeated angle would look like two
-    points). Their order is kept. Raises `InputError` naming the item and the allowed range."""
+    number in `ANGLE_RANGE_DEG` (`checks.check_range`), none empty, none given twice (a repeated
+    angle would look like two points). Their order is kept. Raises `InputError` naming the item
+    and the allowed range."""
     items = text.split(",")
     angles: list[float] = []
     for k, item in enumerate(items, 1):
@@ -46,8 +48,7 @@ def parse_angles(text: str) -> tuple[float, ...]:
             value = float(item)
         except ValueError:
             raise InputError(f"{where}: {item.strip()!r} is not a number ({_RANGE})") from None
-        if not (math.isfinite(value) and ANGLE_RANGE_DEG[0] <= value <= ANGLE_RANGE_DEG[1]):
-            raise InputError(f"{where}: {item.strip()} is outside the {_RANGE}")
+        check_range(f"{where}: angle_deg", value, *ANGLE_RANGE_DEG, unit="deg")
         if value in angles:
             raise InputError(f"{where}: {value:g} deg is given twice; give each angle once "
                              f"({_RANGE})")
@@ -173,8 +174,7 @@ def _checked_sweep(args: argparse.Namespace) -> tuple[argparse.Namespace, tuple[
 def run_angle_sweep(args: argparse.Namespace) -> dict[str, Any]:
     """Several `--angle-deg` of one ball at one speed in one batched 3D run: a row per angle, a
     table, a plot in Maw et al.'s normalised axes and, where it applies, the elastic reference."""
-    from ..fe import RunProgress
-    from ..oblique import estimate_oblique, simulate_oblique_batch
+    from ..fe import Hexahedral, RunProgress, estimate, simulate_batch
     from ..oblique.plots import plot_gripping
     from .common import use_compilation_cache
     from .simulate import _check_flags, _checked_3d, _checked_allow, _warn_now
@@ -190,16 +190,16 @@ def run_angle_sweep(args: argparse.Namespace) -> dict[str, Any]:
                          "give --friction > 0")
     conditions = [replace(first, angle_deg=angle) for angle in angles]
     # refused before meshing; the mesh is then built and cached for the run
-    estimate = estimate_oblique(ball, conditions, options, target, allow=allow)
+    geometry = Hexahedral(options)
+    cost = estimate(ball, conditions, geometry=geometry, target=target, allow=allow)
     use_compilation_cache()
     print(f"simulating {ball.name} in 3D at {first.speed_m_s:g} m/s, {len(angles)} angles "
           f"({', '.join(f'{a:g}' for a in angles)} deg) in one batched run ...",
           file=sys.stderr, flush=True)
-    _warn_now(estimate.warning())
+    _warn_now(cost.warning())
     started = time.perf_counter()
-    results = simulate_oblique_batch(ball, conditions, options, target, allow=allow,
-                                     progress=RunProgress(estimate.end_time_s,
-                                                          options.chunk_steps))
+    results = simulate_batch(ball, conditions, geometry=geometry, target=target, allow=allow,
+                             progress=RunProgress(cost.end_time_s, options.chunk_steps))
     wall = time.perf_counter() - started
     rows = [run_row(r) for r in results]
     psi = [row["psi"] for row in rows if math.isfinite(row["psi"])]

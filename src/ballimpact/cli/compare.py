@@ -69,8 +69,8 @@ def check_balls(specs: list[str]) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import RunProgress, estimate_run
-    from ..fe.solver import default_group_size
+    from ..fe import RunProgress, estimate
+    from ..fe.engine import default_group_size
     from ..plotting import save_and_close
     from ..sweep import compare_rows, run_sweep, sweep_balls, sweep_figure, write_table
 
@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     balls = {spec: sweep_balls(spec, speeds, moduli=args.moduli, allow=allow) for spec in specs}
     options = solver_options(args)
     slowest = min(range(len(speeds)), key=speeds.__getitem__)
-    estimates = {spec: estimate_run(b[slowest], speeds, options, allow=allow)
+    estimates = {spec: estimate(b[slowest], speeds, options, allow=allow)
                  for spec, b in balls.items()}
     use_compilation_cache()
     started = time.perf_counter()

@@ -4,13 +4,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..plausibility import check_allow
+from ..progress import CountProgress
 from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
 from .simulate import SolverDefaults
 
@@ -56,20 +55,6 @@ def add_parser(verbs) -> None:
     compress.add_argument("--plot", type=Path, help="PNG: force against deflection")
 
 
-class _Progress:
-    """'  increment k of n, ~T s left' on stderr, once a curve has run `PROGRESS_AFTER_S`."""
-
-    def __init__(self) -> None:
-        self.start = time.perf_counter()
-
-    def __call__(self, done: int, total: int) -> None:
-        elapsed = time.perf_counter() - self.start
-        if elapsed < PROGRESS_AFTER_S or done >= total:
-            return
-        left = elapsed / done * (total - done)
-        print(f"  increment {done} of {total}, ~{left:.0f} s left", file=sys.stderr, flush=True)
-
-
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import SolverOptions, compress, load_ball
 
@@ -84,8 +69,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     options = SolverOptions(element_size_m=args.element_size_m, integration=args.integration,
                             penalty_scale=args.penalty_scale)
     use_compilation_cache()
+    progress = CountProgress("increment", quiet_s=PROGRESS_AFTER_S)
     result = compress(ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
-                      options=options, progress=_Progress())
+                      options=options, progress=progress)
     out = result.to_dict()
     out["materials"] = ball.to_dict()
     if args.csv is not None:
@@ -107,12 +93,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def write_curve(path: Path, result) -> str:
-    """The curve as CSV with the header `deflection_m,force_n`."""
-    import numpy as np
+    """The curve as CSV with the header `deflection_m,force_n` (m, N; `fileio.write_table`)."""
+    from ..fileio import column_rows, write_table
 
-    np.savetxt(path, np.column_stack([result.deflection_m, result.force_n]), delimiter=",",
-               header="deflection_m,force_n", comments="", fmt="%.10g")
-    return str(path)
+    return write_table(path, ["deflection_m", "force_n"],
+                       column_rows(result.deflection_m, result.force_n))
 
 
 def plot_curve(result, path: Path) -> Path:

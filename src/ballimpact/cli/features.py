@@ -4,8 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import math
 import time
 from pathlib import Path
@@ -14,6 +12,7 @@ from typing import Any
 from .. import repeats
 from ..errors import InputError
 from ..features import FEATURE_NAMES
+from ..fileio import table_text, write_atomic
 from ..pipeline import ProcessedImpact
 from .common import (
     add_processing,
@@ -156,24 +155,13 @@ def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
 
 
 def table_csv(rows: list[dict[str, Any]]) -> str:
-    """The table as CSV text (`repeats.TABLE_COLUMNS`); numbers round-trip exactly (repr),
-    a non-finite one is left empty."""
-    out = io.StringIO()
-    writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(repeats.TABLE_COLUMNS)
-    for row in rows:
-        writer.writerow([_cell(row[name]) for name in repeats.TABLE_COLUMNS])
-    return out.getvalue()
-
-
-def _cell(value: Any) -> Any:
-    if isinstance(value, float):
-        return repr(value) if math.isfinite(value) else ""
-    return value
+    """The table as CSV text (`repeats.TABLE_COLUMNS`; `fileio.table_text`); numbers round-trip
+    exactly (the shortest text of each float), a non-finite one is left empty."""
+    return table_text(repeats.TABLE_COLUMNS, rows, "")
 
 
 def write_table(path: Path, rows: list[dict[str, Any]]) -> None:
-    path.write_text(table_csv(rows))
+    write_atomic(path, table_csv(rows))
 
 
 def print_groups(result: dict[str, Any]) -> None:

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, InputWarning
+from ..fileio import write_atomic
 from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from
 from ..repeats import expand_records
 from .common import (
@@ -118,7 +119,7 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     if repeated:
         result["repeats"] = repeated
     if args.table is not None:
-        args.table.write_text(table.to_csv())
+        write_atomic(args.table, table.to_csv())
         result["table_csv"] = str(args.table)
     if not args.json:
         for f, file, check in zip(fits, table.labels, checks):

@@ -12,7 +12,7 @@ from typing import Any
 from ..errors import InputError, InputWarning
 from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
                        verdict_line)
-from ..fileio import check_distinct_files
+from ..fileio import check_distinct_files, table_text, write_table
 from ..repeats import DEFAULT_SPEED_TOLERANCE
 from .common import (
     add_processing,
@@ -111,13 +111,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         rows = speed_table_ball([f for _, _, f in results], model, groups)["speed_table"]["rows"]
         out["table"] = rows
         if args.table is not None:
-            lines = [",".join(rows[0])] + [",".join(f"{v:.6g}" for v in r.values()) for r in rows]
-            args.table.write_text("\n".join(lines) + "\n")
-            out["table_csv"] = str(args.table)
+            out["table_csv"] = write_table(args.table, list(rows[0]), rows, ".6g")
         if not args.json:
-            print("speed_m_s,c10_pa,c01_pa,g1,tau1_s")
-            for r in rows:
-                print(",".join(f"{v:.6g}" for v in r.values()))
+            print(table_text(list(rows[0]), rows, ".6g"), end="")
     if args.ball_out is not None:
         ball = results[0][2].ball if len(results) == 1 else speed_table_ball(
             [f for _, _, f in results], model, groups)

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from ..checks import check_range
 from ..errors import InputError
 from ..plausibility import check_allow, check_fe_speed
 from .common import (
@@ -242,7 +243,7 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _run_one(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import RunProgress, estimate_run, load_ball, simulate
+    from ..fe import RunProgress, estimate, load_ball, simulate
     from ..features import extract_features
 
     # every check on the input before anything is printed (progress, warnings) or meshed
@@ -258,11 +259,11 @@ def _run_one(args: argparse.Namespace) -> dict[str, Any]:
     if args.moduli is not None:
         ball = ball.with_moduli(args.moduli)
     options = solver_options(args)
-    estimate = estimate_run(ball, args.speed_m_s, options, allow=allow)  # refused before meshing
+    cost = estimate(ball, args.speed_m_s, options, allow=allow)  # refused before meshing
     use_compilation_cache()
-    _warn_now(estimate.warning())
+    _warn_now(cost.warning())
     result = simulate(ball, args.speed_m_s, options, allow=allow,
-                      progress=RunProgress(estimate.end_time_s, options.chunk_steps))
+                      progress=RunProgress(cost.end_time_s, options.chunk_steps))
     out = result.summary()
     out["features"] = extract_features(result.record()).to_dict()["features"]
     out["materials"] = ball.to_dict()
@@ -298,8 +299,7 @@ def _check_flags(args: argparse.Namespace) -> None:
     """The checks one run and a sweep share: output paths, friction, the other solver's flags."""
     check_plot_path(args.plot)
     check_output_folder(getattr(args, "table", None), "--table")
-    if not (math.isfinite(args.friction) and args.friction >= 0):
-        raise InputError(f"--friction = {args.friction:g}: allowed range [0, inf)")
+    check_range("--friction", args.friction, 0.0)
     _refuse_other_solver_flags(args)
 
 
@@ -307,8 +307,8 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
     """Several speeds of one ball in one batched run (`sweep.run_sweep`): a row per speed."""
     import numpy as np
 
-    from ..fe import RunProgress, estimate_run
-    from ..fe.solver import default_group_size
+    from ..fe import RunProgress, estimate
+    from ..fe.engine import default_group_size
     from ..plotting import save_and_close
     from ..sweep import run_sweep, sweep_balls, sweep_figure, write_table
 
@@ -324,15 +324,15 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
     balls = sweep_balls(args.ball, speeds, moduli=args.moduli, allow=allow)
     options = solver_options(args)
     # refused before meshing; estimated with the ball of the slowest speed (the longest run)
-    estimate = estimate_run(balls[int(np.argmin(speeds))], speeds, options, allow=allow)
+    cost = estimate(balls[int(np.argmin(speeds))], speeds, options, allow=allow)
     use_compilation_cache()
-    _warn_now(estimate.warning())
+    _warn_now(cost.warning())
     print(f"simulating {args.ball} at {len(speeds)} speeds in one batched run ...",
           file=sys.stderr, flush=True)
     # progress lines follow one vmapped group; a sweep of several groups runs without them
     one_group = len(speeds) <= default_group_size(len(speeds))
     sweep = run_sweep(balls, speeds, options, label=args.ball, allow=allow,
-                      progress=RunProgress(estimate.end_time_s, options.chunk_steps)
+                      progress=RunProgress(cost.end_time_s, options.chunk_steps)
                       if one_group else None)
     rows = [_sweep_json_row(r) for r in sweep.results]
     first = sweep.results[0].summary()
@@ -374,13 +374,12 @@ def _print_sweep(label: str, out: dict[str, Any]) -> None:
 
 
 def _write_history(path: Path, history: dict) -> str:
-    """The histories as CSV, one row per step, SI unit suffixes in the header."""
-    import numpy as np
+    """The histories as CSV, one row per step, SI unit suffixes in the header
+    (`fileio.write_table`)."""
+    from ..fileio import column_rows, write_table
 
     names = list(history)
-    np.savetxt(path, np.column_stack([history[n] for n in names]), delimiter=",",
-               header=",".join(names), comments="", fmt="%.10g")
-    return str(path)
+    return write_table(path, names, column_rows(*(history[n] for n in names)))
 
 
 #: frames kept for --vtk / --animate (about this many over a run)
@@ -397,9 +396,10 @@ def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     """The 3D run's inputs, checked before anything is meshed: (ball, condition, target or None,
     `Options3D`). `run_simulate` has checked --plot, --csv and --friction."""
     from ..fe import load_ball
-    from ..oblique import ImpactCondition, Options3D, load_target
+    from ..fe import ImpactCondition, Options3D
+    from ..fe.hex.target import load_target
     from ..oblique.output import check_animation_path
-    from ..oblique.target import check_target_width
+    from ..fe.hex.target import check_target_width
 
     check_output_folder(args.vtk, "--vtk")
     if args.vtk is not None and args.vtk.suffix.lower() not in (".pvd", ".xdmf"):
@@ -439,17 +439,17 @@ def _simulate_3d(ball, condition, target, options, allow: frozenset[str]):
     about `ANIMATION_FRAMES` when they are kept for output (`options.frames`)."""
     import numpy as np
 
-    from ..fe import RunProgress
-    from ..oblique import estimate_oblique, simulate_oblique
+    from ..fe import Hexahedral, RunProgress, estimate, simulate
 
     # refused before meshing; the mesh is then built and cached for the run
-    estimate = estimate_oblique(ball, [condition], options, target, allow=allow)
+    geometry = Hexahedral(options)
+    cost = estimate(ball, condition, geometry=geometry, target=target, allow=allow)
     use_compilation_cache()
     print(f"simulating {ball.name} in 3D at {condition.speed_m_s:g} m/s, "
           f"{condition.angle_deg:g} deg ...", file=sys.stderr, flush=True)
-    _warn_now(estimate.warning())
-    result = simulate_oblique(ball, condition, options, target=target, allow=allow,
-                              progress=RunProgress(estimate.end_time_s, options.chunk_steps))
+    _warn_now(cost.warning())
+    result = simulate(ball, condition, geometry=geometry, target=target, allow=allow,
+                      progress=RunProgress(cost.end_time_s, options.chunk_steps))
     if options.frames and len(result.frames) > ANIMATION_FRAMES:
         keep = np.unique(np.linspace(0, len(result.frames) - 1, ANIMATION_FRAMES).astype(int))
         result.frames[:] = [result.frames[i] for i in keep]

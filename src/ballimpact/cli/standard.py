@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import write_atomic
+from ..fileio import write_table
 from ..plausibility import check_allow
 from ..standards import METHODS, describe_methods, from_records, get_method, on_model
 from .common import add_filtering, check_output_folder, use_compilation_cache
@@ -105,8 +105,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if not args.json:
             print_records(result)
     if args.table is not None:
-        write_atomic(args.table, table_text(result))
-        result["table"] = str(args.table)
+        result["table"] = write_table(args.table, *table_rows(result), ".12g")
     return result
 
 
@@ -151,44 +150,28 @@ def print_model(result: dict[str, Any]) -> None:
           f"({cost['element_size_m']:g} m)")
 
 
-def table_text(result: dict[str, Any]) -> str:
-    """CSV: `kind` shot|ball|all, ball, file, count, then each quantity (value or mean) and its
-    SD (`_sd`); impact methods add the inbound speed."""
+def table_rows(result: dict[str, Any]) -> tuple[list[str], list[list[Any]]]:
+    """The --table's (columns, rows) (written with 12 significant digits): `kind`
+    shot|ball|all, ball, file, count, then each quantity (value or mean) and its SD (`_sd`);
+    impact methods add the inbound speed."""
     keys = list(result["quantities"])
     if result["kind"] == "impact":
         keys.append("impact_speed_m_s")
     header = ["kind", "ball", "file", "count"] + [c for k in keys for c in (k, f"{k}_sd")]
-    rows = [header]
 
-    def cells(values: dict[str, Any]) -> list[str]:
+    def cells(values: dict[str, Any]) -> list[Any]:
         out = []
         for key in keys:
             value = values.get(key)
-            if isinstance(value, dict):
-                out += [_number(value["mean"]), _number(value["sd"])]
-            else:
-                out += [_number(value), ""]
+            out += [value["mean"], value["sd"]] if isinstance(value, dict) else [value, None]
         return out
 
     if result["source"] == "model":
-        rows.append(["model", result["ball"], "", "1"] + cells(result["result"]))
+        rows = [["model", result["ball"], "", 1] + cells(result["result"])]
     else:
-        for shot in result["shots"]:
-            rows.append(["shot", shot["ball"], shot["file"], "1"] + cells(shot))
-        for entry in result["balls"]:
-            rows.append(["ball", entry["ball"], "", str(entry["count"])] + cells(entry))
+        rows = [["shot", shot["ball"], shot["file"], 1] + cells(shot) for shot in result["shots"]]
+        rows += [["ball", entry["ball"], "", entry["count"]] + cells(entry)
+                 for entry in result["balls"]]
         overall = result["overall"]
-        rows.append(["all", "", "", str(overall["balls"])] + cells(overall))
-    return "".join(",".join(_csv(cell) for cell in row) + "\n" for row in rows)
-
-
-def _number(value: Any) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return ""
-    return f"{value:.12g}"
-
-
-def _csv(cell: str) -> str:
-    if "," in cell or '"' in cell:  # CSV quoting (RFC 4180): a file name with a comma
-        return '"' + cell.replace('"', '""') + '"'
-    return cell
+        rows.append(["all", "", "", overall["balls"]] + cells(overall))
+    return header, rows

@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from ..checks import check_fraction
 from ..errors import InputError
 from .common import (
     add_allow,
@@ -278,10 +279,7 @@ def _print_report(metadata: dict) -> None:
 
 
 def _check_noise_fraction(value: float, flag: str) -> None:
-    """A noise level: a fraction of the peak force in [0, 0.5); a percentage typed for it
-    (2 for 0.02) is named."""
-    if not 0.0 <= value < 0.5:
-        hint = f"; {value:g} looks like a percentage: use {value / 100:g}" \
-            if 0.5 <= value <= 50 else ""
-        raise InputError(f"{flag} {value:g}: allowed range [0, 0.5) (white noise as a fraction "
-                         f"of the peak force, e.g. 0.01){hint}")
+    """A noise level: a fraction of the peak force in [0, 0.5) (`checks.check_fraction`); a
+    percentage typed for it (2 for 0.02) is named."""
+    check_fraction(flag, value, 0.5, high_open=True, allow_zero=True,
+                   note="white noise as a fraction of the peak force, e.g. 0.01")

@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..progress import progress_line
 from .common import check_plot_path
 
 
@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                    surface_row=args.surface_row, gravity_m_s2=args.gravity_m_s2)
     # analyse checks the options before it reads or tracks anything
     m, detections = analyse(args.file, args.fps, **options,
-                            log=lambda line: print(line, file=sys.stderr, flush=True))
+                            log=progress_line)
     out = dict(m.summary)
     if args.side_file is not None:
         side = side_file(out, args.mass_kg, source=f"ballimpact video {args.file.name}")

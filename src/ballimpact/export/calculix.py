@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError, SimulationError
-from ..fe.solver import contact_end_time
+from ..fe.result import contact_end_time
 
 #: the issue's cross-code ball: elastic Mooney-Rivlin, C10 4.72 MPa, C01 -0.45 MPa, D1 = 0,
 #: 0.160 kg, 72 mm (the three-layer core's constants on the universal ball's size and mass)

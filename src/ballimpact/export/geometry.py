@@ -22,7 +22,7 @@ from ..fe.axi.mesh import estimate_mesh, layered_sphere_mesh
 from ..fe.options import SolverOptions
 from ..fe.hex.element import geometry
 from ..fe.hex.mesh import ball_mesh, estimate_ball_mesh
-from ..oblique.options import Options3D
+from ..fe.options import Options3D
 
 SOLVERS = ("axisymmetric", "3d")
 

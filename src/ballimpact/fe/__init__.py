@@ -1,5 +1,7 @@
 """Explicit finite-element ball models (thesis chapters 5 and 6): layered hyper-viscoelastic
-balls, an axisymmetric mesh and solver for normal impacts on a rigid plane."""
+balls and one explicit engine (`engine`) whose geometry is a plug-in: axisymmetric
+(`Axisymmetric`, normal impacts on a rigid plane) or hexahedral 3D (`Hexahedral`, oblique and
+spinning impacts with friction, on a rigid plane or a slab)."""
 
 from .ball import (
            PRESETS,
@@ -10,11 +12,14 @@ from .ball import (
            universal_parameters,
 )
 from .compression import CompressionResult, compress
-from .options import ExplicitOptions, ImpactCondition
+from .engine import Axisymmetric, Hexahedral, estimate, simulate, simulate_batch
+from .options import ExplicitOptions, ImpactCondition, Options3D, SolverOptions
 from .progress import RunProgress
-from .solver import FailedRun, FEResult, SolverOptions, estimate_run, simulate, simulate_batch
+from .result import FailedRun, ImpactResult
+from .solver import FEResult, estimate_run  # one release: FutureWarning
 
-__all__ = ["PRESETS", "BallModel", "CompressionResult", "ExplicitOptions", "FailedRun", "FEResult",
-           "ImpactCondition", "Layer", "RunProgress", "SolverOptions", "compress",
-           "describe_presets", "estimate_run", "load_ball", "simulate", "simulate_batch",
+__all__ = ["PRESETS", "Axisymmetric", "BallModel", "CompressionResult", "ExplicitOptions",
+           "FailedRun", "FEResult", "Hexahedral", "ImpactCondition", "ImpactResult", "Layer",
+           "Options3D", "RunProgress", "SolverOptions", "compress", "describe_presets",
+           "estimate", "estimate_run", "load_ball", "simulate", "simulate_batch",
            "universal_parameters"]

@@ -187,13 +187,13 @@ def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps:
     after `MAX_INCREMENT_CUTS` halvings.
     """
     check_compression_input(ball, deflection_m, rate_m_s, steps)
-    from .solver import kernel_for
+    from .engine import Axisymmetric, kernel_for
 
     started = time.perf_counter()
     # float64 (Newton), no bulk viscosity (no motion)
     options = dataclasses.replace(options, precision="float64", bulk_viscosity_linear=0.0,
                                   bulk_viscosity_quadratic=0.0)
-    kernel = kernel_for(ball, options)
+    kernel, _ = kernel_for(ball, Axisymmetric(options))
     system = _system(kernel)
     arrays = ball_arrays(ball, kernel.geom, options)
     if rate_m_s is None:

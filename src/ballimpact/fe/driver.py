@@ -1,5 +1,5 @@
-"""The run loop both explicit engines share (axisymmetric `fe.solver`, hexahedral
-`oblique.solver`).
+"""The run loop of the explicit engine (`fe.engine`), whatever its geometry (axisymmetric or
+hexahedral).
 
 A kernel (`fe.steps.ChunkedSteps`: the axisymmetric `fe.axi.kernel.Kernel` or the hexahedral
 `fe.hex.kernel.Kernel`) gives an initial state and a chunk of steps, compiled once per process
@@ -45,9 +45,8 @@ class RunOutcome:
 
 @dataclass(frozen=True, eq=False)
 class RunFigures:
-    """What a run of either engine reports (SI), the base of `fe.solver.FEResult` and
-    `oblique.solver.ObliqueResult`: histories per step (name -> values), the peak contact force
-    (N; the whole ball's), its time and the contact time (s), the largest energy balance error
+    """What a run of either geometry reports (SI), the base of `fe.result.ImpactResult`:
+    histories per step (name -> values), the peak contact force (N; the whole ball's), its time and the contact time (s), the largest energy balance error
     (fraction of the impact energy), the stable increment at the start and at the end (s), the
     steps, the mesh's elements and nodes, the ball's mass (kg) and outer radius (m), and the
     range of principal stretches that occurred."""

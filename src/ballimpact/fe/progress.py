@@ -1,22 +1,26 @@
-"""Cost of an explicit run before it starts, and progress lines on stderr while it runs.
+"""Cost of an explicit run before it starts; its progress lines while it runs come from the
+package's one progress module (`ballimpact.progress`), re-exported here.
 
 Both solvers (axisymmetric `fe` and 3D `oblique`) estimate a run's cost from the mesh before they
 compile it (`RunEstimate`) and warn when it is so large that the run may take very long or exhaust
-memory; `RunProgress` is a `progress(t_s)` callback that prints the time reached, steps per second
-and the time left, and stays quiet for runs that end within a few seconds.
+memory; `RunProgress` (`ballimpact.progress`) is a `progress(t_s)` callback that prints the time
+reached, steps per second and the time left, and stays quiet for runs that end within a few
+seconds.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import sys
-import time
-from collections.abc import Callable, Collection
+from collections.abc import Collection
 from dataclasses import dataclass
-from typing import TextIO
 
 from ..plausibility import flag
+from ..progress import RunProgress, format_progress
+from ..progress import duration as _duration
+
+__all__ = ["MEMORY_WARNING_BYTES", "RunEstimate", "RunProgress", "available_memory_bytes",
+           "format_progress", "process_memory_bytes"]
 
 #: memory (bytes) of the histories and kept frames above which a run is flagged
 MEMORY_WARNING_BYTES = 4 * 2 ** 30
@@ -58,7 +62,7 @@ def process_memory_bytes() -> float:
 #: the largest extra memory (bytes) of a `check_memory` in this process that fitted, and of one
 #: let through by "large-run": a later run needing no more is let through unchecked, so that a
 #: brief dip in free memory does not stop a calibration or study partway, and `simulate` after
-#: `estimate_run` (the same run) is judged, and warned about, once
+#: `fe.estimate` (the same run) is judged, and warned about, once
 _JUDGED_BYTES = {"fitted": 0.0, "allowed": 0.0}
 
 
@@ -172,74 +176,6 @@ class RunEstimate:
                 + (f" ({self.hint})" if self.hint else ""))
 
 
-def format_progress(t_s: float, end_time_s: float, steps: int, elapsed_s: float,
-                    t_first_s: float = 0.0) -> str:
-    """One progress line: simulated time `t_s` (s) of the expected `end_time_s` (s), the rate of
-    the `steps` done in `elapsed_s` (s of wall time) and the time left at the rate at which
-    simulated time advanced from `t_first_s` (s)."""
-    rate = steps / elapsed_s if elapsed_s > 0 else 0.0
-    advance = (t_s - t_first_s) / elapsed_s if elapsed_s > 0 else 0.0
-    line = f"  t = {t_s * 1e3:.3f} ms of ~{end_time_s * 1e3:.3f} ms, {rate:.0f} steps/s, "
-    if t_s >= end_time_s:
-        return line + "past the estimated end, time left unknown"
-    if advance <= 0:
-        return line + "time left unknown"
-    return line + f"~{_duration((end_time_s - t_s) / advance)} left"
-
-
-def _duration(seconds: float) -> str:
-    if not math.isfinite(seconds):
-        return "unknown"
-    if seconds < 90:
-        return f"{seconds:.0f} s"
-    if seconds < 5400:
-        return f"{seconds / 60:.1f} min"
-    if seconds < 3.6e7:
-        return f"{seconds / 3600:.1f} h"
-    return f"{seconds / 3600:.2g} h"
-
-
 def _count(n: float) -> str:
     """A count for a message: plain below a million, else 1.5e+09."""
     return f"{int(n)}" if n < 1e6 else f"{n:.2g}"
-
-
-class RunProgress:
-    """A `progress(t_s)` callback for `simulate`, `simulate_batch`, `simulate_oblique`: prints
-    `format_progress` lines on `stream` (default stderr).
-
-    The solvers call it after every chunk of `chunk_steps` steps. The first call comes after the
-    compilation and the first chunk; the rates are measured from it. Nothing is printed before
-    `quiet_s` (s) of stepping, so short runs stay quiet; then a line at most every `interval_s`
-    (s). `clock` returns seconds (tests pass a fake one).
-    """
-
-    def __init__(self, end_time_s: float, chunk_steps: int, *, stream: TextIO | None = None,
-                 quiet_s: float = 3.0, interval_s: float = 5.0,
-                 clock: Callable[[], float] = time.perf_counter) -> None:
-        self.end_time_s = float(end_time_s)
-        self.chunk_steps = int(chunk_steps)
-        self.stream = stream
-        self.quiet_s = quiet_s
-        self.interval_s = interval_s
-        self.clock = clock
-        self.calls = 0
-        self.lines = 0
-        self._first: tuple[float, float] | None = None  # (wall s, simulated s) at the first call
-        self._last_line_s = -math.inf
-
-    def __call__(self, t_s: float) -> None:
-        now = self.clock()
-        self.calls += 1
-        if self._first is None:
-            self._first = (now, float(t_s))
-            return
-        start, t_first = self._first
-        elapsed = now - start
-        if elapsed < self.quiet_s or now - self._last_line_s < self.interval_s:
-            return
-        self._last_line_s = now
-        self.lines += 1
-        line = format_progress(float(t_s), self.end_time_s, (self.calls - 1) * self.chunk_steps,
-                               elapsed, t_first)
-        print(line, file=self.stream if self.stream is not None else sys.stderr, flush=True)

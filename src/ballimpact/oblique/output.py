@@ -52,7 +52,7 @@ def tributary_area_m2(nodes: np.ndarray, elements: np.ndarray, surface: np.ndarr
 
 def _frame_data(result):
     """Per frame: time, point data and cell data (see the module docstring)."""
-    geom = result.geometry
+    geom = result.kernel_geometry
     nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
     area = tributary_area_m2(nodes, elements, result.mesh.contact_nodes)
     group = np.concatenate([np.full(b - a, i) for i, (a, b) in enumerate(geom.group_slices)])
@@ -78,7 +78,7 @@ def write_series(result, path) -> Path:
     suffix = path.suffix.lower()
     if suffix not in (".pvd", ".xdmf"):
         raise InputError(f"--vtk {path}: the file must end in .pvd or .xdmf")
-    geom = result.geometry
+    geom = result.kernel_geometry
     points, cells = np.asarray(geom.nodes_m, float), [("hexahedron", np.asarray(geom.elements))]
     if suffix == ".xdmf":
         data_format = "HDF" if importlib.util.find_spec("h5py") else "XML"
@@ -100,7 +100,7 @@ def write_series(result, path) -> Path:
 
 def _section(result):
     """Faces of the mid-plane y = 0 (n, 4) and the element each belongs to."""
-    geom = result.geometry
+    geom = result.kernel_geometry
     nodes, elements = np.asarray(geom.nodes_m, float), np.asarray(geom.elements)
     on_plane = np.abs(nodes[:, 1]) < 1e-9 * result.outer_radius_m
     faces, owners = [], []
@@ -115,7 +115,7 @@ def _section(result):
 def _draw(ax, result, frame, faces, owners, norm):
     from matplotlib.collections import PolyCollection
 
-    nodes = np.asarray(result.geometry.nodes_m, float)
+    nodes = np.asarray(result.kernel_geometry.nodes_m, float)
     x = nodes + frame["displacement_m"].T
     polys = x[faces][:, :, [0, 2]] * 1e3
     mises = von_mises(frame["stress_pa"])[owners] / 1e6

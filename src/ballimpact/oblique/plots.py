@@ -36,7 +36,7 @@ def draw_oblique_forces(ax, results):
     for r, color in zip(results, _run_colors(results)):
         h = r.history
         t = h["time_s"] * 1e3
-        ax.plot(t, h["normal_force_n"] / 1e3, color=color, label=f"normal ({_label(r)})")
+        ax.plot(t, h["contact_force_n"] / 1e3, color=color, label=f"normal ({_label(r)})")
         ax.plot(t, h["tangential_force_x_n"] / 1e3, "--", color=color, label="tangential")
     _finish_panel(ax, "time (ms)", "contact force (kN)")
     return ax

@@ -13,7 +13,7 @@ from typing import Any
 
 from .. import __version__
 from ..errors import InputError, InputWarning, SimulationError
-from ..fileio import json_safe
+from ..fileio import json_safe, write_atomic
 from ..progress import progress_bar
 from . import figures
 from .inputs import ReportTest
@@ -97,7 +97,7 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
     html_text = _page(tests, runs, tables, failures, note)
     (out / "report.html").write_text(html_text, encoding="utf-8")
     for table in tables.values():
-        (out / f"{table.name}.csv").write_text(table.to_csv())
+        write_atomic(out / f"{table.name}.csv", table.to_csv())
     result = {
         "report_html": str(out / "report.html"), "report_json": str(out / "report.json"),
         "csv": [str(out / f"{t.name}.csv") for t in tables.values()],

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..fileio import table_text
 from .inputs import ReportTest
 from .models import ModelRun
 
@@ -23,21 +22,13 @@ class Table:
     rows: list[list[Any]]
 
     def to_csv(self) -> str:
-        out = io.StringIO()
-        writer = csv.writer(out, lineterminator="\n")
-        writer.writerow(self.columns)
-        writer.writerows([[_csv_cell(v) for v in row] for row in self.rows])
-        return out.getvalue()
+        """The table as CSV text (`fileio.table_text`; numbers with 8 significant digits, a
+        non-finite one empty)."""
+        return table_text(self.columns, self.rows, ".8g")
 
     def to_dict(self) -> dict[str, Any]:
         return {"title": self.title, "csv": f"{self.name}.csv", "columns": self.columns,
                 "rows": self.rows}
-
-
-def _csv_cell(value: Any) -> Any:
-    if isinstance(value, float):
-        return "" if not math.isfinite(value) else f"{value:.8g}"
-    return value
 
 
 def tests_table(tests: list[ReportTest]) -> Table:

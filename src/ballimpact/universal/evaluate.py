@@ -4,13 +4,13 @@ identifiable from one impact, and the closed loop through the FE engine (clean a
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError
+from ..progress import end_line, redraw_line
 from . import space
 from .model import COR_COLUMN, FEATURES, TARGETS, UniversalModel, target_ranges
 
@@ -170,9 +170,9 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
         specs.append(space.universal_ball_spec(params, template, f"identified-{rid}"))
         speeds.append(speed)
         truths.append((pulse, clean))
-        print(f"\rclosed loop{' (noisy)' if noise else ''}: identified {len(specs)}/{len(ids)}",
-              end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+        redraw_line(f"closed loop{' (noisy)' if noise else ''}: identified "
+                    f"{len(specs)}/{len(ids)}")
+    end_line()
     allow = study_allow(config)  # the study's soft balls (--allow ball-units) are its own
     results = simulate_batch([load_ball(s, allow=allow) for s in specs], speeds,
                              options or SolverOptions(), on_failure="return")

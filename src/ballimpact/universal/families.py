@@ -12,7 +12,6 @@ only if its material is (docs/universal.md, "Any solid ball").
 from __future__ import annotations
 
 import json
-import sys
 from importlib import resources
 from typing import Any
 
@@ -20,6 +19,7 @@ import numpy as np
 
 from . import space
 from ..comparison import compare, pulse_nrmse
+from ..progress import end_line, redraw_line
 from .evaluate import PERCENTILE
 from .identify import identify, reference_size, scaled_options
 from .model import UniversalModel
@@ -83,8 +83,8 @@ def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
                               rng)
         found.append(identify(process(record, warn_noisy=False), model, verify=False,
                               size=size))
-        print(f"\r{label}: identified {i + 1}/{runs}", end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+        redraw_line(f"{label}: identified {i + 1}/{runs}")
+    end_line()
     results = simulate_batch([load_ball(f.ball) for f in found], speeds, options,
                              on_failure="return")
     t = np.arange(pulse_100khz(truths[0]).size) / PULSE_RATE_HZ

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_fraction
+from ..checks import check_fraction, warn_outside_range
 from ..errors import InputError, InputWarning
 from ..features import FEATURE_NAMES
 from ..plausibility import check_allow, flag
@@ -45,7 +45,7 @@ class Identification:
     impact_speed_m_s: float
     refine: str
     verification: dict[str, Any] | None = None
-    simulated: Any = field(default=None, repr=False)   # FEResult of the verification
+    simulated: Any = field(default=None, repr=False)   # fe.ImpactResult of the verification
     wall_time_s: float = 0.0
     training_range: dict[str, list[float]] = field(default_factory=dict)
     at_training_bound: list[str] = field(default_factory=list)          # estimates on a bound
@@ -78,23 +78,23 @@ def check_speed(model: UniversalModel, speed_m_s: float, allow: Collection[str] 
              "impact_speed_m_s=LOW:HIGH)", check_allow(allow))
 
 
-def check_range(model: UniversalModel, values: dict[str, float], where: str = "",
-                measured: dict[str, float] | None = None) -> None:
-    """Warn for each feature outside the range the model was trained on (the speed, P15, has its
-    own check: `check_speed`). `values` are on the model's ball; `measured`, when given, are the
-    test's own before the mapping onto it (`similarity.map_features`), and the warning names
-    both."""
+def warn_outside_training_range(model: UniversalModel, values: dict[str, float], where: str = "",
+                                measured: dict[str, float] | None = None) -> None:
+    """Warn (`checks.warn_outside_range`) for each feature outside the range the model was
+    trained on (the speed, P15, has its own check: `check_speed`). `values` are on the model's
+    ball; `measured`, when given, are the test's own before the mapping onto it
+    (`similarity.map_features`), and the warning names both."""
     ranges = model.metadata["feature_range"]
     diameter = 2 * model.metadata["template"]["radius_m"]
     for key in FEATURES:
+        if key == "P15":
+            continue
         low, high = ranges[key]
-        v = values[key]
-        if key != "P15" and not (low <= v <= high):
-            value = f"{v:.5g}" if measured is None else (
-                f"{measured[key]:.5g}, mapped onto the model's {diameter:g} m ball {v:.5g},")
-            warnings.warn(f"{where}{key} ({FEATURE_NAMES[key]}) = {value} is outside the "
-                          f"model's training range {low:.5g}..{high:.5g}: the identification "
-                          "extrapolates", InputWarning, stacklevel=2)
+        mapped = "" if measured is None else (
+            f" (the test's {measured[key]:.5g}, mapped onto the model's {diameter:g} m ball)")
+        warn_outside_range(f"{where}{key} ({FEATURE_NAMES[key]})", values[key],
+                           "model's training range", low, high,
+                           consequence=f"the identification extrapolates{mapped}", stacklevel=2)
 
 
 def estimate(model: UniversalModel, values: dict[str, float], refine: str = "none"):
@@ -283,7 +283,8 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
                           f"{mass:g} kg by more than 1%: the test is mapped as a ball of "
                           f"{size.mass_kg:g} kg", InputWarning, stacklevel=2)
     mapped = map_features(values, size, reference)
-    check_range(model, mapped, where, None if size == reference else values)
+    warn_outside_training_range(model, mapped, where,
+                                None if size == reference else values)
     template = model.metadata["template"]
     # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
     # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin

@@ -11,7 +11,6 @@ plus their disagreement). Early stopping keeps each member's weights at its best
 from __future__ import annotations
 
 import math
-import sys
 from dataclasses import dataclass
 
 import equinox as eqx
@@ -19,6 +18,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optax
+
+from ..progress import end_line, redraw_line
 
 LOG_SIGMA_RANGE = (-7.0, 3.0)
 
@@ -120,10 +121,9 @@ def train_ensemble(arch: Architecture, x_train, y_train, x_val, y_val, *, seed: 
             params, best_params)
         best_loss = jnp.where(better, loss, best_loss)
         best_step = np.where(np.asarray(better), start + check_every, best_step)
-        print(f"\r{label}: step {start + check_every}/{steps}, train NLL "
-              f"{float(train_loss.mean()):.3f}, validation NLL {float(loss.mean()):.3f}   ",
-              end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
+        redraw_line(f"{label}: step {start + check_every}/{steps}, train NLL "
+                    f"{float(train_loss.mean()):.3f}, validation NLL {float(loss.mean()):.3f}   ")
+    end_line()
     figures = {"validation_nll": [float(v) for v in best_loss], "best_step": best_step.tolist(),
                "steps": steps, "train_rows": int(n), "validation_rows": int(x_val.shape[0])}
     return eqx.combine(best_params, static), figures

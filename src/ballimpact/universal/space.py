@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_range
 from ..errors import InputError
 from ..plausibility import BALL_RANGES, FE_SPEED_RANGE_M_S, check_allow, flag
 
@@ -61,9 +62,9 @@ def check_ranges(ranges: dict[str, Any], allow: Collection[str] = ()
             # an empty range would divide by its width in the unit scaling and the R^2
             raise InputError(f"range {name} = {low:g}:{high:g}: need finite LOW < HIGH"
                              + (" (swapped?)" if low > high else ""))
-        if low < lo_allowed or high > hi_allowed:
-            raise InputError(f"range {name} = {low:g}:{high:g}: allowed within "
-                             f"{lo_allowed:g}:{hi_allowed:g} {PARAMETERS[name][2]}")
+        unit = PARAMETERS[name][2] if PARAMETERS[name][2] != "1" else ""
+        for end, bound in (("LOW", low), ("HIGH", high)):
+            check_range(f"range {name} {end}", bound, lo_allowed, hi_allowed, unit=unit)
         out[name] = (low, high)
     # every ball of the design must be loadable: Mooney-Rivlin needs C10 + C01 > 0 (its initial
     # shear modulus is mu0 = 2 (C10 + C01)); the softest corner of the ranges decides

@@ -65,7 +65,7 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
     penalty = (options.penalty_scale * m_surface
                * (c_d[geom.surface_layer] / geom.surface_length_m) ** 2)
     return AxiParams(
-        mass_kg=mass, mass_total_kg=np.sum(mass), penalty_n_m=penalty,
+        mass_kg=mass, ball_mass_kg=np.sum(mass), penalty_n_m=penalty,
         contact_damping_n_s_m=options.contact_damping * 2.0 * np.sqrt(penalty * m_surface),
         hourglass_n_m=options.hourglass_scale * shear[element_layer] * geom.hourglass_length_m,
         bv_linear_pa_s=options.bulk_viscosity_linear * rho_el * c_el * length,
@@ -73,13 +73,14 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
         energy_error_limit=np.float64(options.energy_error_limit),
         increment_factor=np.float64(increment_factor(options.time_step_scale,
                                                      options.bulk_viscosity_linear)),
-        layers=[layer.material.constants() for layer in layers])
+        groups=[layer.material.constants() for layer in layers])
 
 
 AxiParams = named_tuple(
     "AxiParams", __name__, "The axisymmetric kernel's per-ball parameters (SI; NumPy float64 "
-    "from `ball_arrays`).", PARAMS, {"layers": "material constants per layer",
-                                     "mass_total_kg": "the ball's mass (kg)"})
+    "from `ball_arrays`).", PARAMS,
+    {"groups": "material constants per element group (the ball's layers)",
+     "ball_mass_kg": "the ball's mass (kg)"})
 AxiState = named_tuple(
     "AxiState", __name__, "The axisymmetric kernel's state between steps (SI; nodal arrays "
     "(2, n_nodes)).", STATE, {"f_e": "element corner forces (N), the last step's"})
@@ -132,7 +133,7 @@ class Kernel(ChunkedSteps):
     def initial_materials(self, params) -> list[dict]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.layer_slices, self.bulk_relaxation,
-                                        params.layers):
+                                        params.groups):
             shape = (4, self.n_points, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at the points
             n_terms = consts["prony_g"].shape[-1]
             n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
@@ -155,7 +156,7 @@ class Kernel(ChunkedSteps):
                         mat=self.initial_materials(params),
                         j0=jnp.ones(self.geom.n_elements, self.dtype),
                         sigma_bv=self.zeros(self.geom.n_elements),
-                        ke0=0.5 * params.mass_total_kg * speed * speed,
+                        ke0=0.5 * params.ball_mass_kg * speed * speed,
                         w_int=scalar(0.0), w_contact=scalar(0.0), d_bv=scalar(0.0),
                         peak_force=scalar(0.0), t_peak=scalar(0.0), u_peak=zeros,
                         t_start=inf, t_separation=inf, t_bad=inf, t_energy=inf,
@@ -183,7 +184,7 @@ class Kernel(ChunkedSteps):
             (Fb2, Fbh), pull, J = jax.vjp(kinematics, u_e, has_aux=True)
         C = right_cauchy_green(Fb2, Fbh)
         weight = self.point_volume_m3
-        S, new_mats, density = material_stresses(g.layer_slices, self.energies, params.layers,
+        S, new_mats, density = material_stresses(g.layer_slices, self.energies, params.groups,
                                                  C[:4], mats, dt)
         stored = jnp.sum(density * weight, axis=0)
         j0 = J[-1]  # at the centre (the last of the F-bar points; the only reduced one)
@@ -255,8 +256,8 @@ class Kernel(ChunkedSteps):
         d_bv = state.d_bv + dd_bv
         t = t0 + (i + 1) * dt  # not a running sum over the whole run: accurate in float32 too
         total = jnp.sum(normal)
-        v_cm = momentum_z / params.mass_total_kg
-        z_cm = moment_z / params.mass_total_kg
+        v_cm = momentum_z / params.ball_mass_kg
+        z_cm = moment_z / params.ball_mass_kg
         new = AxiState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
                        x_top=state.x_top, f_e=f_e, f_contact=f_contact, mat=mats,
                        j0=j0, sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,

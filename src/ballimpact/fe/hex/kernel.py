@@ -47,7 +47,7 @@ from .element import (
     right_cauchy_green,
 )
 
-HISTORY = ("time_s", "normal_force_n", "tangential_force_x_n", "tangential_force_y_n",
+HISTORY = ("time_s", "contact_force_n", "tangential_force_x_n", "tangential_force_y_n",
            "centre_x_m", "centre_z_m", "centre_velocity_x_m_s", "centre_velocity_y_m_s",
            "centre_velocity_z_m_s", "spin_x_rad_s", "spin_y_rad_s", "spin_z_rad_s",
            "contact_slip_velocity_m_s", "kinetic_energy_j", "internal_work_j", "contact_work_j",
@@ -63,7 +63,7 @@ def dot3(a, b):
 
 HexParams = named_tuple(
     "HexParams", __name__, "The hexahedral kernel's per-run parameters (SI; NumPy float64 from "
-    "`oblique.solver.model_arrays`).", PARAMS,
+    "`fe.hex.geometry.model_arrays`).", PARAMS,
     {"ball_mass_kg": "the ball's mass (kg; of the model: half for a half model)",
      "contact_spring_factor": "stable-increment factor of each contact spring (a slab's node "
                               "beneath)",

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..fe.materials import Material, material_from_dict
-from ..checks import check_keys, spec_number
+from ...errors import InputError
+from ..materials import Material, material_from_dict
+from ...checks import check_keys, spec_number
 
 
 @dataclass(frozen=True)

@@ -9,9 +9,9 @@ widens it further, so the mesh is then at least as fine as asked).
 
 from __future__ import annotations
 
-from ..errors import InputError
-from ..fe.estimates import hertz_contact_radius_m
-from ..fe.hex.mesh import GRADING_RANGE, pole_spacing_m
+from ...errors import InputError
+from ..estimates import hertz_contact_radius_m
+from .mesh import GRADING_RANGE, pole_spacing_m
 
 
 def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,

@@ -1,0 +1,198 @@
+"""The axisymmetric geometry of the engine (`fe.engine`): a layered ball meshed in its meridian
+plane (quadrilateral rings), normal impacts on a rigid plane.
+
+`Axisymmetric(options)` gives the engine what it needs of this geometry and nothing else: the
+structure a compiled program depends on, the mesh's size before it is built, the kernel, the
+per-ball parameters and initial values, the cost constants and the result."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import InputError, InputWarning
+from ..materials.stability import drucker_warnings
+from ..options import ImpactCondition, SolverOptions
+from ..result import ImpactResult, contact_end_time, energy_histories
+from .element import geometry as element_geometry
+from .kernel import HISTORY, Kernel, ball_arrays
+from .mesh import estimate_mesh, layered_sphere_mesh
+
+
+def structure(ball) -> tuple:
+    """What a compiled run depends on: radii, material models, Prony terms, bulk relaxation."""
+    return tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
+                  tuple((k, np.shape(v)) for k, v in sorted(layer.material.constants().items())))
+                 for layer in ball.layers)
+
+
+def mesh_radii(ball, options: SolverOptions) -> np.ndarray:
+    """The node circles of a ball's mesh: its layer radii and `options.mesh_radii_m` inside."""
+    radii = np.asarray(ball.layer_radii_m)
+    extra = [r for r in options.mesh_radii_m if 0 < r < radii[-1]]
+    return np.unique(np.concatenate([radii, extra]))
+
+
+def build_kernel(ball, options: SolverOptions) -> Kernel:
+    """The compiled-program data (mesh, material models, precision) of a ball's structure."""
+    radii = np.asarray(ball.layer_radii_m)
+    circles = mesh_radii(ball, options)
+    mesh = layered_sphere_mesh(tuple(circles), options.element_size_m,
+                               options.pole_element_size_m, options.pole_zone_deg)
+    # mesh rings -> ball layers: a ring belongs to the first layer that reaches its radius
+    ring_layer = np.searchsorted(radii, circles - 1e-12 * radii[-1])
+    mesh = dataclasses.replace(mesh, element_layer=ring_layer[mesh.element_layer],
+                               layer_radii_m=tuple(radii))
+    return Kernel.build(
+        element_geometry(mesh), [type(layer.material).energy for layer in ball.layers],
+        [layer.material.sum_k > 0 for layer in ball.layers],
+        reduced=options.integration == "reduced", dtype=np.dtype(options.precision))
+
+
+def normal_impact_speed(condition: ImpactCondition) -> float:
+    """The speed (m/s) of a normal impact without spin, or `InputError`."""
+    if not condition.normal:
+        raise InputError(f"{condition}: the axisymmetric solver runs normal impacts without spin "
+                         "(angle_deg 0, spins 0); oblique and spinning impacts need the 3D "
+                         "geometry (fe.Hexahedral, --solver 3d)")
+    return condition.speed_m_s
+
+
+@dataclass(frozen=True)
+class Axisymmetric:
+    """The axisymmetric geometry with its settings (`options`: mesh, integration, precision and
+    the settings both geometries share)."""
+
+    options: SolverOptions = SolverOptions()
+
+    #: the speed range's key (`plausibility.check_fe_speed`)
+    solver = "axisymmetric"
+    #: element updates above which a run is flagged as very long: about 5 min at
+    #: `SECONDS_PER_ELEMENT_STEP` (the universal ball at 25 m/s with 0.2 mm elements; the
+    #: default 1.5 mm mesh is 4.6e6 by the estimate, 3.5e6 run)
+    ELEMENT_STEPS_WARNING = 2e9
+    #: wall time of one element update on a 2-core CPU (s; float64, reduced integration:
+    #: 1.3-1.6e-7 measured with 1482 to 20590 elements on the machine of this work while shared
+    #: with other jobs; 8e-8 at 1482 elements when it was not, docs/fe.md "Speed")
+    SECONDS_PER_ELEMENT_STEP = 1.5e-7
+    #: the stable increment of the assembled system over the smallest element's L / c_d at
+    #: time_step_scale 0.8 (1.52 on the default meshes of both presets; lower is safer)
+    INCREMENT_OVER_SMALLEST_ELEMENT = 1.5
+    #: memory of a run (bytes): the process with JAX and the compiled program (peak 0.55-0.6 GB
+    #: with 210 to 13,110 elements), and per element and ball run at once (mesh, geometry,
+    #: state, Lanczos vectors: 4-6 kB measured with 13,110 to 80,370 elements, reduced
+    #: integration; full integration's four points are assumed to double it, not measured)
+    BASE_MEMORY_BYTES = 0.6 * 2 ** 30
+    MEMORY_PER_ELEMENT_BYTES = 8e3
+    #: how to make a run smaller (the warnings and the large-run check)
+    HINT = ("a coarser mesh: element_size_m, --element-size-m (or a coarser pole refinement: "
+            "pole_element_size_m, --pole-element-size-m)")
+    #: what to refine against an inverted element, and to resolve the contact patch
+    REFINE = "element size"
+    REFINE_POLE = "pole_element_size_m, --pole-element-size-m"
+    HISTORY = HISTORY
+    #: the state's values a result is made of
+    FINAL = ("peak_force", "t_peak", "u_peak", "dt0", "dt", "stretch_min", "stretch_max")
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.options, SolverOptions):
+            raise InputError(f"Axisymmetric(options): expected SolverOptions, got "
+                             f"{type(self.options).__name__}")
+
+    def checked(self, ball, conditions: list, target) -> "Axisymmetric":
+        """The geometry for these runs of `ball`: normal impacts on the rigid plane only."""
+        if target is not None:
+            raise InputError("target: the axisymmetric geometry runs on the rigid plane; a "
+                             "target slab needs the 3D geometry (fe.Hexahedral, --solver 3d)")
+        for condition in conditions:
+            normal_impact_speed(condition)
+        return self
+
+    def structure(self, ball, target=None) -> tuple:
+        return structure(ball)
+
+    def kernel_key(self, ball, target=None) -> tuple:
+        o = self.options
+        return ("axisymmetric", structure(ball), o.element_size_m, o.pole_element_size_m,
+                o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision)
+
+    def build(self, ball, target=None) -> tuple[Kernel, None]:
+        return build_kernel(ball, self.options), None
+
+    def mesh_size(self, ball, target=None) -> tuple[int, float]:
+        """(elements, smallest element's length m) of the mesh, from its counting rules."""
+        o = self.options
+        mesh = estimate_mesh(mesh_radii(ball, o), o.element_size_m, o.pole_element_size_m,
+                             o.pole_zone_deg)
+        return mesh.elements, mesh.smallest_length_m
+
+    def pole_element_m(self, ball) -> float:
+        return self.options.pole_element_size_m or self.options.element_size_m
+
+    def slack(self, target) -> float:
+        return 1.0
+
+    def default_group_size(self, runs: int, cpu: bool) -> int:
+        from ..engine import ACCELERATOR_GROUP_SIZE, CPU_GROUP_SIZE
+
+        return CPU_GROUP_SIZE if cpu else max(1, min(runs, ACCELERATOR_GROUP_SIZE))
+
+    def frames_bytes(self, steps: int, elements: int, nodes: int, runs: int) -> float:
+        return 0.0
+
+    def params(self, ball, target, kernel: Kernel, condition: ImpactCondition):
+        return ball_arrays(ball, kernel.geom, self.options)
+
+    def initial(self, conditions: list) -> list[np.ndarray]:
+        return [np.array([c.speed_m_s for c in conditions])]
+
+    def label(self, ball, condition: ImpactCondition) -> str:
+        return f"ball {ball.name}"
+
+    def frame(self, kernel, params, state):
+        return None
+
+    def result(self, ball, target, condition: ImpactCondition, history: np.ndarray,
+               final: dict, params, t_end: float, kernel: Kernel, mesh, wall: float,
+               frames: list) -> ImpactResult:
+        n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
+        h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
+        speed = condition.speed_m_s
+        mass = float(np.sum(params.mass_kg))
+        ke0 = 0.5 * mass * speed ** 2
+        largest = energy_histories(h, ke0)
+        energies = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
+        energies["peak_internal_energy_j"] = float(np.max(h["strain_energy_j"]
+                                                          + h["hourglass_energy_j"]))
+        energies["peak_hourglass_energy_j"] = float(np.max(h["hourglass_energy_j"]))
+        if min(energies["viscous_dissipation_j"],
+               energies["bulk_viscous_dissipation_j"]) < -1e-3 * ke0:
+            warnings.warn(f"ball {ball.name}: a negative dissipation at the end of the run "
+                          f"({energies['viscous_dissipation_j']:.3g} J viscous): the "
+                          "strain-energy split is approximate at large strains", InputWarning,
+                          stacklevel=4)
+        energies["initial_kinetic_energy_j"] = ke0
+        stretch = (float(final["stretch_min"]), float(final["stretch_max"]))
+        for message in drucker_warnings(ball, *stretch):
+            warnings.warn(f"{message}: principal stretches in this range occurred in the ball "
+                          "(in some layer)", InputWarning, stacklevel=4)
+        geom = kernel.geom
+        cor = float(h["centre_velocity_z_m_s"][-1] / speed)
+        return ImpactResult(
+            ball_name=ball.name, condition=condition, history=h, cor=cor,
+            rebound_speed_m_s=cor * speed,
+            peak_force_n=float(final["peak_force"]), time_of_peak_s=float(final["t_peak"]),
+            contact_time_s=contact_end_time(h["time_s"], h["contact_force_n"]),
+            energy_balance_error=largest / ke0, energies_j=energies,
+            stable_time_increment_s=float(final["dt0"]),
+            final_time_increment_s=float(final["dt"]), steps=n, elements=geom.n_elements,
+            nodes=len(geom.nodes_m), mass_kg=mass, stretch_range=stretch,
+            outer_radius_m=ball.outer_radius_m, geometry="axisymmetric",
+            moduli=tuple(layer.material.moduli for layer in ball.layers),
+            nodes_m=np.asarray(geom.nodes_m, np.float64), elements_connectivity=geom.elements,
+            layer_slices=geom.layer_slices, displacement_at_peak_m=final["u_peak"].T,
+            wall_time_s=wall, integration=self.options.integration,
+            precision=self.options.precision)
