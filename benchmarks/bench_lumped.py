@@ -17,18 +17,13 @@ Run: python benchmarks/bench_lumped.py
 import json
 import os
 import platform
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-
-from lumped_cases import SINGLE, THREE, clean, noisy  # noqa: E402
-
-from ballimpact.lumped import MODELS, fit  # noqa: E402
-from ballimpact.lumped.thesis import THESIS_STEP_S, sim1  # noqa: E402
+from ballimpact.lumped import MODELS, fit
+from ballimpact.lumped.synthetic import SINGLE, THREE, clean, noisy
+from ballimpact.lumped.thesis import THESIS_STEP_S, sim1
 
 
 def thesis_gaopt(time_s, force_n, speed, mass, generations=200, population=20, pm=0.1, seed=0):

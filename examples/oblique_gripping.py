@@ -110,7 +110,7 @@ def compare(ball: BallModel, nu: float, results, same_material_plane: bool = Fal
             "fe_normal_cor": r.normal_cor, "energy_balance_error": r.energy_balance_error,
             "contact_radius_over_radius": hertz_contact_radius_m(ball, v_n) / RADIUS_M,
             "slipping_load_fraction_at_peak_force": float(r.history["slipping_load_fraction"][
-                int(np.argmax(r.history["normal_force_n"]))]),
+                int(np.argmax(r.history["contact_force_n"]))]),
             "elements": r.elements, "pole_grading": r.pole_grading,
             "pole_spacing_m": r.pole_spacing_m, "steps": r.steps})
     return rows

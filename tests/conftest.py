@@ -32,48 +32,34 @@ def bad_input(capsys):
 
 
 # ---- synthetic lumped-model impacts, for the identification tests ------------------------------
-LUMPED_MASS_KG, LUMPED_SPEED_M_S, LUMPED_RATE_HZ = 0.16, 20.0, 200e3
-SINGLE_ELEMENT = {"k": 2e7, "alpha": 1.3, "c": 80.0}
-THREE_ELEMENT = {"k1": 2e7, "alpha1": 1.3, "c1": 40.0, "k2": 5e6, "alpha2": 1.1, "c2": 60.0,
-                 "k3": 4e7, "alpha3": 1.45, "c3": 20.0, "m1": 0.06, "m2": 0.04, "m3": 0.06}
-
-
 @pytest.fixture(scope="session")
 def single_params():
     """Known single-element parameters (SI) that the synthetic tests are made from."""
-    return dict(SINGLE_ELEMENT)
+    from ballimpact.lumped.synthetic import SINGLE
+
+    return dict(SINGLE)
 
 
 @pytest.fixture(scope="session")
 def three_params():
     """Known three-element parameters (SI) that the synthetic tests are made from."""
-    return dict(THREE_ELEMENT)
+    from ballimpact.lumped.synthetic import THREE
+
+    return dict(THREE)
 
 
 @pytest.fixture(scope="session")
 def clean_pulse():
-    """`clean_pulse(model, params, speed=20.0, rate_hz=200e3)`: the model's pulse of a 0.16 kg
-    ball sampled at `rate_hz`, the grid shifted by 0.37 of a sample from the contact start; the
-    measured rebound speed is the exact one."""
-    from ballimpact.lumped import simulate
-
-    def clean(model, params, speed=LUMPED_SPEED_M_S, rate_hz=LUMPED_RATE_HZ):
-        record = simulate(model, params, impact_speed_m_s=speed, mass_kg=LUMPED_MASS_KG,
-                          rate_hz=rate_hz)
-        return record.replace(time_s=record.time_s + 0.37 / rate_hz, velocity_m_s=None)
+    """`clean_pulse(model, params, speed=20.0, rate_hz=200e3)` (`lumped.synthetic.clean`)."""
+    from ballimpact.lumped.synthetic import clean
 
     return clean
 
 
 @pytest.fixture(scope="session")
 def noisy_pulse():
-    """`noisy_pulse(record, fraction, seed)`: white noise of RMS `fraction` of the peak force
-    added to every sample."""
-
-    def noisy(record, fraction, seed):
-        rng = np.random.default_rng(seed)
-        noise = fraction * record.force_n.max() * rng.standard_normal(record.force_n.size)
-        return record.replace(force_n=record.force_n + noise)
+    """`noisy_pulse(record, fraction, seed)` (`lumped.synthetic.noisy`)."""
+    from ballimpact.lumped.synthetic import noisy
 
     return noisy
 

@@ -178,8 +178,9 @@ def test_video_and_simulate_json_are_read_as_side_files(tmp_path):
 
 
 def test_fe_history_csv_loads_with_its_contact_start(tmp_path):
-    """`simulate --csv`: force column contact_force_n (either geometry; 3d files before issue 40: normal_force_n), other columns left
-    out, and the zero-force samples before first contact put back."""
+    """`simulate --csv`: force column contact_force_n (either geometry; 3D files written before
+    issue 40: normal_force_n), other columns left out, and the zero-force samples before first
+    contact put back."""
     t = np.arange(1, 201) * 1e-6
     force = np.clip(np.sin(np.pi * t / 150e-6), 0.0, None) * 1e3
     for column in ("contact_force_n", "normal_force_n"):

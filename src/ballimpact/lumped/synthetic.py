@@ -1,10 +1,10 @@
-"""Synthetic impact tests from known lumped-model parameters. The tests take these as fixtures
-from tests/conftest.py (`single_params`, `three_params`, `clean_pulse`, `noisy_pulse`, the same
-values); this module stays only for benchmarks/bench_lumped.py, which imports it."""
+"""Synthetic impact tests with known answers: records of lumped models of known parameters
+(`SINGLE`, `THREE`: a 0.16 kg ball at 20 m/s sampled at 200 kHz), clean or with white noise,
+for the identification tests (tests/conftest.py's fixtures) and benchmarks/bench_lumped.py."""
 
 import numpy as np
 
-from ballimpact.lumped import simulate
+from .simulate import simulate
 
 MASS_KG, SPEED_M_S, RATE_HZ = 0.16, 20.0, 200e3
 SINGLE = {"k": 2e7, "alpha": 1.3, "c": 80.0}
