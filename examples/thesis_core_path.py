@@ -17,7 +17,7 @@ The "true" core is the cricket-3layer preset's: Mooney-Rivlin C10 4.72 MPa, C01 
 
 prints one JSON object: the truth, each step's figures, and each calibrated value's distance from
 the truth in its standard errors, also for a control calibration from the true hyperelastic
-constants (tests/test_material_slow.py runs it). Measured (2-core CPU): C10 4.617 +- 0.099 MPa,
+constants (tests/material/test_material_slow.py runs it). Measured (2-core CPU): C10 4.617 +- 0.099 MPa,
 C01 -0.364 +- 0.070 MPa (1.0 and 1.2 s.e. from the truth); the elastic core's COR 0.979 against
 the impact's 0.750; g 0.4103 +- 0.0084 (0.04 s.e.), tau 74.5 +- 5.4 us (6% high, 0.83 s.e.), and
 from the true constants the same (tau 74.7 us): what error remains is the impact comparison's,

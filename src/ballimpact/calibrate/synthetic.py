@@ -30,7 +30,7 @@ def synthetic_test(name: str, spec: dict, speed_m_s: float, options, noise: floa
     return CalibrationTest(name, process(record, warn_noisy=False).features, layers)
 
 
-# ---- the recovery problem (tests/test_calibrate_slow.py, benchmarks/bench_calibrate.py) ------
+# ---- the recovery problem (tests/calibrate/test_calibrate_slow.py, benchmarks/bench_calibrate.py) ------
 #: a two-layer ball: core Mooney-Rivlin with one Prony term, cover Mooney-Rivlin
 TWO_LAYER_TRUTH = {
     "name": "two-layer", "layers": [

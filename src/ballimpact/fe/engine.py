@@ -48,7 +48,7 @@ ACCELERATOR_GROUP_SIZE = 1024
 #: the contact patch must span this many elements at the contact pole (Hertz contact radius over
 #: the pole's element size) for the pulse to be resolved: on a homogeneous elastic ball the
 #: contact time is then within 5% and the peak force within 1% of Hertz; at 1.2 elements the
-#: contact time reads 7% long, at 0.8 elements 18% (docs/fe.md, tests/test_fe_low_speed.py)
+#: contact time reads 7% long, at 0.8 elements 18% (docs/fe.md, tests/fe/test_fe_low_speed.py)
 CONTACT_RESOLUTION_ELEMENTS = 2.0
 
 Geometry = Axisymmetric | Hexahedral

@@ -113,7 +113,7 @@ def source_fingerprint() -> str:
 def fingerprint(value: Any) -> str:
     """sha256 of what a trace closes over: arrays by dtype, shape and bytes, functions by their
     qualified name, dataclasses, dicts and sequences by their items, anything else by repr. The
-    same in every process (no object addresses): tests/test_programs.py checks it."""
+    same in every process (no object addresses): tests/fe/test_programs.py checks it."""
     digest = hashlib.sha256()
 
     def feed(v):

@@ -78,7 +78,7 @@ def lanczos_largest(apply, x0: jax.Array, steps: int, first_steps: int | None = 
 INCREMENT_LEVELS = 32
 #: a re-estimate this close to a level (in levels: 2e-6 in omega_max) counts as on it: at the
 #: undeformed state the refresh equals the start estimate up to round-off, which must not decide
-#: whether the increment shrinks (it did in one of two similar balls: tests/test_similarity.py)
+#: whether the increment shrinks (it did in one of two similar balls: tests/universal/test_similarity.py)
 LEVEL_ROUNDOFF = 1e-4
 
 

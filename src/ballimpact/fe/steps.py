@@ -21,7 +21,7 @@ from .materials import Sym, energy_and_stress, prony_update
 from .stable_increment import alternating_start, lanczos_largest, shrunk_increment
 
 #: Lanczos steps for the largest eigenvalue of the assembled system at the start (the estimate
-#: agrees with ARPACK's to 1e-12 on the default meshes; tests/test_fe_engine.py) and for the
+#: agrees with ARPACK's to 1e-12 on the default meshes; tests/fe/test_fe_engine.py) and for the
 #: re-estimate before each chunk, started from the previous top Ritz vector
 LANCZOS_STEPS = 40
 REFRESH_LANCZOS_STEPS = 8

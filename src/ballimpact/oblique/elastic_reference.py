@@ -25,7 +25,7 @@ The equations of motion are integrated with velocity Verlet; the springs are adv
 contact point's displacement over each step (its velocity v_x - w R at the half step), then
 returned to the Coulomb limit. Resolution (`springs`, `steps`) sets the error: halving both
 changes the normalised results by less than 1e-3 at the defaults
-(`tests/test_elastic_reference.py`).
+(`tests/oblique/test_elastic_reference.py`).
 
 Results are normalised as in `rigid_body`: incidence Psi = 2 (v_x - w R) / (mu (1 + e_n) v_n),
 rebound spin Omega = w' R / (mu (1 + e_n) v_n). For Psi above the gross-sliding limit the
@@ -235,7 +235,7 @@ def normalised_curves(psi, poissons_ratio: float, k2: float = HOMOGENEOUS_K2,
     initial spin: against Psi (array), the normalised rebound spin Omega, the normalised
     tangential velocity change (v_x - v_x') / (mu (1 + e_n) v_n), the tangential COR of the
     centre of mass and that of the contact point. They depend on Psi, nu and k^2 only (scaled
-    impacts give the same curves; `tests/test_elastic_reference.py`)."""
+    impacts give the same curves; `tests/oblique/test_elastic_reference.py`)."""
     psi = np.atleast_1d(np.asarray(psi, float))
     if np.any(~np.isfinite(psi)) or np.any(psi <= 0):
         raise InputError("psi: every value must be > 0")

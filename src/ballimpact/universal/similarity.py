@@ -13,7 +13,7 @@ mass or time in it. Its dimensionless pulse F R / (m v^2) against t v / R is fix
 such ball maps exactly onto a test of the reference ball of a study at the same speed: times
 scale by R0 / R, forces by (m0 / R0) / (m / R), speeds not at all; and the constants found for
 the reference ball map back: moduli by rho / rho0, tau1 by R / R0, g1 and C01 / C10 unchanged.
-`tests/test_similarity.py` runs a ball and its scaled copy through the FE engine and asserts
+`tests/universal/test_similarity.py` runs a ball and its scaled copy through the FE engine and asserts
 their dimensionless pulses equal to 1e-6 (measured: 2e-12).
 """
 

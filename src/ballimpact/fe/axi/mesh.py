@@ -340,7 +340,7 @@ def estimate_mesh(layer_radii_m, element_size_m: float, pole_element_size_m: flo
     """The element count and smallest element length of `layered_sphere_mesh` with these
     arguments, from its counting rules alone (no node is built, so a ball given in millimetres
     as metres costs nothing here): within 10% of the count on the presets, the refined meshes
-    and thin or small cores (tests/test_fe_mesh.py). Arguments are checked as there."""
+    and thin or small cores (tests/fe/test_fe_mesh.py). Arguments are checked as there."""
     radii, h, h_pole, zone_deg = _validated_sizes(layer_radii_m, element_size_m,
                                                   pole_element_size_m, pole_zone_deg)
     outer, inner = float(radii[-1]), float(radii[0])

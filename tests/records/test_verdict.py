@@ -13,7 +13,7 @@ from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.verdict import Tolerances, judge
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def comparison(nrmse=0.02, cor_error=0.01, contact=0.01, peak=-0.01):

@@ -14,7 +14,7 @@ from ballimpact.material.data import MaterialTest, read_test
 from ballimpact.material.hyperelastic import fit_hyperelastic
 from ballimpact.material.modes import free_stretch, material_stress
 
-DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
+DATA = Path(__file__).resolve().parents[2] / "src" / "ballimpact" / "data"
 LAM = np.linspace(0.45, 3.5, 23)
 
 

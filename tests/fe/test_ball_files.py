@@ -12,7 +12,7 @@ from ballimpact.fe import describe_presets, load_ball, simulate
 from ballimpact.fe.materials import MooneyRivlin, NeoHookean, OgdenHyperfoam
 from ballimpact.fe import SolverOptions
 
-EXAMPLES = Path(__file__).parent.parent / "examples" / "balls"
+EXAMPLES = Path(__file__).parents[2] / "examples" / "balls"
 COARSE = SolverOptions(element_size_m=4e-3)
 
 

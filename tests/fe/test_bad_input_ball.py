@@ -183,7 +183,7 @@ THREE_D = ["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed
     (["--allow", "large-runs"], ("unknown check 'large-runs'",)),
 ])
 def test_3d_flags(bad_input, tmp_path, flags, fragments):
-    repo = str(Path(__file__).resolve().parents[1])
+    repo = str(Path(__file__).resolve().parents[2])
     flags = [flag.replace("{tmp}", str(tmp_path)).replace("{repo}", repo) for flag in flags]
     bad_input(THREE_D + flags, *fragments)
 
@@ -383,7 +383,7 @@ def test_presets_and_examples_are_plausible():
         warnings.simplefilter("error", InputWarning)
         check_ball(load_ball("cricket-3layer"))
         check_ball(load_ball("cricket-universal", 20.0))
-        for path in sorted((Path(__file__).parents[1] / "examples" / "balls").glob("*")):
+        for path in sorted((Path(__file__).parents[2] / "examples" / "balls").glob("*")):
             check_ball(load_ball(path, impact_speed_m_s=20.0))
 
 

@@ -2,7 +2,7 @@
 at, 0.001-80 m/s axisymmetric, 0.001-45 m/s 3D): refused up front by the API and the command
 line, `--allow speed-range` / `allow={"speed-range"}` turns it into a warning, internal callers
 stay inside it, slow impacts (0.8 m/s, issue 24) run, and the presets run over the whole range
-(slow test, docs/fe.md). The Hertz check of slow impacts: tests/test_fe_low_speed.py."""
+(slow test, docs/fe.md). The Hertz check of slow impacts: tests/fe/test_fe_low_speed.py."""
 
 import json
 import re

@@ -25,7 +25,7 @@ from ballimpact.universal import load_model
 from ballimpact.universal import plots as universal_plots
 from ballimpact.universal.model import TARGETS
 
-DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
+DATA = Path(__file__).resolve().parents[2] / "src" / "ballimpact" / "data"
 PNG = b"\x89PNG\r\n\x1a\n"
 #: every module with pictures: none may choose a backend or import pyplot when imported
 PLOT_MODULES = ("ballimpact.plotting", "ballimpact.material.plots", "ballimpact.calibrate.plots",

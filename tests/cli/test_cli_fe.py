@@ -194,7 +194,7 @@ def test_short_run_prints_no_progress(capsys):
 
 
 def test_progress_lines_go_to_stderr(capsys, monkeypatch):
-    """(The 3d solver's: tests/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
+    """(The 3d solver's: tests/oblique/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
     import ballimpact.fe
 
     class Chatty(ballimpact.fe.RunProgress):  # every chunk prints
@@ -211,7 +211,7 @@ def test_progress_lines_go_to_stderr(capsys, monkeypatch):
 
 
 def test_large_run_warns_before_it_starts(capsys, monkeypatch):
-    """(The 3d solver's: tests/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
+    """(The 3d solver's: tests/oblique/test_oblique.py, test_cli_3d_json_vtk_and_animation.)"""
     from ballimpact.fe import Axisymmetric
 
     monkeypatch.setattr(Axisymmetric, "ELEMENT_STEPS_WARNING", 1e3)

@@ -10,7 +10,7 @@ from ballimpact.cli import main
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.fe.materials.stability import mooney_rivlin_drucker
 
-DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
+DATA = Path(__file__).resolve().parents[2] / "src" / "ballimpact" / "data"
 UNI = f"{DATA / 'treloar1944_uniaxial.csv'}:uniaxial"
 BI = f"{DATA / 'treloar1944_biaxial.csv'}:biaxial"
 PLANAR = f"{DATA / 'treloar1944_planar.csv'}:planar"
@@ -99,7 +99,7 @@ def test_bad_input(tmp_path, bad_input):
 
 def test_prony_branch(tmp_path, capsys):
     """`material fit --model prony --merge`: a relaxation test's Prony terms merged into a
-    hyperelastic material file (the library functions: tests/test_material_prony.py)."""
+    hyperelastic material file (the library functions: tests/material/test_material_prony.py)."""
     t = np.geomspace(1e-6, 1e-1, 40)
     ratio = 1 - 0.3 * (1 - np.exp(-t / 1e-4)) - 0.2 * (1 - np.exp(-t / 1e-2))
     path = tmp_path / "relax.csv"

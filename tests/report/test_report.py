@@ -1,6 +1,6 @@
 """The comparison report (issue 14, part 1): models against tests, tables, figures, the page in a
 headless browser, bad input. The fast cases use lumped models on the built-in sample (a
-Hunt-Crossley ball with known constants); tests/test_report_slow.py runs the multi-speed set."""
+Hunt-Crossley ball with known constants); tests/report/test_report_slow.py runs the multi-speed set."""
 
 import csv
 import json

@@ -21,7 +21,7 @@ from ballimpact.universal.model import BUILTIN, model_paths
 from ballimpact.universal.study import batch_count, batch_ids, make_config, samples
 
 COARSE = 4e-3
-SAMPLE = Path(__file__).parents[1] / "src" / "ballimpact" / "data" / "sample_impact.csv"
+SAMPLE = Path(__file__).parents[2] / "src" / "ballimpact" / "data" / "sample_impact.csv"
 
 
 # -- tampered copies of the built-in model ----------------------------------------------------

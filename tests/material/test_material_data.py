@@ -9,7 +9,7 @@ import pytest
 from ballimpact.errors import InputError
 from ballimpact.material.data import MODES, parse_spec, read_test
 
-DATA = Path(__file__).resolve().parents[1] / "src" / "ballimpact" / "data"
+DATA = Path(__file__).resolve().parents[2] / "src" / "ballimpact" / "data"
 
 
 def write(tmp_path, text, name="t.csv"):
