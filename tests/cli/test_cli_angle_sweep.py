@@ -15,15 +15,12 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.cli.angle_sweep import (ROW_FIELDS, ball_k2, parse_angles, reference_obstacle,
-                                        small_strain_poissons_ratio)
+from ballimpact.cli.angle_sweep import parse_angles
 from ballimpact.errors import InputError
-from ballimpact.fe import load_ball
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import material_from_dict
-from ballimpact.oblique import ImpactCondition, Options3D, Target, simulate_oblique
+from ballimpact.fe import Hexahedral, ImpactCondition, Options3D, load_ball, simulate
 from ballimpact.oblique.elastic_reference import normalised_curves
 from ballimpact.oblique.plots import rigid_gripping_lines
+from ballimpact.oblique.sweep import ROW_FIELDS
 
 R, RHO, E, NU = 0.036, 800.0, 1e8, 0.3
 ELASTIC = {"model": "linear_elastic", "youngs_modulus_pa": E, "poissons_ratio": NU}
@@ -72,8 +69,8 @@ def test_sweep_rows_equal_single_runs(sweep):
     assert [r["angle_deg"] for r in runs] == list(ANGLES)  # ascending
     ball = load_ball(sweep["ball"], impact_speed_m_s=SPEED)
     for row in runs:
-        single = simulate_oblique(ball, ImpactCondition(SPEED, row["angle_deg"], 0.0, FRICTION),
-                                  Options3D(divisions=DIVISIONS))
+        single = simulate(ball, ImpactCondition(SPEED, row["angle_deg"], 0.0, FRICTION),
+                          geometry=Hexahedral(Options3D(divisions=DIVISIONS)))
         # vmapped and single runs do the same arithmetic: equal to round-off
         assert row["normal_cor"] == pytest.approx(single.normal_cor, rel=1e-9, abs=1e-12)
         assert row["tangential_cor"] == pytest.approx(single.tangential_cor, rel=1e-9, abs=1e-12)
@@ -160,49 +157,6 @@ def test_rigid_gripping_lines_are_the_rigid_body_closed_forms():
         assert lines["tangential_cor"][n:] == pytest.approx(1 - 2 / sliding, rel=1e-12)
         assert lines["contact_point_cor"][n:] == pytest.approx(
             -1 + 2 * (1 + k2) / (k2 * sliding), rel=1e-12)
-
-
-@pytest.mark.parametrize("nu", [-0.2, 0.0, 0.23, 0.3, 0.45, 0.499])
-def test_poissons_ratio_from_the_small_strain_moduli(nu):
-    material = material_from_dict({"model": "linear_elastic", "youngs_modulus_pa": 5e7,
-                                   "poissons_ratio": nu})
-    assert small_strain_poissons_ratio(material) == pytest.approx(nu, abs=1e-9)
-
-
-def test_k2_of_layered_balls():
-    """0.4 for uniform density whatever the layers; a thin heavy shell tends to 2/3
-    (k^2 = 2/3 (1 - q^5) / (1 - q^3) / ... exactly: I = 2/5 m_shell R^2 (1 - q^5) / (1 - q^3))."""
-    mat = material_from_dict(ELASTIC)
-    uniform = BallModel("u", (Layer("core", 0.02, RHO, mat), Layer("cover", R, RHO, mat)))
-    assert ball_k2(uniform) == pytest.approx(0.4, rel=1e-12)
-    q = 0.95
-    shell = BallModel("s", (Layer("core", q * R, 1e-9 * RHO, mat), Layer("cover", R, RHO, mat)))
-    assert ball_k2(shell) == pytest.approx(0.4 * (1 - q ** 5) / (1 - q ** 3), rel=1e-6)
-    assert 0.6 < ball_k2(shell) < 2 / 3
-
-
-def test_reference_applies_only_to_a_homogeneous_elastic_ball_on_the_plane_without_spin():
-    elastic = BallModel("e", (Layer("sphere", R, RHO, material_from_dict(ELASTIC)),))
-    plain = ImpactCondition(SPEED, 20.0, 0.0, FRICTION)
-    assert reference_obstacle(elastic, None, plain) is None
-    universal = load_ball("cricket-universal", impact_speed_m_s=10.0)
-    assert len(universal.layers) > 1 or universal.layers[0].material.prony
-    why = reference_obstacle(universal, None, plain)
-    assert why is not None and ("layers" in why or "viscoelastic" in why)
-    viscous = BallModel("v", (Layer("sphere", R, RHO, material_from_dict(
-        {**ELASTIC, "prony": [{"g": 0.3, "tau_s": 1e-4}]})),))
-    assert "viscoelastic" in reference_obstacle(viscous, None, plain)
-    assert "3 layers" in reference_obstacle(load_ball("cricket-3layer", SPEED), None, plain)
-    slab = Target.from_dict({"name": "plate", "half_width_m": 0.1, "layers": [
-        {"thickness_m": 0.02, "density_kg_m3": 1200.0,
-         "material": {"model": "linear_elastic", "youngs_modulus_pa": 2e9,
-                      "poissons_ratio": 0.3}}]})
-    assert "slab" in reference_obstacle(elastic, slab, plain)
-    assert "spin" in reference_obstacle(elastic, None, ImpactCondition(SPEED, 20.0, -30.0,
-                                                                      FRICTION))
-    assert "spin" in reference_obstacle(elastic, None, ImpactCondition(
-        SPEED, 20.0, 0.0, FRICTION, spin_z_rad_s=10.0))
-    assert "friction" in reference_obstacle(elastic, None, ImpactCondition(SPEED, 20.0))
 
 
 def test_parse_angles_keeps_order_and_names_the_range():
