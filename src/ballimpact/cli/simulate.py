@@ -395,11 +395,9 @@ def _run_simulate_3d(args: argparse.Namespace, allow: frozenset[str]) -> dict[st
 def _checked_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     """The 3D run's inputs, checked before anything is meshed: (ball, condition, target or None,
     `Options3D`). `run_simulate` has checked --plot, --csv and --friction."""
-    from ..fe import load_ball
-    from ..fe import ImpactCondition, Options3D
-    from ..fe.hex.target import load_target
+    from ..fe import ImpactCondition, Options3D, load_ball
+    from ..fe.hex.target import check_target_width, load_target
     from ..oblique.output import check_animation_path
-    from ..fe.hex.target import check_target_width
 
     check_output_folder(args.vtk, "--vtk")
     if args.vtk is not None and args.vtk.suffix.lower() not in (".pvd", ".xdmf"):
