@@ -62,7 +62,7 @@ def progress_bar(done: int, total: int, elapsed_s: float, new: int, *, unit: str
     left = (total - done) / rate if rate > 0 else math.inf
     width = 30
     filled = int(width * done / total) if total else width
-    eta = f"{left:.0f} s left" if math.isfinite(left) else "time left unknown"
+    eta = f"{duration(left)} left" if math.isfinite(left) else "time left unknown"
     note = f", {note}" if note else ""
     redraw_line(f"[{'#' * filled}{'.' * (width - filled)}] {done}/{total} {unit}, "
                 f"{rate:.2f} {unit}/s, {eta}{note}   ")

@@ -12,7 +12,7 @@ from typing import Any
 from .. import repeats
 from ..errors import InputError
 from ..features import FEATURE_NAMES
-from ..fileio import table_text, write_atomic
+from ..fileio import write_table
 from ..pipeline import ProcessedImpact
 from .common import (
     add_processing,
@@ -80,8 +80,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                                        files=[str(files[0])])
     result = summary(processed, time.perf_counter() - started)
     if args.table is not None:
-        write_table(args.table, repeats.speed_table([processed], [str(files[0])], group))
-        result["table_csv"] = str(args.table)
+        result["table_csv"] = write_repeats_table(
+            args.table, repeats.speed_table([processed], [str(files[0])], group))
     if not args.json:
         print_table(processed)
     if args.plot:
@@ -140,8 +140,7 @@ def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
         "wall_time_s": time.perf_counter() - started,
     }
     if args.table is not None:
-        write_table(args.table, rows)
-        result["table_csv"] = str(args.table)
+        result["table_csv"] = write_repeats_table(args.table, rows)
     if args.plot:
         from ..plotting import save_and_close, subplots  # matplotlib only for a plot
 
@@ -154,14 +153,10 @@ def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
     return result
 
 
-def table_csv(rows: list[dict[str, Any]]) -> str:
-    """The table as CSV text (`repeats.TABLE_COLUMNS`; `fileio.table_text`); numbers round-trip
+def write_repeats_table(path: Path, rows: list[dict[str, Any]]) -> str:
+    """The table (`repeats.TABLE_COLUMNS`) as CSV (`fileio.write_table`): numbers round-trip
     exactly (the shortest text of each float), a non-finite one is left empty."""
-    return table_text(repeats.TABLE_COLUMNS, rows, "")
-
-
-def write_table(path: Path, rows: list[dict[str, Any]]) -> None:
-    write_atomic(path, table_csv(rows))
+    return write_table(path, repeats.TABLE_COLUMNS, rows, "")
 
 
 def print_groups(result: dict[str, Any]) -> None:

@@ -39,12 +39,6 @@ from .result import FailedRun, ImpactResult
 __all__ = ["Axisymmetric", "Hexahedral", "estimate", "impact_conditions", "kernel_for", "simulate",
            "simulate_batch"]
 
-#: runs per vmapped group on a CPU (axisymmetric), where larger groups run out of cache
-CPU_GROUP_SIZE = 4
-#: runs per vmapped group on an accelerator: on an H100 (benchmarks/bench_accelerator.py) groups
-#: of 256, 1024 and 4096 universal balls ran 192, 204 and 219 runs/s in float32 and 121, 122 and
-#: 125 in float64, so 1024 is within 7% of the largest group's rate at a quarter of its memory
-ACCELERATOR_GROUP_SIZE = 1024
 #: the contact patch must span this many elements at the contact pole (Hertz contact radius over
 #: the pole's element size) for the pulse to be resolved: on a homogeneous elastic ball the
 #: contact time is then within 5% and the peak force within 1% of Hertz; at 1.2 elements the
@@ -56,8 +50,7 @@ _KERNELS: dict[Any, Any] = {}
 
 
 def default_group_size(runs: int, geometry: Geometry | None = None) -> int:
-    """Runs per vmapped group: `CPU_GROUP_SIZE` on a CPU, up to `ACCELERATOR_GROUP_SIZE` on an
-    accelerator (the axisymmetric geometry); all the conditions of a ball at once (3D)."""
+    """Runs per vmapped group on this backend, as `geometry` (default `Axisymmetric()`) says."""
     return (geometry or Axisymmetric()).default_group_size(runs, jax.default_backend() == "cpu")
 
 
@@ -167,10 +160,9 @@ def check_memory(geometry: Geometry, balls: list, conditions: list, target=None,
 def _kernel_estimate(geometry: Geometry, kernel, balls: list, conditions: list,
                      target) -> RunEstimate:
     geom = kernel.geom
-    nodes = getattr(kernel, "n_nodes", None)
     return run_estimate(geometry, balls, conditions, target, int(geom.n_elements),
                         float(np.min(np.asarray(geom.characteristic_length_m))), len(balls),
-                        None if nodes is None else int(nodes))
+                        len(geom.nodes_m))
 
 
 def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float,

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import warnings
 
-from .engine import estimate, simulate_batch as _simulate_batch
+from .engine import estimate, simulate as _simulate, simulate_batch as _simulate_batch
 from .options import SolverOptions
 from .result import FailedRun, ImpactResult
 
@@ -39,7 +39,5 @@ def simulate_batch(balls, impact_speeds_m_s, options: SolverOptions = SolverOpti
 def simulate(ball, impact_speed_m_s, options: SolverOptions = SolverOptions(), progress=None, *,
              allow=()) -> ImpactResult:
     """`fe.simulate(ball, speed, options, progress, allow=allow)`, with a `FutureWarning`."""
-    from .engine import simulate as engine_simulate
-
     _moved("simulate", "simulate")
-    return engine_simulate(ball, impact_speed_m_s, options, progress, allow=allow)
+    return _simulate(ball, impact_speed_m_s, options, progress, allow=allow)

@@ -377,7 +377,7 @@ class Hexahedral:
         return f"ball {ball.name}, {condition}"
 
     def frame(self, kernel, params, state):
-        return _frame(kernel, params, state) if self.options.frames else None
+        return _frame(kernel, params, state)
 
     def result(self, ball, target, condition: ImpactCondition, history: np.ndarray,
                final: dict, params, t_end: float, kernel: Kernel, mesh, wall: float,
