@@ -17,6 +17,7 @@ from matplotlib.figure import Figure
 
 from .features import ImpactFeatures
 from .records import ImpactRecord
+from .repeats import plot_pulse_bands, pulse_bands
 
 
 def subplots(nrows: int = 1, ncols: int = 1, *, figsize, layout: str | None = None, **kwargs):
@@ -98,6 +99,15 @@ def plot_impact(
     draw_force_time(ax_time, raw, filtered, features, fit)
     draw_force_displacement(ax_loop, features)
     return save_and_close(figure, path, title)
+
+
+def plot_repeats(processed_list, groups, path: str | Path) -> Path:
+    """Write the mean pulse of each speed group with its band (`repeats.pulse_bands` of the
+    `ProcessedImpact`s and their speed groups, m/s, drawn by `repeats.plot_pulse_bands`) as a
+    PNG."""
+    figure, ax = subplots(figsize=(7.5, 4.5), layout="constrained")
+    plot_pulse_bands(ax, pulse_bands(processed_list, groups))
+    return save_and_close(figure, path)
 
 
 def draw_fit(ax, result):

@@ -9,7 +9,8 @@ group gets the mean and the sample standard deviation (ddof = 1) of every featur
 (`pulse_bands`). docs/features.md "Repeated tests" gives the rules.
 
 Pure functions on paths, `ProcessedImpact`s and numbers; `plot_pulse_bands` draws on a matplotlib
-Axes it is given (this module imports no matplotlib and sets no backend).
+Axes it is given (this module imports no matplotlib and sets no backend). `summarise_repeats` and
+`record_summary` are what the `features` command reports for many records and for one.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import numpy as np
 
 from .errors import InputError, InputWarning
 from .features import FEATURE_NAMES, ImpactFeatures
-from .fileio import check_distinct_files
+from .fileio import check_distinct_files, write_table
 from .pipeline import ProcessedImpact
 from .records import ImpactRecord
 
@@ -94,6 +95,25 @@ def expand_records(paths: Sequence[Path]) -> list[Path]:
             raise InputError(f"{path}: no such file or folder")
     check_distinct_files(found, "FILES_OR_DIRS")
     return found
+
+
+def record_files(paths: Sequence[Path], table: Path | None = None) -> list[Path]:
+    """The records of `paths` (`expand_records`), less the `table` output (a CSV written by
+    `write_speed_table`, the --table of the `features` command) when a folder holds it: the
+    table of an earlier run. **Raises** `InputError` when `table` is one of the files given by
+    name (a record is never overwritten) or when nothing but the table is left."""
+    if table is None:
+        return expand_records(paths)
+    target = Path(table).resolve()
+    named = next((p for p in paths if not p.is_dir() and p.resolve() == target), None)
+    if named is not None:
+        raise InputError(f"--table: {table} is one of the records given ({named}); write the "
+                         "table to another file")
+    files = [p for p in expand_records(paths) if p.resolve() != target]
+    if not files:
+        raise InputError(f"{table.parent}: the folder holds no test records besides the "
+                         f"--table output {table.name}")
+    return files
 
 
 # --------------------------------------------------------------------------- grouping by speed
@@ -237,6 +257,59 @@ def speed_table(
         raise InputError(f"speed_table: {len(processed_list)} records, {len(files)} files and "
                          f"{len(groups)} groups; need one of each per record")
     return [record_row(p, f, g) for p, f, g in zip(processed_list, files, groups)]
+
+
+def write_speed_table(path: Path, rows: Sequence[Mapping[str, Any]]) -> str:
+    """The table (`TABLE_COLUMNS`, rows of `speed_table`) as CSV through `fileio.write_table`:
+    numbers round-trip exactly (the shortest text of each float), a non-finite one is left
+    empty. Returns the path as text."""
+    return write_table(path, TABLE_COLUMNS, rows, "")
+
+
+def record_summary(processed: ProcessedImpact) -> dict[str, Any]:
+    """One record's result: `ImpactFeatures.to_dict` with the processing's `filter`, the
+    `baseline_offset_n` removed (N) and the `load_cell_resonance` divided out (or None)."""
+    return {**processed.features.to_dict(),
+            "filter": processed.filtered.metadata.get("filter", "none"),
+            "baseline_offset_n": processed.raw.metadata.get("baseline_offset_n", 0.0),
+            "load_cell_resonance": processed.filtered.metadata.get("load_cell_resonance")}
+
+
+def record_group(processed: ProcessedImpact, file: str | Path,
+                 nominal_m_s: Sequence[float] | None = None,
+                 tolerance: float = DEFAULT_SPEED_TOLERANCE) -> float:
+    """The speed group (m/s) of a single record: the nominal speed it lies within `tolerance`
+    of (`group_by_speed`; `InputError` when none), or without `nominal_m_s` its impact speed."""
+    speed = processed.features.values["P15"]
+    if nominal_m_s is None:
+        return speed
+    return float(group_by_speed([speed], nominal_m_s, tolerance, files=[str(file)])[0])
+
+
+def summarise_repeats(
+    processed_list: Sequence[ProcessedImpact],
+    files: Sequence[str | Path],
+    nominal_m_s: Sequence[float] | None = None,
+    tolerance: float = DEFAULT_SPEED_TOLERANCE,
+) -> dict[str, Any]:
+    """Many records of one ball kind, grouped by speed (`group_by_speed`, to `nominal_m_s` or
+    clustered within `tolerance`), their masses checked per group (`check_masses`) and a nominal
+    speed no record went to warned of (`warn_empty_nominal`): `grouping` (`rule` nominal or
+    clustered, `nominal_speeds_m_s`, `speed_tolerance`), `groups` (`group_summaries`: mean and
+    SD, ddof 1, of every feature per group) and `records` (`speed_table`: a row per record)."""
+    names = [str(f) for f in files]
+    speeds = [p.features.values["P15"] for p in processed_list]
+    groups = group_by_speed(speeds, nominal_m_s, tolerance, files=names)
+    check_masses([p.features.mass_kg for p in processed_list], names, groups)
+    if nominal_m_s is not None:
+        warn_empty_nominal(nominal_m_s, groups)
+    rows = speed_table(processed_list, names, groups)
+    return {"grouping": {"rule": "nominal" if nominal_m_s is not None else "clustered",
+                         "nominal_speeds_m_s": (sorted(nominal_m_s) if nominal_m_s is not None
+                                                else None),
+                         "speed_tolerance": tolerance},
+            "groups": group_summaries(rows, nominal=nominal_m_s is not None),
+            "records": rows}
 
 
 def mean_sd(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] | None = None

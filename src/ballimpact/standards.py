@@ -46,6 +46,7 @@ import numpy as np
 
 from .errors import InputError, InputWarning
 from .features import dynamic_stiffness
+from .fileio import write_table
 from .loaders import LBF_N
 from .plausibility import check_ball_mass
 
@@ -237,6 +238,45 @@ def summarise(method: Method, shots: list[dict[str, Any]]) -> dict[str, Any]:
     return {"balls": balls, "overall": overall}
 
 
+def stats_text(stats: dict[str, float], unit: str = "") -> str:
+    """`shot_stats` as text: "mean +- SD unit" (5 and 3 significant digits; SD n/a for one
+    value)."""
+    sd = "n/a" if math.isnan(stats["sd"]) else f"{stats['sd']:.3g}"
+    return f"{stats['mean']:.5g} +- {sd}" + (f" {unit}" if unit else "")
+
+
+def table_rows(result: dict[str, Any]) -> tuple[list[str], list[list[Any]]]:
+    """The table of a result of `from_records` or `on_model` as (columns, rows): `kind`
+    shot|ball|all (model for `on_model`), ball, file, count, then each quantity (value or mean)
+    and its SD (`_sd`); impact methods add the inbound speed."""
+    keys = list(result["quantities"])
+    if result["kind"] == "impact":
+        keys.append("impact_speed_m_s")
+    header = ["kind", "ball", "file", "count"] + [c for k in keys for c in (k, f"{k}_sd")]
+
+    def cells(values: dict[str, Any]) -> list[Any]:
+        out = []
+        for key in keys:
+            value = values.get(key)
+            out += [value["mean"], value["sd"]] if isinstance(value, dict) else [value, None]
+        return out
+
+    if result["source"] == "model":
+        return header, [["model", result["ball"], "", 1] + cells(result["result"])]
+    rows = [["shot", shot["ball"], shot["file"], 1] + cells(shot) for shot in result["shots"]]
+    rows += [["ball", entry["ball"], "", entry["count"]] + cells(entry)
+             for entry in result["balls"]]
+    overall = result["overall"]
+    rows.append(["all", "", "", overall["balls"]] + cells(overall))
+    return header, rows
+
+
+def write_result_table(path: Path, result: dict[str, Any]) -> str:
+    """`table_rows` as CSV (`fileio.write_table`, 12 significant digits); returns the path as
+    text."""
+    return write_table(path, *table_rows(result), ".12g")
+
+
 # --------------------------------------------------------------------------- lab records
 
 
@@ -371,7 +411,8 @@ def compression_quantities(force_n: float) -> dict[str, float]:
 
 
 def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: float | None = None,
-             steps: int = COMPRESSION_STEPS, allow=()) -> dict[str, Any]:
+             steps: int = COMPRESSION_STEPS, allow=(),
+             element_size_m: float | None = None) -> dict[str, Any]:
     """The method run on a ball model: `ball_spec` a preset, a ball file or a dict
     (`fe.load_ball`). Impact methods: `fe.simulate` on a rigid plane at the method's speed
     (`nominal` m/s to run another, reported as such); the COR and the dynamic stiffness
@@ -382,10 +423,13 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
     Returns the method's description, "ball", the quantities under "result", and the model's
     cost under "cost" (wall time s, steps or increments, elements). `options` default: the
     solver's, with the element size scaled to the ball (x R / 36 mm), the mesh the universal
-    model's study and its identifications use (`universal.identify.scaled_options`)."""
+    model's study and its identifications use (`universal.identify.scaled_options`);
+    `element_size_m` (m), when given without `options`: the solver's with that element size."""
     from .fe import SolverOptions, compress, load_ball, simulate
     from .fe.ball import UNIVERSAL_RADIUS_M
 
+    if options is None and element_size_m is not None:  # checked before the ball is loaded
+        options = SolverOptions(element_size_m=element_size_m)
     method = get_method(method)
     if method.kind == "compression" and nominal is not None:
         raise InputError("--impact-speed-m-s: the compression method has no impact speed; "

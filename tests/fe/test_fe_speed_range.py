@@ -11,7 +11,7 @@ import warnings
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.cli.demo import DEMO_IMPACTS
+from ballimpact.fe.demo import DEMO_IMPACTS
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball, simulate, simulate_batch
 from ballimpact.fe import engine

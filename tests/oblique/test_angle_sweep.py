@@ -12,22 +12,42 @@ from ballimpact.fe.ball import BallModel, Layer
 from ballimpact.fe.hex.target import Target
 from ballimpact.fe.materials import material_from_dict
 from ballimpact.oblique.rigid_body import normalised_incidence
-from ballimpact.oblique.sweep import (ROW_FIELDS, angle_sweep, ball_k2, reference_obstacle,
-                                      small_strain_poissons_ratio)
+from ballimpact.oblique.sweep import (
+    ROW_FIELDS,
+    angle_sweep,
+    angle_sweep_summary,
+    ball_k2,
+    plot_angle_sweep,
+    reference_obstacle,
+    small_strain_poissons_ratio,
+)
 
 R, RHO, E, NU = 0.036, 800.0, 1e8, 0.3
 ELASTIC = {"model": "linear_elastic", "youngs_modulus_pa": E, "poissons_ratio": NU}
 SPEED, FRICTION = 3.0, 0.3
 
 
-def test_a_sweep_runs_from_python_with_its_rows_and_reference():
-    """Two angles of an elastic sphere in one batch on a coarse mesh: a row per angle in
-    ascending order with every field, Psi by its definition with the run's own normal COR, and
-    the elastic-sphere reference at the sphere's Poisson's ratio."""
+@pytest.fixture(scope="module")
+def coarse_sweep():
+    """Two angles of an elastic sphere in one batch on a coarse mesh, through the `start` hook
+    (which keeps the estimate it gets and the times its progress is called at)."""
     ball = BallModel("sphere", (Layer("sphere", R, RHO, material_from_dict(ELASTIC)),))
+    estimates, times = [], []
+
+    def start(cost):
+        estimates.append(cost)
+        return times.append
+
     with pytest.warns(InputWarning, match="^contact not resolved"):  # the coarse mesh, said
         sweep = angle_sweep(ball, ImpactCondition(SPEED, friction=FRICTION), [40.0, 10.0],
-                            geometry=Hexahedral(Options3D(divisions=6)))
+                            geometry=Hexahedral(Options3D(divisions=6)), start=start)
+    return ball, sweep, estimates, times
+
+
+def test_a_sweep_runs_from_python_with_its_rows_and_reference(coarse_sweep):
+    """A row per angle in ascending order with every field, Psi by its definition with the
+    run's own normal COR, and the elastic-sphere reference at the sphere's Poisson's ratio."""
+    _, sweep, _, _ = coarse_sweep
     assert [row["angle_deg"] for row in sweep.rows] == [10.0, 40.0]
     assert all(set(row) == set(ROW_FIELDS) for row in sweep.rows)
     for row, result in zip(sweep.rows, sweep.results):
@@ -38,6 +58,29 @@ def test_a_sweep_runs_from_python_with_its_rows_and_reference():
         assert result.energy_balance_error < 0.01
     assert sweep.reference["poissons_ratio"] == pytest.approx(NU, abs=1e-9)
     assert sweep.k2 == pytest.approx(0.4, rel=1e-12) and sweep.wall_time_s > 0
+
+
+def test_the_start_hook_gets_the_batch_estimate_and_gives_the_progress(coarse_sweep):
+    _, sweep, estimates, times = coarse_sweep
+    (cost,) = estimates
+    assert cost.runs == 2 and cost.elements == sweep.results[0].elements
+    assert cost.steps >= max(r.steps for r in sweep.results)  # on the high side
+    assert times and times == sorted(times) and times[-1] > sweep.results[0].contact_time_s
+
+
+def test_sweep_summary_and_plot(coarse_sweep, tmp_path):
+    ball, sweep, _, _ = coarse_sweep
+    out = angle_sweep_summary(sweep, ball)
+    assert out["ball"] == "sphere" and out["speed_m_s"] == SPEED
+    assert out["friction"] == FRICTION and out["spin_rad_s"] == 0.0
+    assert out["target"] == "rigid plane" and out["elements"] == sweep.results[0].elements
+    assert out["half_model"] is True and out["k2"] == sweep.k2
+    assert out["runs"] is sweep.rows and out["reference"] is sweep.reference
+    assert out["reference_note"].startswith("elastic sphere on a rigid plane")
+    assert out["plot"] is None and out["wall_time_s"] == sweep.wall_time_s
+    png = tmp_path / "sweep.png"
+    assert plot_angle_sweep(sweep, png, ball) == str(png)
+    assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n") and png.stat().st_size > 10_000
 
 
 @pytest.mark.parametrize("nu", [-0.2, 0.0, 0.23, 0.3, 0.45, 0.499])

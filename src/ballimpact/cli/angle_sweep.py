@@ -8,12 +8,12 @@ checked, the sweep run, and its table, plot and text written.
 from __future__ import annotations
 
 import argparse
-import sys
-from dataclasses import replace
 from typing import Any
 
 from ..checks import allowed_range, check_range
 from ..errors import InputError
+from ..sweep import write_table
+from .simulate_3d import check_flags, checked_allow, inputs_3d, starter
 
 #: the angles a sweep accepts (deg from the normal; `ImpactCondition.angle_deg`'s range)
 ANGLE_RANGE_DEG = (0.0, 89.0)
@@ -69,49 +69,27 @@ def run_angle_sweep(args: argparse.Namespace) -> dict[str, Any]:
     """Several `--angle-deg` of one ball at one speed in one batched 3D run
     (`oblique.sweep.angle_sweep`): a row per angle, a table, a plot in Maw et al.'s normalised
     axes and, where it applies, the elastic reference."""
-    from ..fe import Hexahedral, RunProgress, estimate
-    from ..oblique.plots import plot_gripping
-    from ..oblique.sweep import angle_sweep
-    from .common import use_compilation_cache
-    from .simulate import _check_flags, _checked_3d, _checked_allow, _warn_now
+    from ..fe import Hexahedral
+    from ..oblique.sweep import angle_sweep, angle_sweep_summary, plot_angle_sweep
 
     # every check on the input before anything is printed (progress, warnings) or meshed
     args, angles = _checked_sweep(args)
-    _check_flags(args)
-    allow = _checked_allow(args)
-    ball, first, target, options = _checked_3d(
+    check_flags(args)
+    allow = checked_allow(args)
+    ball, first, target, options = inputs_3d(
         argparse.Namespace(**{**vars(args), "angle_deg": angles[0]}), allow)
     if args.plot is not None and first.friction <= 0.0:
         raise InputError("--plot: the normalised axes of an angle sweep divide by the friction; "
                          "give --friction > 0")
-    geometry = Hexahedral(options)
-    # refused before meshing; the mesh is then built and cached for the run
-    cost = estimate(ball, [replace(first, angle_deg=a) for a in angles], geometry=geometry,
-                    target=target, allow=allow)
-    use_compilation_cache()
-    print(f"simulating {ball.name} in 3D at {first.speed_m_s:g} m/s, {len(angles)} angles "
-          f"({', '.join(f'{a:g}' for a in angles)} deg) in one batched run ...",
-          file=sys.stderr, flush=True)
-    _warn_now(cost.warning())
-    sweep = angle_sweep(ball, first, angles, geometry=geometry, target=target, allow=allow,
-                        progress=RunProgress(cost.end_time_s, options.chunk_steps))
-    results, reference = sweep.results, sweep.reference
-    out = {"ball": ball.name, "speed_m_s": first.speed_m_s, "friction": first.friction,
-           "spin_rad_s": first.spin_rad_s, "target": results[0].target,
-           "elements": results[0].elements, "half_model": results[0].half_model,
-           "k2": sweep.k2, "wall_time_s": sweep.wall_time_s, "runs": sweep.rows,
-           "reference": reference, "reference_note": sweep.reference_note, "plot": None}
+    announce = (f"simulating {ball.name} in 3D at {first.speed_m_s:g} m/s, {len(angles)} angles "
+                f"({', '.join(f'{a:g}' for a in angles)} deg) in one batched run ...")
+    sweep = angle_sweep(ball, first, angles, geometry=Hexahedral(options), target=target,
+                        allow=allow, start=starter(options.chunk_steps, announce))
+    out = angle_sweep_summary(sweep, ball)
     if args.table is not None:
-        from ..sweep import write_table
-
         out["table"] = write_table(sweep.rows, args.table)
     if args.plot is not None:
-        plot_gripping(results, args.plot, reference=reference["curves"] if reference else None,
-                      title=f"{ball.name}: angle sweep at {first.speed_m_s:g} m/s, mu "
-                            f"{first.friction:g} (3D FE, {results[0].target})",
-                      k2=out["k2"], poissons_ratio=reference["poissons_ratio"] if reference
-                      else None)
-        out["plot"] = str(args.plot)
+        out["plot"] = plot_angle_sweep(sweep, args.plot, ball)
     if not args.json:
         _print_angle_sweep(out)
     return out

@@ -4,14 +4,13 @@ tests."""
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import shlex
 from pathlib import Path
 from typing import Any
 
+from ..datasets import PREFIX, is_builtin
 from ..errors import InputError
-from ..fileio import json_safe
 from .common import (
     add_processing,
     add_record_options,
@@ -88,8 +87,6 @@ def add_parser(verbs) -> argparse.ArgumentParser:
 
 
 def parse_test(text: str) -> tuple[Path, float | None, str | None]:
-    from ..datasets import PREFIX, is_builtin
-
     prefix = text[:len(PREFIX)] if is_builtin(text) else ""  # builtin:NAME[:SPEED]
     path, _, rest = text[len(prefix):].partition(":")
     path = prefix + path
@@ -114,33 +111,13 @@ def parse_compression(text: str) -> tuple[Path, str | None]:
     return Path(path), layer or None
 
 
-def load_compression_tests(args: argparse.Namespace, taken: set) -> list:
-    """The --compression tests (`calibrate.compression.CompressionTest`), named by file stem
-    (one already taken gets -N)."""
-    from ..calibrate.compression import CompressionTest, read_compression_csv
-
-    rate = args.compression_rate_m_s
-    if rate is not None and not (math.isfinite(rate) and rate > 0):
-        raise InputError(f"--compression-rate-m-s {rate:g}: must be > 0 (m/s), the platen "
-                         "speed; leave it out for the long-term (fully relaxed) curve")
-    steps = args.compression_steps
-    if steps < 1:
-        raise InputError(f"--compression-steps {steps}: must be an integer >= 1")
-    tests = []
-    for text in args.compression:
-        path, layer = parse_compression(text)
-        deflection, force = read_compression_csv(path)
-        name = path.stem if path.stem not in taken else f"{path.stem}-{len(taken)}"
-        taken.add(name)
-        tests.append(CompressionTest(name, deflection, force, layer, rate, steps, str(path)))
-    return tests
-
-
 def load_tests(args: argparse.Namespace) -> list:
-    from ..calibrate.problem import CalibrationTest
+    """The --test records loaded and processed, and the --compression curves, as the tests of a
+    calibration (`calibrate.files.calibration_tests`)."""
+    from ..calibrate.files import calibration_tests
 
     parsed = [parse_test(text) for text in args.test]  # every --test's form before any file
-    tests, names = [], set()
+    impacts = []
     for text, (path, speed, layer) in zip(args.test, parsed):
         # a copy: `args` stays the command as given (the resume hint is built from it)
         given = argparse.Namespace(**vars(args))
@@ -150,11 +127,10 @@ def load_tests(args: argparse.Namespace) -> list:
         if record.impact_speed_m_s is None:
             raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
                              "or in the side file (impact_speed_m_s)")
-        processed = process_record(record, args)
-        name = path.stem if path.stem not in names else f"{path.stem}-{len(tests)}"
-        names.add(name)
-        tests.append(CalibrationTest(name, processed.features, layer))
-    return tests + load_compression_tests(args, names)
+        impacts.append((path, process_record(record, args).features, layer))
+    return calibration_tests(impacts, [parse_compression(text) for text in args.compression],
+                             compression_rate_m_s=args.compression_rate_m_s,
+                             compression_steps=args.compression_steps)
 
 
 def command_line(args: argparse.Namespace) -> str:
@@ -180,8 +156,8 @@ def command_line(args: argparse.Namespace) -> str:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..calibrate.calibration import calibrate, parse_stage
+    from ..calibrate.files import write_results
     from ..fe import load_ball
-    from ..fileio import write_atomic
 
     check_plot_path(args.plot)
     if args.out is not None:
@@ -221,10 +197,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                        max_evaluations=args.max_evaluations, allow=args.allow)
     stage_results = result.pop("stage_results")
     if args.out is not None:
-        ball_file = args.out / "calibrated-ball.json"
-        write_atomic(ball_file, json.dumps(result["ball"], indent=2))
-        result["ball_file"] = str(ball_file)
-        write_atomic(args.out / "calibration.json", json.dumps(json_safe(result), indent=2))
+        write_results(args.out, result)
     if args.plot is not None:
         from ..calibrate.plots import plot_pulses
 

@@ -4,21 +4,14 @@ tests (a ball against its calibrated version, two presets, two ball files)."""
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..comparison import compare_balls
 from ..plausibility import check_allow
+from ..sweep import sweep_figure, write_table
 from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
-from .simulate import (
-    add_solver_options,
-    check_sweep_speeds,
-    given_speeds,
-    solver_options,
-    speed_list,
-)
+from .simulate import add_solver_options, given_speeds, solver_options, speed_list
 
 
 def add_parser(verbs) -> None:
@@ -47,70 +40,22 @@ def add_parser(verbs) -> None:
                               "contact time against speed")
 
 
-def _ball_key(spec: str) -> str:
-    """What makes two --ball values the same ball: a file by its resolved path, else the name."""
-    path = Path(spec)
-    return str(path.resolve()) if path.is_file() else spec
-
-
-def check_balls(specs: list[str]) -> list[str]:
-    """Two or more balls, each given once (a file under two spellings counts as twice)."""
-    if len(specs) < 2:
-        raise InputError(f"--ball: give two or more balls to compare (got {len(specs)}); one "
-                         "ball at several speeds is `simulate --speed-m-s 5,10,20`")
-    seen: dict[str, str] = {}
-    for spec in specs:
-        key = _ball_key(spec)
-        if key in seen:
-            spelling = f" (as {seen[key]})" if seen[key] != spec else ""
-            raise InputError(f"--ball: {spec} is given twice{spelling}; give each ball once")
-        seen[key] = spec
-    return specs
-
-
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import RunProgress, estimate
-    from ..fe.engine import default_group_size
-    from ..plotting import save_and_close
-    from ..sweep import compare_rows, run_sweep, sweep_balls, sweep_figure, write_table
+    from ..plotting import save_and_close  # matplotlib: loaded when used
 
-    # every check on the input, every ball loaded, before anything is meshed
     check_plot_path(args.plot)
     check_output_folder(args.table, "--table")
-    specs = check_balls(list(args.ball))
-    speeds = given_speeds(args)
     allow = check_allow(args.allow)
-    check_sweep_speeds(speeds, allow)
-    balls = {spec: sweep_balls(spec, speeds, moduli=args.moduli, allow=allow) for spec in specs}
     options = solver_options(args)
-    slowest = min(range(len(speeds)), key=speeds.__getitem__)
-    estimates = {spec: estimate(b[slowest], speeds, options, allow=allow)
-                 for spec, b in balls.items()}
     use_compilation_cache()
-    started = time.perf_counter()
-    sweeps = []
-    for spec in specs:
-        message = estimates[spec].warning()
-        if message is not None:
-            print(f"warning: {message}", file=sys.stderr, flush=True)
-        print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
-        one_group = len(speeds) <= default_group_size(len(speeds))
-        progress = RunProgress(estimates[spec].end_time_s, options.chunk_steps) if one_group \
-            else None
-        sweeps.append(run_sweep(balls[spec], speeds, options, label=spec, progress=progress,
-                                allow=allow))
-    rows = compare_rows(sweeps)
-    out: dict[str, Any] = {
-        "balls": specs, "reference_ball": specs[0], "speeds_m_s": list(speeds),
-        "comparison": rows,
-        "sweeps": [{"ball": s.label, "ball_names": [r.ball_name for r in s.results],
-                    "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
-                    "rows": s.rows()} for s in sweeps],
-        "wall_time_s": time.perf_counter() - started}
+    comparison = compare_balls(args.ball, given_speeds(args), options, moduli=args.moduli,
+                               allow=allow)
+    out = comparison.to_dict()
     if args.table is not None:
-        out["table"] = write_table(rows, args.table)
+        out["table"] = write_table(comparison.rows, args.table)
     if args.plot is not None:
-        figure = sweep_figure(sweeps, overlays=True, title="compare: FE impacts on a rigid plane")
+        figure = sweep_figure(comparison.sweeps, overlays=True,
+                              title="compare: FE impacts on a rigid plane")
         out["plot"] = str(save_and_close(figure, args.plot))
     if not args.json:
         _print(out)

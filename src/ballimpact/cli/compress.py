@@ -56,24 +56,23 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import SolverOptions, compress, load_ball
+    from ..fe import SolverOptions, compress
+    from ..fe.output import plot_curve, write_curve
+    from ..fe.runs import load_model
 
     check_plot_path(args.plot)
     check_output_folder(args.csv, "--csv")
     if args.csv is not None and args.csv.suffix.lower() != ".csv":
         raise InputError(f"--csv: {args.csv} must be a .csv file")
     allow = check_allow(args.allow)
-    ball = load_ball(args.ball, impact_speed_m_s=args.impact_speed_m_s, allow=allow)
-    if args.moduli is not None:
-        ball = ball.with_moduli(args.moduli)
+    ball = load_model(args.ball, args.impact_speed_m_s, moduli=args.moduli, allow=allow)
     options = SolverOptions(element_size_m=args.element_size_m, integration=args.integration,
                             penalty_scale=args.penalty_scale)
     use_compilation_cache()
     progress = CountProgress("increment", quiet_s=PROGRESS_AFTER_S)
     result = compress(ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
                       options=options, progress=progress)
-    out = result.to_dict()
-    out["materials"] = ball.to_dict()
+    out = {**result.to_dict(), "materials": ball.to_dict()}
     if args.csv is not None:
         out["csv"] = write_curve(args.csv, result)
     if args.plot is not None:
@@ -90,25 +89,3 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
               f"{result.newton_iterations} Newton iterations, {result.wall_time_s:.2f} s wall "
               f"({result.compile_time_s:.2f} s compiling)")
     return out
-
-
-def write_curve(path: Path, result) -> str:
-    """The curve as CSV with the header `deflection_m,force_n` (m, N; `fileio.write_table`)."""
-    from ..fileio import column_rows, write_table
-
-    return write_table(path, ["deflection_m", "force_n"],
-                       column_rows(result.deflection_m, result.force_n))
-
-
-def plot_curve(result, path: Path) -> Path:
-    """Force (N) against deflection (mm), one PNG."""
-    from ..plotting import save_and_close, subplots
-
-    figure, axis = subplots(figsize=(5.5, 4.2), layout="constrained")
-    axis.plot(result.deflection_m * 1e3, result.force_n, "o-", ms=3)
-    axis.set_xlabel("deflection (platen approach), mm")
-    axis.set_ylabel("force, N")
-    curve = (f"{result.rate_m_s:g} m/s" if result.rate_m_s is not None else "long-term")
-    axis.set_title(f"{result.ball_name} between two platens\n({curve})", fontsize=10)
-    axis.grid(alpha=0.3)
-    return save_and_close(figure, path)

@@ -107,14 +107,12 @@ def _warn_ignored_impact_flags(args: argparse.Namespace) -> None:
 
 def run_export(args: argparse.Namespace) -> dict[str, Any]:
     from ..export import ImpactSetup, check_output, export_ball
-    from ..fe import load_ball
+    from ..fe.runs import load_model
 
     check_output(args.out, args.format)
     _refuse_other_solver_mesh(args)
     allow = check_allow(args.allow)
-    ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s, allow=allow)
-    if args.moduli is not None:
-        ball = ball.with_moduli(args.moduli)
+    ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
     setup = None
     if not args.ball_only and args.format != "vtk":
         if args.speed_m_s is None:
@@ -142,38 +140,18 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def run_import(args: argparse.Namespace) -> dict[str, Any]:
-    from ..export import read_ball, read_materials
-    from ..fe import load_ball
-    from ..fe.materials import material_from_dict
-    from ..plausibility import check_material_values
+    from ..export import read_abaqus_file
 
     allow = check_allow(args.allow)
     if args.out is not None and not args.out.parent.is_dir():  # before reading anything
         raise InputError(f"--out: folder {args.out.parent} does not exist")
-    if args.file.is_dir():
-        raise InputError(f"{args.file}: a folder, not an ABAQUS input file (.inp)")
-    try:
-        text = args.file.read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise InputError(f"{args.file}: cannot read ({error.strerror or error})") from None
-    try:
-        if args.ball:
-            spec = read_ball(text, args.units, name=args.file.stem)
-            load_ball(spec, allow=allow)  # the same checks as any ball file
-            out: dict[str, Any] = {"ball": spec}
-        else:
-            materials = read_materials(text, args.units)
-            for m in materials:
-                material = material_from_dict(m["material"], where=f"material {m['name']!r}")
-                check_material_values(m["name"], m["density_kg_m3"], material, allow)
-            out = {"materials": materials}
-    except InputError as error:
-        raise InputError(f"{args.file}: {error}") from None
+    out = read_abaqus_file(args.file, args.units, ball=args.ball, allow=allow)
+    text = json.dumps(out.get("ball", out), indent=2)
     if args.out is not None:
         try:
-            args.out.write_text(json.dumps(out.get("ball", out), indent=2) + "\n")
+            args.out.write_text(text + "\n")
         except OSError as error:
             raise InputError(f"--out: cannot write {args.out} ({error.strerror or error})") from None
     if not args.json:
-        print(json.dumps(out.get("ball", out), indent=2))
+        print(text)
     return out

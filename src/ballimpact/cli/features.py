@@ -12,16 +12,10 @@ from typing import Any
 from .. import repeats
 from ..errors import InputError
 from ..features import FEATURE_NAMES
-from ..fileio import write_table
 from ..pipeline import ProcessedImpact
-from .common import (
-    add_processing,
-    add_record_options,
-    check_output_folder,
-    check_plot_path,
-    load,
-    process_record,
-)
+from ..sweep import parse_speeds
+from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,
+                     load, process_record)
 
 
 def add_parser(verbs) -> None:
@@ -55,8 +49,6 @@ def add_parser(verbs) -> None:
 def speed_list(text: str) -> list[float]:
     """argparse type of --speeds: speeds in m/s separated by commas (`sweep.parse_speeds`; that
     they are positive is `repeats.check_nominal`'s)."""
-    from ..sweep import parse_speeds
-
     try:
         return list(parse_speeds(text))
     except InputError as error:
@@ -65,98 +57,40 @@ def speed_list(text: str) -> list[float]:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     check_plot_path(args.plot)
-    check_table_path(args.table)
+    if args.table is not None:
+        if args.table.suffix.lower() != ".csv":
+            raise InputError(f"--table: {args.table} must be a .csv file")
+        check_output_folder(args.table, "--table")
     repeats.check_tolerance(args.speed_tolerance)
     if args.speeds is not None:
         repeats.check_nominal(args.speeds)
-    files = record_files(args.files, args.table)
-    if len(files) > 1:
-        return run_repeats(files, args)
-    started = time.perf_counter()
-    processed = process_record(load(files[0], args), args)
-    group = [processed.features.values["P15"]]
-    if args.speeds is not None:  # a single record must still lie near a nominal speed
-        group = repeats.group_by_speed(group, args.speeds, args.speed_tolerance,
-                                       files=[str(files[0])])
-    result = summary(processed, time.perf_counter() - started)
-    if args.table is not None:
-        result["table_csv"] = write_repeats_table(
-            args.table, repeats.speed_table([processed], [str(files[0])], group))
-    if not args.json:
-        print_table(processed)
-    if args.plot:
-        from ..plotting import plot_impact  # matplotlib only when a plot is asked for
-
-        plot_impact(processed.raw, processed.filtered, processed.features, args.plot,
-                    title=str(files[0].name))
-        result["plot"] = str(args.plot)
-    return result
-
-
-def check_table_path(path: Path | None) -> None:
-    if path is None:
-        return
-    if path.suffix.lower() != ".csv":
-        raise InputError(f"--table: {path} must be a .csv file")
-    check_output_folder(path, "--table")
-
-
-def record_files(given: list[Path], table: Path | None) -> list[Path]:
-    """The records of FILE_OR_DIR (`repeats.expand_records`), less the --table output when a
-    folder holds it (the table of an earlier run); a record given by name is never overwritten."""
-    if table is None:
-        return repeats.expand_records(given)
-    target = table.resolve()
-    named = next((p for p in given if not p.is_dir() and p.resolve() == target), None)
-    if named is not None:
-        raise InputError(f"--table: {table} is one of the records given ({named}); write the "
-                         "table to another file")
-    files = [p for p in repeats.expand_records(given) if p.resolve() != target]
-    if not files:
-        raise InputError(f"{table.parent}: the folder holds no test records besides the "
-                         f"--table output {table.name}")
-    return files
-
-
-def run_repeats(files: list[Path], args: argparse.Namespace) -> dict[str, Any]:
-    """Several records: a row each, grouped by speed, with per-group means and SDs."""
+    files = repeats.record_files(args.files, args.table)
     started = time.perf_counter()
     processed = [process_record(load(path, args), args) for path in files]
-    names = [str(path) for path in files]
-    speeds = [p.features.values["P15"] for p in processed]
-    groups = repeats.group_by_speed(speeds, args.speeds, args.speed_tolerance, files=names)
-    repeats.check_masses([p.features.mass_kg for p in processed], names, groups)
-    if args.speeds is not None:
-        repeats.warn_empty_nominal(args.speeds, groups)
-    rows = repeats.speed_table(processed, names, groups)
-    summaries = repeats.group_summaries(rows, nominal=args.speeds is not None)
-    result: dict[str, Any] = {
-        "grouping": {"rule": "nominal" if args.speeds is not None else "clustered",
-                     "nominal_speeds_m_s": (sorted(args.speeds) if args.speeds is not None
-                                            else None),
-                     "speed_tolerance": args.speed_tolerance},
-        "groups": summaries,
-        "records": rows,
-        "wall_time_s": time.perf_counter() - started,
-    }
+    if len(files) > 1:  # a row each, grouped by speed, with per-group means and SDs
+        result = repeats.summarise_repeats(processed, files, args.speeds, args.speed_tolerance)
+        rows = result["records"]
+    else:  # a single record must still lie near a nominal speed
+        group = repeats.record_group(processed[0], files[0], args.speeds, args.speed_tolerance)
+        result = repeats.record_summary(processed[0])
+        rows = [repeats.record_row(processed[0], files[0], group)]
+    result["wall_time_s"] = time.perf_counter() - started
     if args.table is not None:
-        result["table_csv"] = write_repeats_table(args.table, rows)
+        result["table_csv"] = repeats.write_speed_table(args.table, rows)
+    if not args.json and len(files) == 1:
+        print_table(processed[0])
     if args.plot:
-        from ..plotting import save_and_close, subplots  # matplotlib only for a plot
+        from .. import plotting  # matplotlib only when a plot is asked for
 
-        figure, ax = subplots(figsize=(7.5, 4.5), layout="constrained")
-        repeats.plot_pulse_bands(ax, repeats.pulse_bands(processed, groups))
-        save_and_close(figure, args.plot)
+        if len(files) > 1:
+            plotting.plot_repeats(processed, [row["group_speed_m_s"] for row in rows], args.plot)
+        else:
+            plotting.plot_impact(processed[0].raw, processed[0].filtered, processed[0].features,
+                                 args.plot, title=str(files[0].name))
         result["plot"] = str(args.plot)
-    if not args.json:
+    if not args.json and len(files) > 1:
         print_groups(result)
     return result
-
-
-def write_repeats_table(path: Path, rows: list[dict[str, Any]]) -> str:
-    """The table (`repeats.TABLE_COLUMNS`) as CSV (`fileio.write_table`): numbers round-trip
-    exactly (the shortest text of each float), a non-finite one is left empty."""
-    return write_table(path, repeats.TABLE_COLUMNS, rows, "")
 
 
 def print_groups(result: dict[str, Any]) -> None:
@@ -165,31 +99,20 @@ def print_groups(result: dict[str, Any]) -> None:
             else "clustered: a group spans at most the tolerance above its lowest speed")
     print(f"{len(result['records'])} records in {len(result['groups'])} speed groups ({rule}; "
           f"tolerance {grouping['speed_tolerance']:.0%}); mean ± SD (ddof 1)")
-    header = ["speed (m/s)", "n", "impact speed (m/s)", "COR", "peak force (N)",
-              "contact time (ms)", "dyn. stiffness (N/m)"]
-    scales = {"contact_time_s": 1e3}
-    lines = [header]
+    lines = [["speed (m/s)", "n", "impact speed (m/s)", "COR", "peak force (N)",
+              "contact time (ms)", "dyn. stiffness (N/m)"]]
     for group in result["groups"]:
         cells = [f"{group['speed_m_s']:.4g}", str(group["count"])]
         for name in repeats.MAIN_COLUMNS:
-            scale = scales.get(name, 1.0)
+            scale = 1e3 if name == "contact_time_s" else 1.0
             mean, sd = group["mean"][name] * scale, group["sd"][name] * scale
             cells.append(f"{mean:.5g} ± {sd:.2g}" if math.isfinite(sd) else f"{mean:.5g}")
         lines.append(cells)
-    widths = [max(len(line[k]) for line in lines) for k in range(len(header))]
+    widths = [max(map(len, column)) for column in zip(*lines)]
     for line in lines:
         print("  " + "  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip())
     if "table_csv" in result:
         print(f"table (a row per record): {result['table_csv']}")
-
-
-def summary(processed: ProcessedImpact, wall_time_s: float) -> dict[str, Any]:
-    out = processed.features.to_dict()
-    out["filter"] = processed.filtered.metadata.get("filter", "none")
-    out["baseline_offset_n"] = processed.raw.metadata.get("baseline_offset_n", 0.0)
-    out["load_cell_resonance"] = processed.filtered.metadata.get("load_cell_resonance")
-    out["wall_time_s"] = wall_time_s
-    return out
 
 
 def print_table(processed: ProcessedImpact) -> None:

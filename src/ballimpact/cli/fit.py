@@ -3,16 +3,14 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 import time
-import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, InputWarning
+from ..errors import InputError
 from ..fileio import write_atomic
-from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from
+from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
 from ..repeats import expand_records
 from .common import (
     add_processing,
@@ -89,162 +87,34 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError("--table: needs several files")
     started = time.perf_counter()
     processed = [process_record(load(path, args), args) for path in args.files]
-    for one in processed:
-        check_bound_scales(model, one, options["bounds"], options["fixed"], args.allow)
-    if len(processed) == 1:
-        fitted = lumped.fit(processed[0], model, **options)
-        result = {**fitted.to_dict(), "file": str(args.files[0]),
-                  "check": model_check(fitted, processed[0], tolerances)}
-        _warn_not_identified(fitted, args.files[0])
-        if not args.json:
-            _print_fit(fitted, args.files[0], result["check"])
-        if args.plot:
-            from ..plotting import plot_fit
-
-            plot_fit(fitted, args.plot, title=str(args.files[0].name))
-            result["plot"] = str(args.plot)
-        result["wall_time_s"] = time.perf_counter() - started
-        raise_if_missed([(args.files[0], result["check"])], result, "model check", "the model")
-        return result
-    table, fits = lumped.fit_speed_table(processed, model, labels=[str(p) for p in args.files],
-                                         **options)
-    _note_repeats(table)
-    for f, file in zip(fits, table.labels):
-        _warn_not_identified(f, Path(file))
-    checks = [model_check(f, pr, tolerances) for f, pr in zip(fits, processed)]
-    result = {"model": model.name, "units": model.units, "table": table.to_dict(),
-              "fits": [{**f.to_dict(), "file": file, "check": check}
-                       for f, file, check in zip(fits, table.labels, checks)]}
-    repeated = parameter_scatter(table)
-    if repeated:
-        result["repeats"] = repeated
-    if args.table is not None:
-        write_atomic(args.table, table.to_csv())
-        result["table_csv"] = str(args.table)
+    fits = lumped.fit_records(processed, model, [str(p) for p in args.files],
+                              tolerances=tolerances, allow=args.allow, **options)
+    result = fits.to_dict()
+    if fits.table is not None:
+        _note_repeats(fits.table)
+        if args.table is not None:
+            write_atomic(args.table, fits.table.to_csv())
+            result["table_csv"] = str(args.table)
     if not args.json:
-        for f, file, check in zip(fits, table.labels, checks):
+        for f, file, check in zip(fits.fits, fits.labels, fits.checks):
             _print_fit(f, Path(file), check)
-        print(table.to_csv(), end="")
-        for group in repeated:
+        if fits.table is not None:
+            print(fits.table.to_csv(), end="")
+        for group in fits.repeats:
             spread = ", ".join(f"{k} {group['params_mean'][k]:.5g} +/- {group['params_sd'][k]:.3g}"
                                for k in group["params_mean"])
             print(f"repeats at {group['speed_m_s']:g} m/s ({group['count']} tests): {spread}")
     if args.plot:
-        from ..plotting import plot_speed_fits
+        from ..plotting import plot_fit, plot_speed_fits
 
-        plot_speed_fits(fits, args.plot)
+        if fits.table is None:
+            plot_fit(fits.fits[0], args.plot, title=str(args.files[0].name))
+        else:
+            plot_speed_fits(fits.fits, args.plot)
         result["plot"] = str(args.plot)
     result["wall_time_s"] = time.perf_counter() - started
-    raise_if_missed(list(zip(table.labels, checks)), result, "model check", "the model")
+    raise_if_missed(list(zip(fits.labels, fits.checks)), result, "model check", "the model")
     return result
-
-
-def model_check(fitted, processed, tolerances) -> dict[str, Any]:
-    """The fitted model's pulse against the test (`verdict.judge`: force NRMSE, COR, contact
-    time and peak force, each within its tolerance plus the test's 90% uncertainty)."""
-    from ..comparison import compare
-    from ..verdict import judge
-
-    m = fitted.measured
-    comparison = compare({"P1": m["contact_time_s"], "P6": m["peak_force_n"], "P17": m["cor"]},
-                         {"P1": fitted.contact_time_s, "P6": fitted.peak_force_n,
-                          "P17": fitted.cor}, fitted.nrmse)
-    return {**comparison, **judge(comparison, tolerances, processed.features.uncertainty)}
-
-
-#: The usual slips of a parameter's unit (`ballimpact models`), as (factor to SI, unit typed),
-#: for the unit-slip check of --bound (`calibrate.problem.check_scale`); powers of 1000 besides.
-BOUND_SLIPS = {"Pa": ((1e3, "kPa"), (1e6, "MPa"), (1e9, "GPa")),
-               "N/m": ((1e3, "kN/m (or N/mm)"),), "N s/m": ((1e3, "kN s/m"),),
-               "m": ((1e-3, "mm"),), "s": ((1e-3, "ms"), (1e-6, "us")), "kg": ((1e-3, "g"),)}
-
-
-def typical_values(model, scale, exponents: dict | None = None) -> dict[str, float]:
-    """Per parameter of `model`, its typical value in a record of `scale` (`lumped.base.Scale`)
-    in the parameter's own units: the middle (geometric where positive) of the model's default
-    search bounds; for a power-law stiffness, the middle of its force bounds divided by the
-    record's maximum compression to the exponent (from `exponents` {name: value} where given,
-    else the middle of its default range); a fixed parameter's default. Unit masses are left out
-    (searched as shares)."""
-    defaults = model.default_bounds(scale)
-    by_name = {p.name: p for p in model.parameters}
-    exponents = exponents or {}
-
-    def middle(low: float, high: float) -> float:
-        return math.sqrt(low * high) if low > 0 else 0.5 * high
-
-    out: dict[str, float] = {}
-    for p in model.parameters:
-        if p.search in ("mass_share", "mass_rest"):
-            continue
-        if p.name not in defaults:
-            if p.default:
-                out[p.name] = float(p.default)
-            continue
-        value = middle(*(float(x) for x in defaults[p.name]))
-        if p.search == "stiffness":
-            exponent = p.exponent
-            if isinstance(exponent, str):
-                exponent = exponents.get(exponent, middle(*defaults[exponent])
-                                         if exponent in defaults else by_name[exponent].default)
-            value /= float(scale.max_compression_m) ** float(exponent)
-        out[p.name] = value
-    return out
-
-
-def check_bound_scales(model, processed, bounds: dict, fixed: dict, allow) -> None:
-    """--bound NAME=LOW:HIGH against the parameter's typical value in a processed record
-    (`typical_values`, a power-law stiffness at the exponent given by --fix or --bound): bounds
-    that leave it out by more than 100x are a unit slip (kN/m typed for N/m, mm for m, MPa for
-    Pa), calibrate --free's check (`calibrate.problem.check_scale`): an `InputError` naming the
-    flag, the parameter, its plausible range and the likely slip, or a warning with --allow
-    unit-slip. Unknown names and unit masses are left to `lumped.fit`, which names them."""
-    from ..calibrate.problem import SCALE_SLIP_FACTOR, check_scale
-    from ..lumped.base import Scale
-
-    f = processed.features
-    scale = Scale(f.mass_kg, f.values["P15"], f.values["P1"], f.values["P6"],
-                  f.max_compression_m)
-    exponents = {name: fixed[name] if name in fixed else 0.5 * sum(bounds[name])
-                 for name in set(fixed) | set(bounds)}
-    typical = typical_values(model, scale, exponents)
-    units = model.units
-    for name, (low, high) in bounds.items():
-        value = typical.get(name, 0.0)
-        if not value:
-            continue
-        unit = units[name]
-        slips = ((1e3, "k" + unit),) if unit.startswith("N/m^") else BOUND_SLIPS.get(unit, ())
-        span = f"{value / SCALE_SLIP_FACTOR:.3g}..{value * SCALE_SLIP_FACTOR:.3g} {unit}"
-        check_scale(name, low, high, value, allow, option="--bound",
-                    reference=f"the typical {name} of {model.name} in this record (plausible "
-                              f"range {span})", units=(unit, slips))
-
-
-def _warn_not_identified(fitted, path: Path) -> None:
-    """One warning per parameter the record does not determine (standard error inf or larger
-    than the value), naming the file: its value is one of many that fit as well."""
-    for note in fitted.notes.values():
-        warnings.warn(f"{path.name}: {note}", InputWarning, stacklevel=2)
-
-
-def parameter_scatter(table) -> list[dict[str, Any]]:
-    """Per speed group of two or more tests (`repeats.group_by_speed`: within
-    `repeats.DEFAULT_SPEED_TOLERANCE`, as identify and report group them): the mean and standard
-    deviation (ddof = 1) of each fitted parameter over the repeats (`repeats.mean_sd`): the
-    scatter of the tests carried into the parameters."""
-    from ..repeats import group_by_speed, mean_sd
-
-    rows = [dict(zip(table.params, values)) for values in zip(*table.params.values())]
-    groups = group_by_speed(table.speeds_m_s).tolist()
-    out = []
-    for label in sorted(set(groups)):
-        members = [row for row, g in zip(rows, groups) if g == label]
-        if len(members) > 1:
-            mean, sd = mean_sd(members)
-            out.append({"speed_m_s": float(label), "count": len(members),
-                        "params_mean": mean, "params_sd": sd})
-    return out
 
 
 def _note_repeats(table) -> None:
@@ -260,8 +130,6 @@ def _note_repeats(table) -> None:
 
 
 def _print_fit(fitted, path: Path, check: dict[str, Any]) -> None:
-    from ..verdict import verdict_line
-
     m = fitted.measured
     print(f"{path.name}: {fitted.model} by {fitted.method.upper()} (seed {fitted.seed}), "
           f"{fitted.evaluations} model runs, {fitted.wall_time_s:.2f} s")

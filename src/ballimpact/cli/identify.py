@@ -9,19 +9,13 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..fileio import check_distinct_files, table_text, write_table
+from ..plausibility import check_allow
+from ..repeats import DEFAULT_SPEED_TOLERANCE
 from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
                        verdict_line)
-from ..fileio import check_distinct_files, table_text, write_table
-from ..repeats import DEFAULT_SPEED_TOLERANCE
-from .common import (
-    add_processing,
-    add_record_options,
-    check_output_folder,
-    check_plot_path,
-    load,
-    process_record,
-    use_compilation_cache,
-)
+from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,
+                     load, process_record, use_compilation_cache)
 from .features import speed_list
 
 
@@ -72,11 +66,9 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..plausibility import check_allow
-    from ..universal.by_speed import identify_repeats, speed_table_ball
-    from ..universal.identify import check_speed, identify
+    from ..universal.by_speed import identify_tests
+    from ..universal.identify import check_speed
     from ..universal.model import load_model
-    from ..universal.similarity import check_size
 
     started = time.perf_counter()
     check_arguments(args)
@@ -87,45 +79,31 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if record.impact_speed_m_s is not None:
             check_speed(model, record.impact_speed_m_s, allow, f"{path}: ")
     processed = [process_record(record, args) for record in records]
-    groups = speed_groups(args, processed)
     if args.verify:
         use_compilation_cache()
-    results = []
-    for path, pr in zip(args.files, processed):
-        size = None if args.ball_diameter_m is None else check_size(
-            args.ball_diameter_m, pr.features.mass_kg, allow)
-        found = identify(pr, model, verify=args.verify, refine=args.refine, allow=allow,
-                         size=size, tolerances=tolerances_from(args))
-        results.append((path, pr, found))
-        if not args.json:
-            _print(path, found)
-    out: dict[str, Any] = {**results[0][2].to_dict(), "file": str(results[0][0])} \
-        if len(results) == 1 else {"identifications": [
-            {**f.to_dict(), "file": str(p)} for p, _, f in results]}
-    repeated = identify_repeats(results, groups, model, allow, args.ball_diameter_m)
-    if repeated:
-        out["repeats"] = repeated
-        if not args.json:
-            _print_repeats(repeated)
-    if len(results) > 1:
-        rows = speed_table_ball([f for _, _, f in results], model, groups)["speed_table"]["rows"]
-        out["table"] = rows
+    found = identify_tests(processed, args.files, model, nominal_m_s=args.speeds,
+                           tolerance=args.speed_tolerance, verify=args.verify,
+                           refine=args.refine, allow=allow, diameter_m=args.ball_diameter_m,
+                           tolerances=tolerances_from(args), each=None if args.json else _print)
+    out = found.to_dict()
+    if found.repeats and not args.json:
+        _print_repeats(found.repeats)
+    if "table" in out:
+        rows = out["table"]
         if args.table is not None:
             out["table_csv"] = write_table(args.table, list(rows[0]), rows, ".6g")
         if not args.json:
             print(table_text(list(rows[0]), rows, ".6g"), end="")
     if args.ball_out is not None:
-        ball = results[0][2].ball if len(results) == 1 else speed_table_ball(
-            [f for _, _, f in results], model, groups)
-        args.ball_out.write_text(json.dumps(ball, indent=2))
+        args.ball_out.write_text(json.dumps(found.ball, indent=2))
         out["ball_file"] = str(args.ball_out)
     if args.plot is not None:
         from ..universal.plots import plot_identification
 
-        plot_identification([(p.name, pr, f) for p, pr, f in results], args.plot)
+        plot_identification([(p.name, pr, f) for p, pr, f in found.results], args.plot)
         out["plot"] = str(args.plot)
     out["wall_time_s"] = time.perf_counter() - started
-    raise_if_missed([(path, found.verification) for path, _, found in results], out,
+    raise_if_missed([(path, f.verification) for path, _, f in found.results], out,
                     "FE check", "the identified ball")
     return out
 
@@ -159,21 +137,6 @@ def check_arguments(args: argparse.Namespace) -> None:
         raise InputError("--table: needs several test files (one per speed), got one; the "
                          "parameters of one test are in the output (--json) and its ball in "
                          "--ball-out")
-
-
-def speed_groups(args: argparse.Namespace, processed: list) -> list[float]:
-    """The speed group of each test (`repeats.group_by_speed`, to `--speeds` or clustered within
-    `--speed-tolerance`): tests of one group are repeats at one speed. The tests of one command
-    are of one ball: masses within 1% (`repeats.check_masses`; one speed table, one ball)."""
-    from ..repeats import check_masses, check_nominal, check_tolerance, group_by_speed
-
-    tolerance = check_tolerance(args.speed_tolerance)
-    nominal = None if args.speeds is None else check_nominal(args.speeds)
-    speeds = [p.features.values["P15"] for p in processed]
-    groups = [float(g) for g in group_by_speed(speeds, nominal, tolerance, files=args.files)]
-    check_masses([p.features.mass_kg for p in processed], args.files, [0.0] * len(processed),
-                 what="the tests of one command (one ball)")
-    return groups
 
 
 def _print_repeats(repeated: list[dict[str, Any]]) -> None:

@@ -5,14 +5,12 @@ Drucker-stable stretch ranges of a ball's materials, and a ball file from fitted
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import check_distinct_files
-from .common import check_output_folder, check_plot_path
+from .common import check_output_folder, check_plot_path, use_compilation_cache
 
 #: models of `material fit`: the hyperelastic fits and the Prony series of viscoelastic tests
 FIT_MODELS = ("neo_hookean", "mooney_rivlin", "yeoh", "ogden", "ogden_hyperfoam", "prony")
@@ -104,8 +102,6 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from .common import use_compilation_cache
-
     if args.step == "ball":
         return _ball(args)  # nothing compiled
     use_compilation_cache()  # the fits' stresses and `check --speed-m-s`'s run are compiled
@@ -148,115 +144,46 @@ def _checked_fit_flags(args: argparse.Namespace) -> None:
 
 
 def _fit(args: argparse.Namespace) -> dict[str, Any]:
-    from ..material.data import (SIGNED_MODES, STRESS_MODES, VISCOELASTIC_MODES, base_mode,
-                                 parse_spec, read_test)
+    from ..material.data import parse_spec
+    from ..material.files import write_material
+    from ..material.fitting import fit_material
 
     _checked_fit_flags(args)
-    specs = [parse_spec(text) for text in args.tests]
-    check_distinct_files([path for path, _ in specs], "FILE:MODE")
-    prony = args.model == "prony"
-    if args.compression_positive and not any(base_mode(m) in SIGNED_MODES for _, m in specs):
-        raise InputError("--compression-positive: only for uniaxial, biaxial and planar tests "
-                         "(a volumetric test's pressure is positive in compression already)")
-    for path, declared in specs:
-        mode = base_mode(declared)
-        if prony and mode not in VISCOELASTIC_MODES:
-            raise InputError(f"{path}:{mode}: --model prony fits relaxation, creep or dma tests, "
-                             f"not {mode} stress data (fit that with a hyperelastic model)")
-        if not prony and mode not in STRESS_MODES:
-            raise InputError(f"{path}:{mode}: a {mode} test is fitted with --model prony, not "
-                             f"with {args.model}")
-    tests = [read_test(path, mode, compression_positive=args.compression_positive)
-             for path, mode in specs]
-    if prony:
-        return _fit_prony(args, tests)
-    from ..material.hyperelastic import DEFAULT_STARTS, fit_hyperelastic
-
-    fit = fit_hyperelastic(tests, args.model, order=args.order, error=args.error, seed=args.seed,
-                           starts=args.starts or DEFAULT_STARTS)
-    out = fit.to_dict()
+    run = fit_material([parse_spec(text) for text in args.tests], args.model,
+                       compression_positive=args.compression_positive, order=args.order,
+                       error=args.error, seed=args.seed, starts=args.starts, terms=args.terms,
+                       shift=args.shift, reference_temperature_c=args.reference_temperature_c,
+                       bulk_relaxation=args.bulk_relaxation, merge=args.merge)
+    out = run.result
     if args.out is not None:
-        if not fit.usable:
+        if run.unusable:
             raise InputError(f"--out {args.out}: not written, the fitted set is not a valid ball "
-                             f"material ({fit.notes[-1]})")
-        _write_material(args.out, fit.material)
+                             f"material ({run.unusable})")
+        write_material(args.out, run.material)
         out["out"] = str(args.out)
+    if args.model == "prony":
+        if not args.json:
+            test = run.tests[0]
+            print(f"Prony series ({len(out['prony'])} terms) fitted to {test.path} ({test.mode}),"
+                  f" R^2 = {run.fit.r2:.5f}")
+            for term in out["prony"]:
+                print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
+        return out
     if args.plot is not None:
         from ..material.plots import plot_fit
-        out["plot"] = str(plot_fit(tests, fit, args.plot))
+        out["plot"] = str(plot_fit(run.tests, run.fit, args.plot))
     if not args.json:
-        _print_fit(out, tests)
+        print(f"{out['model']} fitted to {len(run.tests)} test(s), error {out['error']}")
+        errors = out["standard_errors"]
+        for key, value in out["constants"].items():
+            print(f"  {key:<18} {value:>14.6g}  +/- {errors.get(key, 0.0):.3g}")
+        print("  R^2: " + ", ".join(f"{Path(k).name if k != 'overall' else k} {v:.5f}"
+                                    for k, v in out["r2"].items()))
+        for mode, (low, high) in out["stable_range"].items():
+            print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
+        for note in out["notes"]:
+            print(f"  note: {note}")
     return out
-
-
-def _write_material(path: Path, material: dict) -> None:
-    from ..fileio import write_atomic
-    write_atomic(path, json.dumps(material, indent=2) + "\n")
-
-
-def _fit_prony(args: argparse.Namespace, tests) -> dict[str, Any]:
-    from ..material import viscoelastic
-
-    if len(tests) != 1:
-        raise InputError(f"--model prony: give one relaxation, creep or dma test, got "
-                         f"{len(tests)}")
-    test = tests[0]
-    c = test.columns
-    if test.mode != "dma" and (args.shift is not None or args.reference_temperature_c is not None):
-        raise InputError(f"--shift / --reference-temperature-c: only for a dma test, {test.path} "
-                         f"is {test.mode}")
-    # a modulus (compliance) column was normalised by its first value: the ratio is to the
-    # value at the first time, which is the instantaneous one only when that time is 0
-    normalised = "relaxation_modulus_pa" in c or "creep_compliance_per_pa" in c
-    reference = float(c["time_s"][0]) if normalised and test.mode != "dma" else 0.0
-    try:
-        if test.mode == "relaxation":
-            fit = viscoelastic.fit_relaxation(c["time_s"], c["relaxation_modulus_ratio"],
-                                              args.terms, seed=args.seed,
-                                              reference_time_s=reference)
-        elif test.mode == "creep":
-            fit = viscoelastic.fit_creep(c["time_s"], c["creep_compliance_ratio"], args.terms,
-                                         seed=args.seed, reference_time_s=reference)
-        else:
-            fit = viscoelastic.fit_dma(c["frequency_hz"], c["storage_modulus_pa"],
-                                       c["loss_modulus_pa"], args.terms,
-                                       temperature_c=c.get("temperature_c"),
-                                       shift=args.shift or "wlf",
-                                       reference_c=args.reference_temperature_c, seed=args.seed)
-    except InputError as error:  # the fit's messages name the column: add the file
-        raise InputError(f"{test.path}: {error}") from None
-    result = fit.to_dict()
-    # k_i = 0 by default: a shear (or tension) relaxation test says nothing about the bulk
-    prony = [{**term, "k": term["g"] if args.bulk_relaxation else 0.0}
-             for term in result["terms"]]
-    out: dict[str, Any] = {**result, "prony": prony, "model": "prony",
-                           "bulk_relaxation": bool(args.bulk_relaxation)}
-    if args.merge is not None:
-        out["material"] = viscoelastic.merge_prony(_read_material(args.merge), prony,
-                                                   bulk=args.bulk_relaxation,
-                                                   where=str(args.merge))
-    if args.out is not None:
-        _write_material(args.out, out["material"])
-        out["out"] = str(args.out)
-    if not args.json:
-        print(f"Prony series ({len(prony)} terms) fitted to {test.path} ({test.mode}), "
-              f"R^2 = {fit.r2:.5f}")
-        for term in prony:
-            print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
-    return out
-
-
-def _print_fit(out: dict[str, Any], tests) -> None:
-    print(f"{out['model']} fitted to {len(tests)} test(s), error {out['error']}")
-    errors = out["standard_errors"]
-    for key, value in out["constants"].items():
-        print(f"  {key:<18} {value:>14.6g}  +/- {errors.get(key, 0.0):.3g}")
-    print("  R^2: " + ", ".join(f"{Path(k).name if k != 'overall' else k} {v:.5f}"
-                                for k, v in out["r2"].items()))
-    for mode, (low, high) in out["stable_range"].items():
-        print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
-    for note in out["notes"]:
-        print(f"  note: {note}")
 
 
 # ---- ball ---------------------------------------------------------------------------------------
@@ -282,69 +209,23 @@ def _numbers(text: str | None, flag: str, auto: bool = False) -> list | None:
     return values
 
 
-def _prony_terms(text: str, names: list[str]) -> tuple[str, list[dict]]:
-    """`[LAYER=]FILE` of --prony -> (layer name, terms)."""
-    layer, sep, file = text.rpartition("=")
-    if not sep:
-        if len(names) != 1:
-            raise InputError(f"--prony {text}: {len(names)} layers; name the layer as LAYER=FILE "
-                             f"(layers: {', '.join(names)})")
-        layer = names[0]
-    elif layer not in names:
-        raise InputError(f"--prony {text}: no layer {layer!r}; layers: {', '.join(names)}")
-    path = Path(file)
-    data = _read_json(path, "--prony ")
-    if isinstance(data, dict) and not isinstance(data.get("prony"), list) and isinstance(
-            data.get("material"), dict):
-        data = data["material"]
-    terms = data.get("prony") if isinstance(data, dict) else None
-    if not isinstance(terms, list) or not terms:
-        raise InputError(f"--prony {path}: no 'prony' list (give the JSON `material fit --model "
-                         "prony --json` prints, or a material with Prony terms)")
-    return layer, terms
-
-
 def _ball(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import load_ball
-    from ..fe.materials import material_from_dict
-    from ..fileio import write_atomic
-    from ..material.ball_file import ball_from_materials
+    from ..material.ball_file import write_ball
 
     check_output_folder(args.out, "--out")
-    if args.out.suffix.lower() != ".json":
-        raise InputError(f"--out {args.out}: a ball file ends in .json")
-    check_distinct_files(list(args.materials), "MATERIAL_JSON")
-    materials = [_read_material(path) for path in args.materials]
-    names = ([n.strip() for n in args.layer_names.split(",")] if args.layer_names is not None
-             else [path.stem for path in args.materials])
-    if len(set(names)) != len(names) and args.layer_names is None:
-        raise InputError(f"MATERIAL_JSON: two files named {names[0]!r}; give --layer-names")
-    for text in args.prony:
-        layer, terms = _prony_terms(text, names)
-        i = names.index(layer)
-        merged = {**materials[i], "prony": [
-            {key: term.get(key) for key in ("g", "k", "tau_s") if key in term} for term in terms]}
-        material_from_dict(merged, f"--prony {text}")
-        materials[i] = merged
-    name = args.name or args.out.stem
-    spec = ball_from_materials(
-        materials, args.diameter_m, mass_kg=args.mass_kg,
+    prony = []
+    for text in args.prony:  # [LAYER=]FILE
+        layer, sep, file = text.rpartition("=")
+        prony.append((layer if sep else None, file))
+    out = write_ball(
+        args.out, args.materials, args.diameter_m, mass_kg=args.mass_kg,
         layer_radii_m=_numbers(args.layer_radii_m, "--layer-radii-m"),
         densities_kg_m3=_numbers(args.densities_kg_m3, "--densities-kg-m3", auto=True),
-        names=names, name=name,
-        source="ballimpact material ball " + " ".join(path.name for path in args.materials))
-    write_atomic(args.out, json.dumps(spec, indent=2) + "\n")
-    ball = load_ball(spec)
-    out: dict[str, Any] = {"name": ball.name, "out": str(args.out),
-                           "diameter_m": 2 * ball.outer_radius_m, "mass_kg": ball.mass_kg,
-                           "layers": [{"name": layer.name, "outer_radius_m": layer.outer_radius_m,
-                                       "density_kg_m3": layer.density_kg_m3,
-                                       "mass_kg": mass, "model": layer.material.model,
-                                       "prony_terms": len(layer.material.prony)}
-                                      for layer, mass in zip(ball.layers, ball.layer_masses_kg)]}
+        layer_names=None if args.layer_names is None else [
+            n.strip() for n in args.layer_names.split(",")], prony=prony, name=args.name)
     if not args.json:
-        print(f"wrote {args.out}: {ball.name}, {len(ball.layers)} layer(s), diameter "
-              f"{2 * ball.outer_radius_m:g} m, mass {ball.mass_kg:.5g} kg")
+        print(f"wrote {args.out}: {out['name']}, {len(out['layers'])} layer(s), diameter "
+              f"{out['diameter_m']:g} m, mass {out['mass_kg']:.5g} kg")
         for e in out["layers"]:
             print(f"  {e['name']:<10} to r = {e['outer_radius_m']:g} m, {e['density_kg_m3']:.5g} "
                   f"kg/m^3, {e['mass_kg']:.4g} kg, {e['model']}"
@@ -353,68 +234,12 @@ def _ball(args: argparse.Namespace) -> dict[str, Any]:
 
 
 # ---- check --------------------------------------------------------------------------------------
-def _read_json(path: Path, flag: str = "") -> Any:
-    """The JSON in `path`; `InputError` starting with `flag` and the path when it cannot be
-    read or is not JSON."""
-    try:
-        return json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"{flag}{path}: cannot read ({error})") from None
-    except json.JSONDecodeError as error:
-        raise InputError(f"{flag}{path}: not JSON ({error.msg}, line {error.lineno})") from None
-
-
-def _read_material(path: Path) -> dict:
-    data = _read_json(path)
-    if isinstance(data, dict) and isinstance(data.get("material"), dict):
-        data = data["material"]  # the JSON `material fit --json` prints
-    if not isinstance(data, dict):
-        raise InputError(f"{path}: expected a material object ({{\"model\": ...}})")
-    return data
-
-
 def _check(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe.materials import material_from_dict
-    from ..material.stability import stable_ranges
+    from ..material.stability import stability_report
 
-    if args.speed_m_s is not None and args.ball is None:
-        raise InputError("--speed-m-s: only with --ball (a material alone is not run)")
-    if args.speed_m_s is not None and not args.speed_m_s > 0:
-        raise InputError(f"--speed-m-s {args.speed_m_s:g}: need an impact speed in m/s > 0")
-    if args.material is not None:
-        material = material_from_dict(_read_material(args.material), str(args.material))
-        layers = [("material", material)]
-        name = str(args.material)
-    else:
-        from ..fe import load_ball
-        ball = load_ball(args.ball, impact_speed_m_s=args.speed_m_s)
-        layers = [(layer.name, layer.material) for layer in ball.layers]
-        name = ball.name
-    out: dict[str, Any] = {"name": name, "layers": []}
-    stretch = None
-    if args.speed_m_s is not None:
-        from ..fe import simulate
-        result = simulate(ball, args.speed_m_s)
-        stretch = result.stretch_range
-        out["speed_m_s"] = args.speed_m_s
-        out["stretch_range"] = list(stretch)
-    for layer_name, material in layers:
-        ranges = stable_ranges(material)
-        entry: dict[str, Any] = {"name": layer_name, "model": material.model,
-                                 "checked": bool(ranges),
-                                 "stable_range": {m: list(r) for m, r in ranges.items()}}
-        if stretch is not None and ranges:
-            entry["inside"] = {m: bool(lo <= stretch[0] and stretch[1] <= hi)
-                               for m, (lo, hi) in ranges.items()}
-        out["layers"].append(entry)
-    if stretch is not None:
-        out["stable_at_speed"] = all(all(e.get("inside", {}).values()) for e in out["layers"])
-    if not args.json:
-        _print_check(out)
-    return out
-
-
-def _print_check(out: dict[str, Any]) -> None:
+    out = stability_report(ball=args.ball, material_file=args.material, speed_m_s=args.speed_m_s)
+    if args.json:
+        return out
     print(f"{out['name']}: Drucker-stable stretch ranges")
     for e in out["layers"]:
         if not e["checked"]:
@@ -427,3 +252,4 @@ def _print_check(out: dict[str, Any]) -> None:
     if "stretch_range" in out:
         lo, hi = out["stretch_range"]
         print(f"  run at {out['speed_m_s']:g} m/s reaches stretches {lo:.4g} to {hi:.4g}")
+    return out

@@ -6,16 +6,11 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..errors import CheckFailed, InputError
-from ..verdict import add_tolerance_flags, tolerances_from
+from ..errors import InputError
 from ..fileio import check_distinct_files
-from .common import (
-    add_filtering,
-    add_record_options,
-    load,
-    process_record,
-    use_compilation_cache,
-)
+from ..verdict import add_tolerance_flags, tolerances_from
+from .common import (add_filtering, add_record_options, load, process_record,
+                     use_compilation_cache)
 
 DEFAULT_MODELS = "single_element,three_element,universal"
 
@@ -53,7 +48,8 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..report import build_report, builtin_files, parse_models
-    from ..report.inputs import builtin_ball, label_tests
+    from ..report.build import raise_if_unmatched
+    from ..report.inputs import builtin_ball, builtin_note, check_test_record, label_tests
     from ..report.models import check_balls
 
     tolerances = tolerances_from(args)
@@ -65,15 +61,21 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError(f"--out: {args.out} is a file, not a folder")
     if args.seed < 0:
         raise InputError(f"--seed: must be an integer >= 0, got {args.seed}")
-    _check_files(args)
-    ball = builtin_ball(args.builtin) if args.builtin else None
+    check_distinct_files(args.files, "TEST")  # each once, and each with its own speed
+    for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
+                        ("--rebound-speed-m-s", args.rebound_speed_m_s)):
+        if value is not None and len(args.files) > 1:
+            raise InputError(f"{flag}: one speed for {len(args.files)} test files; each test "
+                             "has its own: give it in the file's side file (FILE.json with "
+                             "impact_speed_m_s and rebound_speed_m_s)")
+    # the generating ball of a built-in set joins the default models
+    ball = builtin_ball(args.builtin) if args.builtin and args.models is None else None
     # an empty --models is a mistake, not a request for the default
-    names = DEFAULT_MODELS if args.models is None else args.models
-    if args.models is None and ball is not None:
-        names += f",{ball}"
-    models = parse_models(names)
+    models = parse_models(args.models if args.models is not None
+                          else DEFAULT_MODELS + (f",{ball}" if ball is not None else ""))
     files = builtin_files(args.builtin) if args.builtin else args.files
-    processed = [process_record(_loaded(path, args, len(files)), args) for path in files]
+    processed = [process_record(check_test_record(load(path, args), path, len(files)), args)
+                 for path in files]
     tests = label_tests([str(f) for f in files], processed)
     check_balls(models, tests[len(tests) // 2].speed_m_s, args.allow)
     universal = None
@@ -82,57 +84,14 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
         universal = load_model(args.universal_model)
     use_compilation_cache()
-    note = ""
-    if args.builtin:
-        note = (f"SYNTHETIC tests (the built-in set '{args.builtin}', see docs/report.md), not "
-                "measurements.")
-        if ball is not None and args.models is None:
-            note += (f" The model 'FE {ball.stem}' is the ball that generated them, run on the "
-                     "default mesh (the tests used one twice as fine): its errors are the "
-                     "floor set by the noise and the mesh.")
+    note = builtin_note(args.builtin, ball) if args.builtin else ""
     result = build_report(tests, models, args.out, seed=args.seed, universal_model=universal,
                           note=note, progress=not args.quiet, allow=args.allow,
                           tolerances=tolerances)
     if not args.json:
         _print(result)
-    if result["unmatched_tests"]:
-        raise CheckFailed(f"no model passes its check on {len(result['unmatched_tests'])} of "
-                          f"{len(tests)} tests ({', '.join(result['unmatched_tests'])}): "
-                          + "; ".join(_best_miss(result, t) for t in result["unmatched_tests"])
-                          + f"; see {result['report_html']}", result)
+    raise_if_unmatched(result)
     return result
-
-
-def _best_miss(result: dict[str, Any], test: str) -> str:
-    """The model of the smallest force NRMSE at `test` and what it missed."""
-    runs = [r for r in result["runs"] if r["test"] == test]
-    best = min(runs, key=lambda r: r["comparison"]["force_nrmse"])
-    return f"{test}: best {best['model']} missed {', '.join(best['check']['missed'])}"
-
-
-def _check_files(args: argparse.Namespace) -> None:
-    """Test files: each once, and each with its own speed (a report compares speeds)."""
-    check_distinct_files(args.files, "TEST")
-    for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
-                        ("--rebound-speed-m-s", args.rebound_speed_m_s)):
-        if value is not None and len(args.files) > 1:
-            raise InputError(f"{flag}: one speed for {len(args.files)} test files; each test "
-                             "has its own: give it in the file's side file (FILE.json with "
-                             "impact_speed_m_s and rebound_speed_m_s)")
-
-
-def _loaded(path: Path, args: argparse.Namespace, count: int):
-    """The record of a test, which must carry its impact speed and the ball mass."""
-    record = load(path, args)
-    missing = [name for name, value in (("impact_speed_m_s", record.impact_speed_m_s),
-                                        ("mass_kg", record.mass_kg)) if value is None]
-    if missing:
-        flags = " or --" + " and --".join(m.replace("_", "-") for m in missing)
-        raise InputError(
-            f"{path}: no {' and no '.join(missing)}; a report compares tests at their speeds: "
-            f"give them in the side file {path.with_suffix('.json').name} (e.g. {{\"mass_kg\": "
-            f"0.16, \"impact_speed_m_s\": 25}}){flags if count == 1 else ''}")
-    return record
 
 
 def _print(result: dict[str, Any]) -> None:

@@ -5,14 +5,13 @@ a ball model (`--ball`: the quantities and the model's cost). docs/standards.md.
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import write_table
 from ..plausibility import check_allow
-from ..standards import METHODS, describe_methods, from_records, get_method, on_model
+from ..standards import (METHODS, describe_methods, from_records, get_method, on_model,
+                         stats_text, write_result_table)
 from .common import add_filtering, check_output_folder, use_compilation_cache
 from .simulate import SolverDefaults
 
@@ -86,15 +85,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if args.ball_id_pattern is not None:
             raise InputError("--ball-id-pattern: names the balls of records; leave it out with "
                              "--ball")
-        from ..fe import SolverOptions
-
         use_compilation_cache()
-        options = None if args.element_size_m is None else SolverOptions(
-            element_size_m=args.element_size_m)
         result = on_model(method, args.ball, nominal=args.impact_speed_m_s, allow=allow,
-                          options=options)
-        if not args.json:
-            print_model(result)
+                          element_size_m=args.element_size_m)
     else:
         options = {"filter": args.filter, "window_s": args.filter_window_s,
                    "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
@@ -102,35 +95,25 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         result = from_records(method, args.paths, mass_kg=args.mass_kg,
                               ball_of=args.ball_id_pattern, nominal=args.impact_speed_m_s,
                               process_options=options)
-        if not args.json:
-            print_records(result)
+    if not args.json:
+        (print_model if args.ball is not None else print_records)(result)
     if args.table is not None:
-        result["table"] = write_table(args.table, *table_rows(result), ".12g")
+        result["table"] = write_result_table(args.table, result)
     return result
-
-
-def _value(number: float, unit: str) -> str:
-    return f"{number:.5g}" + (f" {unit}" if unit else "")
-
-
-def _stats(stats: dict[str, float], unit: str) -> str:
-    sd = "n/a" if math.isnan(stats["sd"]) else f"{stats['sd']:.3g}"
-    return f"{stats['mean']:.5g} +- {sd}" + (f" {unit}" if unit else "")
 
 
 def print_records(result: dict[str, Any]) -> None:
     """Per ball mean +- SD (n) of each quantity, then the line over the balls."""
-    quantities = result["quantities"]
-    print(f"{result['designation']} {result['method']}: {result['overall']['shots']} records, "
-          f"{result['overall']['balls']} balls" + (f" ({result['nominal_speed_note']})"
-                                                   if "nominal_speed_note" in result else ""))
+    quantities, overall = result["quantities"], result["overall"]
+    print(f"{result['designation']} {result['method']}: {overall['shots']} records, "
+          f"{overall['balls']} balls" + (f" ({result['nominal_speed_note']})"
+                                         if "nominal_speed_note" in result else ""))
     for entry in result["balls"]:
-        parts = [_stats(entry[key], unit) for key, unit in quantities.items()]
+        parts = [stats_text(entry[key], unit) for key, unit in quantities.items()]
         if "impact_speed_m_s" in entry:
-            parts.append(f"inbound {_stats(entry['impact_speed_m_s'], 'm/s')}")
+            parts.append(f"inbound {stats_text(entry['impact_speed_m_s'], 'm/s')}")
         print(f"  {entry['ball']:<16} " + "; ".join(parts) + f" (n={entry['count']})")
-    overall = result["overall"]
-    parts = [_stats(overall[key], unit) for key, unit in quantities.items()]
+    parts = [stats_text(overall[key], unit) for key, unit in quantities.items()]
     print(f"  {'all balls':<16} " + "; ".join(parts)
           + f" (mean and SD of {overall['balls']} ball means)")
 
@@ -138,7 +121,8 @@ def print_records(result: dict[str, Any]) -> None:
 def print_model(result: dict[str, Any]) -> None:
     """The method's quantities on the model, then its cost."""
     values, cost = result["result"], result["cost"]
-    parts = [_value(values[key], unit) for key, unit in result["quantities"].items()]
+    parts = [f"{values[key]:.5g}" + (f" {unit}" if unit else "")
+             for key, unit in result["quantities"].items()]
     where = (f"at {values['impact_speed_m_s']:.4g} m/s" if "impact_speed_m_s" in values
              else f"at {values['deflection_m'] * 1e3:.3g} mm")
     print(f"{result['designation']} {result['method']} of {result['ball']} (model) {where}: "
@@ -148,30 +132,3 @@ def print_model(result: dict[str, Any]) -> None:
                   "iterations")
     print(f"  cost: {cost['wall_time_s']:.2f} s wall, {steps}, {cost['elements']} elements "
           f"({cost['element_size_m']:g} m)")
-
-
-def table_rows(result: dict[str, Any]) -> tuple[list[str], list[list[Any]]]:
-    """The --table's (columns, rows) (written with 12 significant digits): `kind`
-    shot|ball|all, ball, file, count, then each quantity (value or mean) and its SD (`_sd`);
-    impact methods add the inbound speed."""
-    keys = list(result["quantities"])
-    if result["kind"] == "impact":
-        keys.append("impact_speed_m_s")
-    header = ["kind", "ball", "file", "count"] + [c for k in keys for c in (k, f"{k}_sd")]
-
-    def cells(values: dict[str, Any]) -> list[Any]:
-        out = []
-        for key in keys:
-            value = values.get(key)
-            out += [value["mean"], value["sd"]] if isinstance(value, dict) else [value, None]
-        return out
-
-    if result["source"] == "model":
-        rows = [["model", result["ball"], "", 1] + cells(result["result"])]
-    else:
-        rows = [["shot", shot["ball"], shot["file"], 1] + cells(shot) for shot in result["shots"]]
-        rows += [["ball", entry["ball"], "", entry["count"]] + cells(entry)
-                 for entry in result["balls"]]
-        overall = result["overall"]
-        rows.append(["all", "", "", overall["balls"]] + cells(overall))
-    return header, rows

@@ -11,13 +11,10 @@ from typing import Any
 
 from ..checks import check_fraction
 from ..errors import InputError
-from .common import (
-    add_allow,
-    assignments,
-    check_output_folder,
-    check_plot_path,
-    use_compilation_cache,
-)
+from ..filters import check_filter_name
+from ..progress import progress_bar
+from .common import (add_allow, assignments, check_output_folder, check_plot_path,
+                     use_compilation_cache)
 
 
 def add_parser(verbs) -> None:
@@ -109,8 +106,7 @@ def _at_least(value: int | None, flag: str, low: int, what: str) -> None:
 
 
 def _run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..progress import progress_bar
-    from ..universal.study import make_config, run_study
+    from ..universal.steps import design_config, run_design
 
     # --workers and --extend: checked by `run_study`, before anything is written
     for flag, value, low, what in (("--runs", args.runs, 1, "the number of runs"),
@@ -125,47 +121,29 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError(f"--extend {args.extend} and --runs {args.runs}: give one (--runs sets "
                          "a new study's size, --extend adds runs to the study in DIR)")
     use_compilation_cache()
-    settings = dict(runs=args.runs, seed=args.seed, method=args.method,
-                    batch_size=args.batch_size, group_size=args.group_size,
-                    element_size_m=args.element_size_m,
-                    precision=args.precision)
-    given = {k: v for k, v in settings.items() if v is not None}
-    ranges = assignments(args.range, "--range", bounds=True)
-    stored = args.resume or args.extend is not None
-    config = None
-    if not stored or given or ranges or args.template or args.allow:
-        config = make_config(template=args.template or "cricket-universal", ranges=ranges,
-                             allow=args.allow, **settings)
-        if stored:  # compare only what was given on the command line
-            config = {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
-                                             *(["template"] if args.template else []),
-                                             *(["allow"] if args.allow else []))}
+    config = design_config(template=args.template, ranges=assignments(args.range, "--range",
+                                                                      bounds=True),
+                           allow=args.allow, stored=args.resume or args.extend is not None,
+                           runs=args.runs, seed=args.seed, method=args.method,
+                           batch_size=args.batch_size, group_size=args.group_size,
+                           element_size_m=args.element_size_m, precision=args.precision)
     # Ctrl-C from here on: the command line ends with exit 130 and this line (finished batches
     # are on disk, each written atomically)
     args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
-    summary = run_study(args.dir, config, resume=args.resume, extend=args.extend,
-                        workers=args.workers, scheduler=args.scheduler, progress=progress_bar)
-    from ..universal.dataset import load_dataset
-
-    columns, _ = load_dataset(args.dir)
-    failed = [(int(i), r) for i, s, r in zip(columns["run_id"], columns["status"],
-                                               columns["reason"]) if s != "ok"]
-    summary["failed_runs"] = len(failed)
-    summary["failures"] = [{"run_id": i, "reason": r} for i, r in failed[:20]]
-    summary["runs_per_s"] = summary["new_runs"] / summary["wall_time_s"] \
-        if summary["wall_time_s"] > 0 else None
+    summary = run_design(args.dir, config, resume=args.resume, extend=args.extend,
+                         workers=args.workers, scheduler=args.scheduler, progress=progress_bar)
     if not args.json:
         print(f"{args.dir}: {summary['finished_runs']}/{summary['runs']} runs finished "
               f"({summary['new_runs']} now, {summary['wall_time_s']:.1f} s), "
-              f"{len(failed)} failed")
-        for i, reason in failed[:20]:
-            print(f"  run {i}: {reason}")
+              f"{summary['failed_runs']} failed")
+        for failure in summary["failures"]:
+            print(f"  run {failure['run_id']}: {failure['reason']}")
     return summary
 
 
 def _train(args: argparse.Namespace) -> dict[str, Any]:
+    from ..universal.steps import train_model
     from ..universal.study import load_config
-    from ..universal.training import train
 
     check_output_folder(args.out, "--out")
     if args.out.is_dir():
@@ -179,23 +157,17 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
         _at_least(value, flag, low, what)
     load_config(args.dir)  # a missing or damaged study: said before JAX starts
     use_compilation_cache()
-    model, report = train(args.dir, seed=args.seed, steps=args.steps, width=args.width,
-                          members=args.members, noise_augment=args.noise_augment,
-                          force=args.force)
-    npz, meta = model.save(args.out)
-    out = {"model_json": str(meta), "model_npz": str(npz), "held_out": report,
-           "held_out_check": model.metadata["held_out_check"], "runs": model.metadata["runs"],
-           "wall_time_s": model.metadata["training"]["wall_time_s"]}
+    out = train_model(args.dir, args.out, seed=args.seed, steps=args.steps, width=args.width,
+                      members=args.members, noise_augment=args.noise_augment, force=args.force)
     if not args.json:
-        print(f"model written to {meta} and {npz} "
-              f"({model.metadata['training']['wall_time_s']:.1f} s)")
-        _print_report(model.metadata)
+        print(f"model written to {out['model_json']} and {out['model_npz']} "
+              f"({out['wall_time_s']:.1f} s)")
+        _print_report(out)
     return out
 
 
 def _report(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.identify import warn_failed_model
-    from ..universal.model import load_model
+    from ..universal.steps import held_out
 
     check_plot_path(args.plot)
     loop_only = [flag for flag, value in (("--runs", args.runs), ("--noise", args.noise),
@@ -208,25 +180,13 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
     _check_noise_fraction(noise, "--noise")
     _at_least(args.runs, "--runs", 1, "closed-loop runs")
     if args.filter is not None:
-        from ..filters import check_filter_name
-
         check_filter_name(args.filter, "--filter")
     started = time.perf_counter()
-    model = load_model(args.model)
-    config = None
-    if args.closed_loop is not None:  # a wrong study is said before anything is printed
-        from ..universal.evaluate import check_study_matches
-        from ..universal.study import load_config
-
-        config = load_config(args.closed_loop, "--closed-loop")
-        check_study_matches(model, config, args.closed_loop)
-    warn_failed_model(model)
-    out = {"model": args.model or "built-in", "held_out": model.metadata["held_out"],
-           "held_out_check": model.metadata.get("held_out_check"), "runs": model.metadata["runs"],
-           "study": model.metadata["study"]}
+    # a wrong study is said before anything is printed
+    model, out = held_out(args.model, args.closed_loop)
     if not args.json:
-        _print_report(model.metadata)
-    if config is not None:
+        _print_report(out)
+    if args.closed_loop is not None:
         from ..universal.evaluate import closed_loop
 
         use_compilation_cache()
@@ -253,6 +213,7 @@ def _report(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _print_report(metadata: dict) -> None:
+    """The held-out figures of a model (its metadata, or `steps.held_out`'s dict)."""
     report = metadata["held_out"]
     print(f"held-out runs: {report['runs']} (never used in training or early stopping)")
     print(f"{'parameter':<10}{'median err':>12}{'p90 err':>10}{'R^2':>8}{'90% cover':>11}"

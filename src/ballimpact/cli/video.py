@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
 from pathlib import Path
 from typing import Any
 
@@ -43,23 +41,8 @@ def add_parser(verbs) -> None:
     video.add_argument("--json", action="store_true", help="print one JSON object")
 
 
-def check_mass(mass_kg: float) -> None:
-    """`InputError` for a --mass-kg no ball has: not a finite number > 0, or outside the masses
-    of `plausibility.BALL_RANGES` (grams typed as kg, most likely)."""
-    from ..plausibility import BALL_RANGES
-
-    if not (math.isfinite(mass_kg) and mass_kg > 0):
-        raise InputError(f"--mass-kg = {mass_kg:g}: must be a finite number > 0 (kg)")
-    low, high, _ = BALL_RANGES["mass"]
-    if not low <= mass_kg <= high:
-        slip = (f"looks like grams; use {mass_kg / 1e3:g}" if mass_kg > high
-                else "check the unit (kg)")
-        raise InputError(f"--mass-kg {mass_kg:g} kg is outside {low:g}..{high:g} kg, the masses "
-                         f"of balls: {slip}")
-
-
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..video import analyse, side_file
+    from ..video import analyse, check_mass, write_side_file
 
     check_plot_path(args.plot)
     if args.side_file is not None:
@@ -72,16 +55,14 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         check_mass(args.mass_kg)
     if args.fps is not None and not args.fps > 0:
         raise InputError(f"--fps = {args.fps!r}: must be > 0")
-    options = dict(scale_m_per_px=args.scale_m_per_px, ball_diameter_m=args.ball_diameter_m,
-                   surface_row=args.surface_row, gravity_m_s2=args.gravity_m_s2)
     # analyse checks the options before it reads or tracks anything
-    m, detections = analyse(args.file, args.fps, **options,
-                            log=progress_line)
+    m, detections = analyse(args.file, args.fps, scale_m_per_px=args.scale_m_per_px,
+                            ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
+                            gravity_m_s2=args.gravity_m_s2, log=progress_line)
     out = dict(m.summary)
     if args.side_file is not None:
-        side = side_file(out, args.mass_kg, source=f"ballimpact video {args.file.name}")
-        args.side_file.write_text(json.dumps(side, indent=2) + "\n")
-        out["side_file"] = str(args.side_file)
+        out["side_file"] = write_side_file(args.side_file, m.summary, args.mass_kg,
+                                           source=f"ballimpact video {args.file.name}")
     if args.plot is not None:
         from ..video.plots import plot_measurement
 

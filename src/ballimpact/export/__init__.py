@@ -19,7 +19,7 @@ from ..fe.progress import RunEstimate
 from ..plausibility import check_allow
 from . import abaqus, lsdyna, vtk
 from .geometry import SOLVERS, BallGeometry, ball_geometry, estimate_elements
-from .importer import read_ball, read_materials
+from .importer import read_abaqus_file, read_ball, read_materials
 from .materials import ExportError
 from .setup import ImpactSetup
 from .units import MM_TONNE_S, SI, UNIT_SYSTEMS, UnitSystem, unit_system
@@ -154,4 +154,5 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
 
 __all__ = ["DEFAULT_UNITS", "FORMATS", "MM_TONNE_S", "SI", "SOLVERS", "UNIT_SYSTEMS",
            "BallGeometry", "Export", "ExportError", "ImpactSetup", "UnitSystem", "ball_geometry",
-           "check_export_memory", "check_output", "export_ball", "read_ball", "read_materials"]
+           "check_export_memory", "check_output", "export_ball", "read_abaqus_file", "read_ball",
+           "read_materials"]

@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import re
 import warnings
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError, InputWarning
+from ..fe.ball import load_ball
 from ..fe.materials import material_from_dict
+from ..plausibility import check_allow, check_material_values
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
 _UNITS_LINE = re.compile(r"^\*\*\s*units\s+(\S+):", re.IGNORECASE | re.MULTILINE)
@@ -267,3 +270,31 @@ def read_ball(text: str, units: str | None = None, name: str = "imported") -> di
     layers.sort(key=lambda layer: layer["outer_radius_m"])
     match = _BALL_LINE.search(text)
     return {"name": match.group(1).strip() if match else name, "layers": layers}
+
+
+def read_abaqus_file(path, units: str | None = None, *, ball: bool = False,
+                     allow=()) -> dict[str, Any]:
+    """An ABAQUS input file read into our form (SI): {"materials": [...]} (`read_materials`,
+    each material checked as a ball file's would be: `plausibility.check_material_values`),
+    or with `ball` {"ball": specification} of a deck written by `ballimpact export`
+    (`read_ball`, named after the file, checked as any ball file: `fe.load_ball`). Errors
+    (`InputError`) start with the file's name."""
+    path, allow = Path(path), check_allow(allow)
+    if path.is_dir():
+        raise InputError(f"{path}: a folder, not an ABAQUS input file (.inp)")
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as error:
+        raise InputError(f"{path}: cannot read ({error.strerror or error})") from None
+    try:
+        if ball:
+            spec = read_ball(text, units, name=path.stem)
+            load_ball(spec, allow=allow)  # the same checks as any ball file
+            return {"ball": spec}
+        materials = read_materials(text, units)
+        for m in materials:
+            material = material_from_dict(m["material"], where=f"material {m['name']!r}")
+            check_material_values(m["name"], m["density_kg_m3"], material, allow)
+        return {"materials": materials}
+    except InputError as error:
+        raise InputError(f"{path}: {error}") from None

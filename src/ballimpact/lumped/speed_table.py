@@ -14,6 +14,7 @@ import numpy as np
 
 from ..checks import check_positive, shown
 from ..errors import InputError
+from ..fileio import table_text
 from ..pipeline import ProcessedImpact
 from ..records import ImpactRecord
 from .fit import FitResult, fit
@@ -94,23 +95,13 @@ class SpeedTable:
 
     def to_csv(self) -> str:
         """One row per test: impact_speed_m_s, the parameters (units in the header), then the
-        row's label if the table has labels."""
+        row's label if the table has labels (`fileio.table_text`)."""
         names = list(self.params)
         units = self.units
-        header = ["impact_speed_m_s"] + [f"{n} [{units.get(n, '')}]" for n in names]
-        rows = [",".join(header + (["label"] if self.labels else []))]
-        for i, speed in enumerate(self.speeds_m_s):
-            label = [_csv_text(self.labels[i])] if self.labels else []
-            rows.append(",".join([f"{speed:g}"] + [f"{self.params[n][i]:.10g}" for n in names]
-                                 + label))
-        return "\n".join(rows) + "\n"
-
-
-def _csv_text(text: str) -> str:
-    """A CSV field: quoted when it holds a comma, a quote or a line break."""
-    if any(c in text for c in ',"\r\n'):
-        return '"' + text.replace('"', '""') + '"'
-    return text
+        header = ["impact_speed_m_s", *(f"{n} [{units.get(n, '')}]" for n in names)]
+        return table_text(header + (["label"] if self.labels else []),
+                          ([f"{speed:g}", *(self.params[n][i] for n in names),
+                            *self.labels[i:i + 1]] for i, speed in enumerate(self.speeds_m_s)))
 
 
 def fit_speed_table(

@@ -11,13 +11,17 @@ Errors are `InputError`s that name the argument and its command-line flag.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..checks import check_positive
+from ..fileio import check_distinct_files, write_atomic
 from ..plausibility import BALL_RANGES, ball_unit_slip, check_ball_diameter, check_ball_mass
+from .files import read_material, read_prony_terms
 
 #: largest relative difference between a given mass and the one the densities give
 MASS_TOLERANCE = 0.01
@@ -153,4 +157,66 @@ def ball_from_materials(materials: Sequence[dict], diameter_m: float, *,
     return spec
 
 
-__all__ = ["MASS_TOLERANCE", "ball_from_materials"]
+def _with_prony(materials: list[dict], names: list[str], layer: str | None,
+                file: str | Path) -> None:
+    """The Prony terms of `file` into the material of `layer` (None: the only layer), for
+    --prony [LAYER=]FILE."""
+    from ..fe.materials import material_from_dict
+
+    text = str(file) if layer is None else f"{layer}={file}"
+    if layer is None:
+        if len(names) != 1:
+            raise InputError(f"--prony {text}: {len(names)} layers; name the layer as LAYER=FILE "
+                             f"(layers: {', '.join(names)})")
+        layer = names[0]
+    elif layer not in names:
+        raise InputError(f"--prony {text}: no layer {layer!r}; layers: {', '.join(names)}")
+    terms = read_prony_terms(Path(file))
+    i = names.index(layer)
+    merged = {**materials[i], "prony": [
+        {key: term.get(key) for key in ("g", "k", "tau_s") if key in term} for term in terms]}
+    material_from_dict(merged, f"--prony {text}")
+    materials[i] = merged
+
+
+def write_ball(out: Path, material_files: Sequence[Path], diameter_m: float, *,
+               mass_kg: float | None = None, layer_radii_m: Sequence[float] | None = None,
+               densities_kg_m3: Sequence[float | None] | None = None,
+               layer_names: Sequence[str] | None = None,
+               prony: Sequence[tuple[str | None, str | Path]] = (),
+               name: str | None = None) -> dict[str, Any]:
+    """Write to `out` (.json) the ball file (`ball_from_materials`) of the material files
+    `material_files` (`material fit --out`, or its JSON), one per layer from the centre out,
+    named `layer_names` (default the files' stems); `prony`: (layer name or None for the only
+    layer, file) pairs whose Prony terms (`files.read_prony_terms`) go into that layer's
+    material; `name`: the ball's (default the file's stem). Returns the JSON of `material
+    ball`: the ball's name, diameter and mass, and each layer's radius, density, mass, model and
+    number of Prony terms."""
+    from ..fe import load_ball
+
+    out = Path(out)
+    if out.suffix.lower() != ".json":
+        raise InputError(f"--out {out}: a ball file ends in .json")
+    files = [Path(path) for path in material_files]
+    check_distinct_files(files, "MATERIAL_JSON")
+    materials = [read_material(path) for path in files]
+    names = list(layer_names) if layer_names is not None else [path.stem for path in files]
+    if len(set(names)) != len(names) and layer_names is None:
+        raise InputError(f"MATERIAL_JSON: two files named {names[0]!r}; give --layer-names")
+    for layer, file in prony:
+        _with_prony(materials, names, layer, file)
+    spec = ball_from_materials(
+        materials, diameter_m, mass_kg=mass_kg, layer_radii_m=layer_radii_m,
+        densities_kg_m3=densities_kg_m3, names=names, name=name or out.stem,
+        source="ballimpact material ball " + " ".join(path.name for path in files))
+    write_atomic(out, json.dumps(spec, indent=2) + "\n")
+    ball = load_ball(spec)
+    return {"name": ball.name, "out": str(out), "diameter_m": 2 * ball.outer_radius_m,
+            "mass_kg": ball.mass_kg,
+            "layers": [{"name": layer.name, "outer_radius_m": layer.outer_radius_m,
+                        "density_kg_m3": layer.density_kg_m3, "mass_kg": mass,
+                        "model": layer.material.model, "prony_terms": len(layer.material.prony)}
+                       for layer, mass in zip(ball.layers, ball.layer_masses_kg)]}
+
+
+__all__ = ["MASS_TOLERANCE", "ball_from_materials", "write_ball"]

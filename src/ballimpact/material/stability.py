@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..errors import InputError
 from ..fe.materials import Material
 from ..fe.materials.stability import MODES, checked, drucker_unstable, stable_range
 
@@ -33,4 +34,44 @@ def unstable_within(material: Material, ranges: dict[str, tuple[float, float]]
     return out
 
 
-__all__ = ["stable_ranges", "unstable_within"]
+def stability_report(*, ball=None, material_file=None, speed_m_s: float | None = None
+                     ) -> dict[str, Any]:
+    """The JSON of `material check`: each layer's stable range per mode (`stable_ranges`) of
+    `ball` (a preset, a ball file or specification) or of the material in `material_file`, and,
+    with `speed_m_s` (m/s, a ball only), the stretch range an FE run of the ball at that speed
+    reaches and whether it stays inside each mode's range."""
+    from ..fe import load_ball, simulate
+    from ..fe.materials import material_from_dict
+    from .files import read_material
+
+    if speed_m_s is not None and ball is None:
+        raise InputError("--speed-m-s: only with --ball (a material alone is not run)")
+    if speed_m_s is not None and not speed_m_s > 0:
+        raise InputError(f"--speed-m-s {speed_m_s:g}: need an impact speed in m/s > 0")
+    if material_file is not None:
+        material = material_from_dict(read_material(material_file), str(material_file))
+        layers, name = [("material", material)], str(material_file)
+    else:
+        loaded = load_ball(ball, impact_speed_m_s=speed_m_s)
+        layers, name = [(layer.name, layer.material) for layer in loaded.layers], loaded.name
+    out: dict[str, Any] = {"name": name, "layers": []}
+    stretch = None
+    if speed_m_s is not None:
+        stretch = simulate(loaded, speed_m_s).stretch_range
+        out["speed_m_s"] = speed_m_s
+        out["stretch_range"] = list(stretch)
+    for layer_name, material in layers:
+        ranges = stable_ranges(material)
+        entry: dict[str, Any] = {"name": layer_name, "model": material.model,
+                                 "checked": bool(ranges),
+                                 "stable_range": {m: list(r) for m, r in ranges.items()}}
+        if stretch is not None and ranges:
+            entry["inside"] = {m: bool(lo <= stretch[0] and stretch[1] <= hi)
+                               for m, (lo, hi) in ranges.items()}
+        out["layers"].append(entry)
+    if stretch is not None:
+        out["stable_at_speed"] = all(all(e.get("inside", {}).values()) for e in out["layers"])
+    return out
+
+
+__all__ = ["stability_report", "stable_ranges", "unstable_within"]

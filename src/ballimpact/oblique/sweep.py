@@ -16,6 +16,7 @@ import numpy as np
 from ..fe.engine import Hexahedral, simulate_batch
 from ..fe.estimates import hertz_contact_radius_m
 from ..fe.options import ImpactCondition
+from ..fe.runs import started
 from .elastic_reference import normalised_curves
 from .rigid_body import normalised_incidence, normalised_spin
 
@@ -131,18 +132,51 @@ class AngleSweep:
 
 def angle_sweep(ball, condition: ImpactCondition, angles_deg, *,
                 geometry: Hexahedral | None = None, target=None, progress=None,
-                allow=()) -> AngleSweep:
+                allow=(), start=None) -> AngleSweep:
     """`condition` (speed, friction, spins) at each of `angles_deg` (from the normal) in one
     vmapped run on `geometry` (default `fe.Hexahedral()`) and `target` (None: the rigid
-    plane); the checks and warnings are `fe.simulate_batch`'s."""
+    plane); the checks and warnings are `fe.simulate_batch`'s. With `start`, the batch's cost is
+    estimated before anything is meshed and `start(estimate)` gives the progress callback
+    (`fe.runs.started`)."""
     conditions = [replace(condition, angle_deg=float(a)) for a in sorted(angles_deg)]
-    started = time.perf_counter()
-    results = simulate_batch(ball, conditions, geometry=geometry or Hexahedral(), target=target,
+    geometry = geometry or Hexahedral()
+    if start is not None:
+        progress = started(start, ball, conditions, geometry, target=target, allow=allow)
+    began = time.perf_counter()
+    results = simulate_batch(ball, conditions, geometry=geometry, target=target,
                              progress=progress, allow=allow)
-    wall = time.perf_counter() - started
+    wall = time.perf_counter() - began
     rows = [run_row(r) for r in results]
     psi = [row["psi"] for row in rows if math.isfinite(row["psi"])]
     fastest = max(c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions)
     reference, note = gripping_reference(ball, target, conditions[0],
                                          max(psi, default=math.nan), fastest)
     return AngleSweep(results, rows, reference, note, ball_k2(ball), wall)
+
+
+def angle_sweep_summary(sweep: AngleSweep, ball) -> dict[str, Any]:
+    """An angle sweep's JSON object (SI): the ball's name, the speed, friction and spin the
+    runs share, the target, mesh, k^2, the batch's wall time, the rows ("runs"), the reference
+    and its note ("plot": None until one is written)."""
+    first = sweep.results[0]
+    c = first.condition
+    return {"ball": ball.name, "speed_m_s": c.speed_m_s, "friction": c.friction,
+            "spin_rad_s": c.spin_rad_s, "target": first.target, "elements": first.elements,
+            "half_model": first.half_model, "k2": sweep.k2, "wall_time_s": sweep.wall_time_s,
+            "runs": sweep.rows, "reference": sweep.reference,
+            "reference_note": sweep.reference_note, "plot": None}
+
+
+def plot_angle_sweep(sweep: AngleSweep, path, ball) -> str:
+    """The sweep's gripping plot (`plots.plot_gripping`: rebound spin and tangential COR in Maw
+    et al.'s normalised axes, the rigid-body lines and, where it applies, the elastic
+    reference), titled with the ball, speed, friction and target; returns the PNG's path."""
+    from .plots import plot_gripping
+
+    first, reference = sweep.results[0], sweep.reference
+    c = first.condition
+    plot_gripping(sweep.results, path, reference=reference["curves"] if reference else None,
+                  title=f"{ball.name}: angle sweep at {c.speed_m_s:g} m/s, mu {c.friction:g} "
+                        f"(3D FE, {first.target})",
+                  k2=sweep.k2, poissons_ratio=reference["poissons_ratio"] if reference else None)
+    return str(path)

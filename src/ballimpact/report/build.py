@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..errors import InputError, InputWarning, SimulationError
+from ..errors import CheckFailed, InputError, InputWarning, SimulationError
 from ..fileio import json_safe, write_atomic
 from ..progress import progress_bar
 from . import figures
@@ -113,6 +113,25 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
     }
     (out / "report.json").write_text(json.dumps(json_safe(result), indent=1))
     return result
+
+
+def best_miss(result: dict[str, Any], test: str) -> str:
+    """The model of the smallest force NRMSE at `test` (a label of `build_report`'s result) and
+    the criteria its check missed, in words."""
+    runs = [r for r in result["runs"] if r["test"] == test]
+    best = min(runs, key=lambda r: r["comparison"]["force_nrmse"])
+    return f"{test}: best {best['model']} missed {', '.join(best['check']['missed'])}"
+
+
+def raise_if_unmatched(result: dict[str, Any]) -> None:
+    """`CheckFailed` (exit 3, the report printed all the same) when no model passes its check
+    on some test of `build_report`'s result: how many, and per test the best model's misses."""
+    unmatched = result["unmatched_tests"]
+    if unmatched:
+        raise CheckFailed(f"no model passes its check on {len(unmatched)} of "
+                          f"{len(result['tests'])} tests ({', '.join(unmatched)}): "
+                          + "; ".join(best_miss(result, t) for t in unmatched)
+                          + f"; see {result['report_html']}", result)
 
 
 def _warn_not_identified(runs: list[ModelRun]) -> None:

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..pipeline import ProcessedImpact
+from ..records import ImpactRecord
 
 BUILTIN_SETS = ("sample", "speeds")
 
@@ -59,3 +60,30 @@ def label_tests(files: list[str], processed: list[ProcessedImpact]) -> list[Repo
     labels = [s if speeds.count(s) == 1 else f"{s} ({Path(f).name})" for s, f in zip(speeds, files)]
     tests = [ReportTest(label, file, p) for label, file, p in zip(labels, files, processed)]
     return sorted(tests, key=lambda t: (t.speed_m_s, t.label))
+
+
+def check_test_record(record: ImpactRecord, path: Path, count: int = 1) -> ImpactRecord:
+    """`record` (loaded from `path`, one of `count` tests), which must carry its impact speed
+    and the ball mass (a report compares tests at their speeds), else `InputError` naming the
+    side file to give them in (and, for a single test, the flags)."""
+    missing = [name for name, value in (("impact_speed_m_s", record.impact_speed_m_s),
+                                        ("mass_kg", record.mass_kg)) if value is None]
+    if missing:
+        flags = " or --" + " and --".join(m.replace("_", "-") for m in missing)
+        raise InputError(
+            f"{path}: no {' and no '.join(missing)}; a report compares tests at their speeds: "
+            f"give them in the side file {path.with_suffix('.json').name} (e.g. {{\"mass_kg\": "
+            f"0.16, \"impact_speed_m_s\": 25}}){flags if count == 1 else ''}")
+    return record
+
+
+def builtin_note(name: str, generating_ball: Path | None = None) -> str:
+    """The note at the top of a report on the built-in set `name`: its tests are synthetic;
+    with `generating_ball` (`builtin_ball`, among the models), that ball's errors are the floor
+    set by the noise and the mesh."""
+    note = f"SYNTHETIC tests (the built-in set '{name}', see docs/report.md), not measurements."
+    if generating_ball is not None:
+        note += (f" The model 'FE {generating_ball.stem}' is the ball that generated them, run "
+                 "on the default mesh (the tests used one twice as fine): its errors are the "
+                 "floor set by the noise and the mesh.")
+    return note

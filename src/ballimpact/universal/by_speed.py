@@ -1,19 +1,91 @@
 """Identifications of several tests of one ball grouped by impact speed (`identify` with more
 than one test): the scatter of repeats at one speed with the identification of their mean pulse,
-and a speed-table ball file of the identified parameters against speed."""
+and a speed-table ball file of the identified parameters against speed. `identify_tests` is the
+whole of the `identify` command's work on processed tests."""
 
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable, Collection, Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputWarning
 from ..pipeline import process
-from ..repeats import mean_sd, pulse_band
-from .identify import identify
+from ..repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
+                       group_by_speed, mean_sd, pulse_band)
+from .identify import Identification, identify
 from .similarity import check_size
+
+
+def speed_groups(processed: Sequence, files: Sequence[str | Path],
+                 nominal_m_s: Sequence[float] | None = None,
+                 tolerance: float = DEFAULT_SPEED_TOLERANCE) -> list[float]:
+    """The speed group (m/s) of each processed test (`repeats.group_by_speed`, to `nominal_m_s`
+    or clustered within `tolerance`): tests of one group are repeats at one speed. The tests
+    are of one ball: masses within 1% (`repeats.check_masses`; one speed table, one ball);
+    `files` name the tests in errors."""
+    tolerance = check_tolerance(tolerance)
+    nominal = None if nominal_m_s is None else check_nominal(nominal_m_s)
+    speeds = [p.features.values["P15"] for p in processed]
+    groups = [float(g) for g in group_by_speed(speeds, nominal, tolerance, files=files)]
+    check_masses([p.features.mass_kg for p in processed], files, [0.0] * len(processed),
+                 what="the tests of one command (one ball)")
+    return groups
+
+
+@dataclass
+class IdentifiedTests:
+    """`identify_tests`' result: `results` (file, processed test, `Identification`) per test,
+    each test's speed group (m/s), the `repeats` (`identify_repeats`) and the identified `ball`
+    (the test's ball, or with several tests the speed-table ball of `speed_table_ball`)."""
+
+    results: list[tuple[Any, Any, Identification]]
+    groups: list[float]
+    repeats: list[dict[str, Any]]
+    ball: dict[str, Any]
+
+    def to_dict(self) -> dict[str, Any]:
+        """One test: its identification and `file`; several: `identifications` (each with its
+        `file`) and the speed `table`'s rows; `repeats` where a speed has several tests."""
+        found = [{**f.to_dict(), "file": str(p)} for p, _, f in self.results]
+        out: dict[str, Any] = found[0] if len(found) == 1 else {"identifications": found}
+        if self.repeats:
+            out["repeats"] = self.repeats
+        if len(found) > 1:
+            out["table"] = self.ball["speed_table"]["rows"]
+        return out
+
+
+def identify_tests(processed: Sequence, files: Sequence[str | Path], model, *,
+                   nominal_m_s: Sequence[float] | None = None,
+                   tolerance: float = DEFAULT_SPEED_TOLERANCE, verify: bool = True,
+                   refine: str = "none", allow: Collection[str] = (),
+                   diameter_m: float | None = None, tolerances=None,
+                   each: Callable[[Any, Identification], None] | None = None
+                   ) -> IdentifiedTests:
+    """The universal ball of each processed test (`identify`, with the FE check when `verify`),
+    the tests grouped by speed first (`speed_groups`: errors before anything runs), the repeats
+    at one speed summarised (`identify_repeats`) and the ball of them all; `diameter_m` (m):
+    the tested ball's diameter (`similarity.check_size`), else the model's; `each(file,
+    identification)` is called as each test is done."""
+    groups = speed_groups(processed, files, nominal_m_s, tolerance)
+    results = []
+    for path, pr in zip(files, processed):
+        size = None if diameter_m is None else check_size(diameter_m, pr.features.mass_kg,
+                                                           allow)
+        found = identify(pr, model, verify=verify, refine=refine, allow=allow, size=size,
+                         tolerances=tolerances)
+        results.append((path, pr, found))
+        if each is not None:
+            each(path, found)
+    repeated = identify_repeats(results, groups, model, allow, diameter_m)
+    ball = (results[0][2].ball if len(results) == 1
+            else speed_table_ball([f for _, _, f in results], model, groups))
+    return IdentifiedTests(results, groups, repeated, ball)
 
 
 def identify_repeats(results: list, groups: list[float], model, allow,

@@ -8,7 +8,8 @@ from pathlib import Path
 from .frames import frame_rate, read_frames
 from .synthetic import SyntheticImpact, render
 from .track import Detection, track
-from .trajectory import Measurement, check_options, check_surface_row, measure, side_file
+from .trajectory import (Measurement, check_mass, check_options, check_surface_row, measure,
+                         side_file, write_side_file)
 
 #: pixels the tracking goes through per second, for the estimate that decides on a progress
 #: line: the slower of the measurements on 2 CPU cores (2.2e6 with another job running; 3.1e6
@@ -37,5 +38,5 @@ def analyse(path, fps=None, *, log=None, **options) -> tuple[Measurement, list[D
 
 
 __all__ = ["PROGRESS_AFTER_S", "TRACK_PIXELS_PER_S", "Detection", "Measurement", "SyntheticImpact",
-           "analyse", "check_options", "check_surface_row", "measure", "read_frames", "render",
-           "side_file", "track"]
+           "analyse", "check_mass", "check_options", "check_surface_row", "measure",
+           "read_frames", "render", "side_file", "track", "write_side_file"]

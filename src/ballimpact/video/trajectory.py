@@ -11,8 +11,10 @@ reaches (where the ball is flattened against it).
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -280,6 +282,30 @@ def side_file(summary: dict, mass_kg: float | None = None, source: str | None = 
     if mass_kg is not None:
         out["mass_kg"] = mass_kg
     return out
+
+
+def write_side_file(path: str | Path, summary: dict, mass_kg: float | None = None,
+                    source: str | None = None) -> str:
+    """`side_file` written to `path` as indented JSON (a .json beside the force record:
+    test1.csv -> test1.json); returns the path as text."""
+    Path(path).write_text(json.dumps(side_file(summary, mass_kg, source), indent=2) + "\n")
+    return str(path)
+
+
+def check_mass(mass_kg: float) -> float:
+    """A ball mass (kg) for the side file: a finite number > 0 within the masses of
+    `plausibility.BALL_RANGES`, else `InputError` (grams typed as kg named as such)."""
+    from ..plausibility import BALL_RANGES
+
+    if not (math.isfinite(mass_kg) and mass_kg > 0):
+        raise InputError(f"--mass-kg = {mass_kg:g}: must be a finite number > 0 (kg)")
+    low, high, _ = BALL_RANGES["mass"]
+    if not low <= mass_kg <= high:
+        slip = (f"looks like grams; use {mass_kg / 1e3:g}" if mass_kg > high
+                else "check the unit (kg)")
+        raise InputError(f"--mass-kg {mass_kg:g} kg is outside {low:g}..{high:g} kg, the masses "
+                         f"of balls: {slip}")
+    return mass_kg
 
 
 def _angle_se(v: np.ndarray, var: np.ndarray) -> float:
