@@ -38,7 +38,7 @@ from ballimpact.calibrate.evaluate import compare_run, objective_values
 from ballimpact.calibrate.problem import get_value
 from ballimpact.calibrate.synthetic import TWO_LAYER_TRUTH, synthetic_test, two_layer_recovery
 from ballimpact.fe import SolverOptions
-from ballimpact.fe.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
+from ballimpact.balls.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
 
 def _timed(fn, repeat: int = 3) -> float:
     fn()  # compile

@@ -42,8 +42,8 @@ import jax
 import numpy as np
 
 from ballimpact.fe import SolverOptions, load_ball, simulate, simulate_batch
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import MooneyRivlin, PronyTerm
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import MooneyRivlin, PronyTerm
 from ballimpact.fe.engine import default_group_size
 
 THESIS_S = {"cricket-universal": 25.0, "cricket-3layer": 87.0}

@@ -29,7 +29,8 @@ import warnings
 
 import numpy as np
 
-from ballimpact import ImpactRecord, extract_features, process, pulses
+from ballimpact import ImpactRecord, extract_features, process
+from ballimpact.records import pulses
 from ballimpact.errors import InputError
 from ballimpact.verdict import Z90
 
@@ -151,7 +152,7 @@ def summary(rows: list[dict]) -> dict:
 def coverage_factors(rows: list[dict]) -> dict[str, float]:
     """Per value with an uncertainty: the factor on it that makes the 90% intervals cover 90%
     of `rows` (the 90th percentile of |error| / (1.645 u))."""
-    import ballimpact.reconstruct as reconstruct
+    import ballimpact.records.reconstruct as reconstruct
 
     out = {}
     for key in rows[0]["u"]:

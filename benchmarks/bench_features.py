@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from ballimpact import apply_filter, extract_features
-from ballimpact.pulses import half_sine
+from ballimpact.records.pulses import half_sine
 
 DURATION_S, PEAK_N = 1e-3, 1e4
 

@@ -18,8 +18,8 @@ import time
 import jax
 import numpy as np
 
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import material_from_dict
 from ballimpact.fe import Hexahedral, simulate_batch
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.elastic_reference import normalised_curves

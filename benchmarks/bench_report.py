@@ -18,8 +18,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from ballimpact.pipeline import process
-from ballimpact.loaders import load_record
+from ballimpact.records.pipeline import process
+from ballimpact.records.loaders import load_record
 from ballimpact.report import build_report, builtin_files, parse_models
 from ballimpact.report.inputs import builtin_ball, label_tests
 from ballimpact.universal.model import load_model

@@ -30,7 +30,7 @@ import jax
 
 from ballimpact.fe import SolverOptions, simulate
 from ballimpact.fe.engine import default_group_size
-from ballimpact.sweep import ROW_KEYS, run_sweep, sweep_balls, sweep_row
+from ballimpact.fe.sweep import ROW_KEYS, run_sweep, sweep_balls, sweep_row
 
 BALL = "cricket-universal"
 SPEEDS = (5.0, 10.0, 20.0, 30.0)

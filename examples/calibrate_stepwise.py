@@ -30,7 +30,7 @@ from ballimpact.calibrate.problem import get_value, with_values
 from ballimpact.calibrate.synthetic import synthetic_record
 from ballimpact.cli import main
 from ballimpact.fe import SolverOptions
-from ballimpact.fe.ball import CRICKET_3LAYER_SPEC
+from ballimpact.balls.ball import CRICKET_3LAYER_SPEC
 
 TRUTH = {"layers.core.material.c10_pa": 4.2e6, "layers.core.material.c01_pa": -0.3e6,
          "layers.core.material.prony.0.g": 0.45, "layers.core.material.prony.0.tau_s": 9e-5,

@@ -10,7 +10,7 @@ import json
 import sys
 
 from ballimpact.fe import load_ball, simulate
-from ballimpact.features import extract_features
+from ballimpact.records.features import extract_features
 from ballimpact.universal import identify, load_model
 from ballimpact.universal.plots import plot_layered
 

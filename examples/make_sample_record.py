@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ballimpact.lumped import hunt_crossley_lambda
-from ballimpact.pulses import hunt_crossley_pulse
+from ballimpact.records.pulses import hunt_crossley_pulse
 
 MASS_KG = 0.16
 IMPACT_SPEED_M_S = 20.8

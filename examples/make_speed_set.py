@@ -23,7 +23,7 @@ import numpy as np
 
 from ballimpact.calibrate.synthetic import synthetic_record
 from ballimpact.fe import SolverOptions
-from ballimpact.fe.ball import CRICKET_3LAYER_SPEC, load_ball
+from ballimpact.balls.ball import CRICKET_3LAYER_SPEC, load_ball
 
 SPEEDS_M_S = (5.5, 10.0, 20.8, 25.0)
 MASS_KG = 0.160

@@ -43,9 +43,9 @@ import time
 
 import numpy as np
 
-from ballimpact.fe.ball import BallModel, Layer
+from ballimpact.balls.ball import BallModel, Layer
 from ballimpact.fe.estimates import hertz_contact_radius_m
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.constitutive import material_from_dict
 from ballimpact.fe import Hexahedral, simulate_batch
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.oblique.elastic_reference import ElasticSphere, oblique_impact

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ballimpact import pulses
+from ballimpact.records import pulses
 from ballimpact.fe import load_ball, simulate
 
 RATE_HZ = 100e3

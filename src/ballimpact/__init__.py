@@ -6,15 +6,15 @@ once with `process`). All quantities are SI.
 """
 
 from .errors import InputError as InputError, InputWarning as InputWarning
-from .features import (
+from .records.features import (
     FEATURE_NAMES as FEATURE_NAMES,
     ImpactFeatures as ImpactFeatures,
     extract_features as extract_features,
 )
-from .filters import apply_filter as apply_filter
-from .loaders import load_record as load_record
-from .pipeline import ProcessedImpact as ProcessedImpact, process as process
-from .records import (
+from .records.filters import apply_filter as apply_filter
+from .records.loaders import load_record as load_record
+from .records.pipeline import ProcessedImpact as ProcessedImpact, process as process
+from .records.record import (
     ContactWindow as ContactWindow,
     ImpactRecord as ImpactRecord,
     contact_window as contact_window,

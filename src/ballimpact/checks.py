@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import numbers
 import warnings
+from collections.abc import Collection, Iterable
 from typing import Any
 
 from .errors import InputError, InputWarning
@@ -131,3 +132,40 @@ def check_keys(d: Any, allowed: set[str], where: str) -> None:
     unknown = sorted(set(d) - allowed)
     if unknown:
         raise InputError(f"{where}: unknown key '{unknown[0]}' (allowed: {', '.join(sorted(allowed))})")
+
+
+# --------------------------------------------------------------------------- overridable checks
+
+#: Overridable checks: name -> what it catches (for help texts and error messages).
+CHECKS: dict[str, str] = {
+    "clipping": "samples stuck at the recorder's full scale (a flat top at the extreme value)",
+    "unit-slip": "impulse and m (v_in + v_out) differ by more than UNIT_SLIP_FACTOR, or "
+                 "calibrate bounds more than 100x from the template value (a unit slip such as "
+                 "MPa typed for Pa)",
+    "cor-above-one": "rebound speed above impact speed (COR > 1 for a passive ball)",
+    "speed-range": "FE impact speed outside the speeds the FE solver was checked at "
+                   "(FE_SPEED_RANGE_M_S, 3D: FE_3D_SPEED_RANGE_M_S), or, for identify, outside "
+                   "the universal model's training speeds",
+    "ball-units": "ball radius, mass, density or moduli outside the ranges of solid sports balls "
+                  "(BALL_RANGES; a unit slip: mm for m, g/cm^3 for kg/m^3, MPa for Pa)",
+    "large-run": "FE run or export whose memory estimate, made before meshing, exceeds the "
+                 "memory available",
+}
+
+def check_allow(allow: Iterable[str] | None) -> frozenset[str]:
+    """The names in `allow`, each one of `CHECKS`; `InputError` naming an unknown one."""
+    names = frozenset(allow or ())
+    unknown = sorted(names - set(CHECKS))
+    if unknown:
+        raise InputError(f"allow: unknown check {unknown[0]!r}; allowed: {', '.join(CHECKS)}")
+    return names
+
+
+def flag(name: str, message: str, allow: Collection[str]) -> None:
+    """Raise `InputError` for the failed check `name`, or warn if the user allowed it."""
+    if name not in CHECKS:
+        raise ValueError(f"flag: unknown check {name!r}")
+    if name in allow:
+        warnings.warn(f"{name}: {message}", InputWarning, stacklevel=3)
+        return
+    raise InputError(f"{message} (to go on anyway: --allow {name}, or allow={{'{name}'}})")

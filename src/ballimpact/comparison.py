@@ -107,8 +107,8 @@ def measured_like(test, run):
     the resampled tail all positive, so that the contact never ended and a report aborted with
     "force_n: no sample at or below zero force where the record ends" (a three-element fit to a
     50 kHz test: spacing 20 us, 8.01 steps of 2.5 us; `records.resample`)."""
-    from .features import extract_features
-    from .records import ImpactRecord, resample
+    from .records.features import extract_features
+    from .records.record import ImpactRecord, resample
 
     features = test.features
     spacing = features.sample_interval_s or float(np.median(np.diff(features.time_s)))
@@ -132,7 +132,7 @@ def noisy_record(pulse_n: np.ndarray, impact_speed_m_s: float, cor: float, mass_
     """An `ImpactRecord` of a 100 kHz pulse (from first contact) with `LEAD_SAMPLES` of baseline
     and white noise of `noise` times the peak force; impact and rebound speeds as light gates
     would give them."""
-    from .records import ImpactRecord
+    from .records.record import ImpactRecord
 
     time_s = np.arange(-LEAD_SAMPLES, pulse_n.size) / PULSE_RATE_HZ
     force = np.concatenate([np.zeros(LEAD_SAMPLES), pulse_n])
@@ -148,7 +148,7 @@ def noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="
     one this package generated (a study's FE run): what the measured-test checks say about it
     (e.g. "noisy record: filter it") is not about the user's data and cannot be acted on, so
     it is not passed on as a warning."""
-    from .pipeline import process
+    from .records.pipeline import process
 
     record = noisy_record(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng)
     with warnings.catch_warnings():
@@ -210,7 +210,7 @@ def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=Non
     from .fe import RunProgress, SolverOptions, estimate
     from .fe.engine import default_group_size
     from .fe.runs import check_sweep_speeds
-    from .sweep import compare_rows, run_sweep, sweep_balls
+    from .fe.sweep import compare_rows, run_sweep, sweep_balls
 
     specs = check_balls(specs)
     speeds = tuple(float(s) for s in speeds_m_s)

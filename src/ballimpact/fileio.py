@@ -170,7 +170,7 @@ def read_table(path: Path, what: str = "rows", header=None) -> tuple[int, list[s
     another number of values than the header, a value that is not a finite number. The callers
     check the number of rows and the values' ranges. `path` may name a built-in data set
     (`builtin:treloar-uniaxial`, `datasets.resolve`)."""
-    from .datasets import resolve  # `builtin:NAME`: the package's own data sets
+    from .records.datasets import resolve  # `builtin:NAME`: the package's own data sets
 
     path = resolve(path)
     if path.is_dir():

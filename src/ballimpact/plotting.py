@@ -15,9 +15,9 @@ import matplotlib
 import numpy as np
 from matplotlib.figure import Figure
 
-from .features import ImpactFeatures
-from .records import ImpactRecord
-from .repeats import plot_pulse_bands, pulse_bands
+from .records.features import ImpactFeatures
+from .records.record import ImpactRecord
+from .records.repeats import plot_pulse_bands, pulse_bands
 
 
 def subplots(nrows: int = 1, ncols: int = 1, *, figsize, layout: str | None = None, **kwargs):

@@ -68,7 +68,7 @@ def test_bounds_in_another_unit_can_be_allowed():
     template is the user's to choose)."""
     from ballimpact.calibrate import free_parameter
     from ballimpact.errors import InputError, InputWarning
-    from ballimpact.fe.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
+    from ballimpact.balls.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
 
     spec = universal_spec({"c10_pa": 4.0e6, "c01_pa": -0.4e6, "g1": 0.7, "tau1_s": 8e-5},
                           0.036, UNIVERSAL_DENSITY_KG_M3)

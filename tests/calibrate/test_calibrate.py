@@ -27,8 +27,8 @@ from ballimpact.calibrate.problem import get_value, with_values
 from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.fe import SolverOptions, load_ball, simulate
-from ballimpact.fe.ball import CRICKET_3LAYER_SPEC, UNIVERSAL_DENSITY_KG_M3, universal_spec
-from ballimpact.features import extract_features
+from ballimpact.balls.ball import CRICKET_3LAYER_SPEC, UNIVERSAL_DENSITY_KG_M3, universal_spec
+from ballimpact.records.features import extract_features
 from ballimpact.identifiability import identification_notes, standard_errors
 
 COARSE = SolverOptions(element_size_m=4e-3)

@@ -253,7 +253,7 @@ def test_mixed_gradient_stage_refused(files, tmp_path, half_sine_record):
 
 def _impact(record):
     from ballimpact.calibrate.problem import CalibrationTest
-    from ballimpact.pipeline import process
-    from ballimpact.loaders import load_record
+    from ballimpact.records.pipeline import process
+    from ballimpact.records.loaders import load_record
 
     return CalibrationTest("ball", process(load_record(record)).features)

@@ -62,7 +62,7 @@ def test_a_parameter_without_effect_is_not_identified(tmp_path, capsys):
 
     from ballimpact.cli import main
     from ballimpact.fe import load_ball, simulate
-    from ballimpact.fe.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
+    from ballimpact.balls.ball import UNIVERSAL_DENSITY_KG_M3, universal_spec
 
     coarse = SolverOptions(element_size_m=4e-3)
     truth = universal_spec({"c10_pa": 4.0e6, "c01_pa": -0.4e6, "g1": 0.7, "tau1_s": 8e-5},

@@ -11,8 +11,8 @@ import pytest
 from scipy.io import wavfile
 
 from ballimpact.cli import main
-from ballimpact.features import FEATURE_NAMES
-from ballimpact.pulses import KelvinVoigt
+from ballimpact.records.features import FEATURE_NAMES
+from ballimpact.records.pulses import KelvinVoigt
 
 BALL = KelvinVoigt(mass_kg=0.16, stiffness_n_m=1.5e6, damping_n_s_m=60.0, impact_speed_m_s=10.0)
 CONTRACT_KEYS = {"peak_force_n", "contact_time_s", "cor", "impact_speed_m_s", "rebound_speed_m_s",

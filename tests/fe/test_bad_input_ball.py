@@ -15,7 +15,8 @@ from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball, simulate
 from ballimpact.fe import SolverOptions, engine
 from ballimpact.fe.progress import RunEstimate
-from ballimpact.plausibility import BALL_RANGES, CHECKS, check_ball
+from ballimpact.balls.checks import BALL_RANGES, check_ball
+from ballimpact.checks import CHECKS
 
 RUBBER = {"model": "neo_hookean", "c10_pa": 1.0e6}
 #: a plausible one-layer ball (a 73 mm rubber ball); each case changes one thing

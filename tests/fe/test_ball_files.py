@@ -9,7 +9,7 @@ import pytest
 from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.fe import describe_presets, load_ball, simulate
-from ballimpact.fe.materials import MooneyRivlin, NeoHookean, OgdenHyperfoam
+from ballimpact.constitutive import MooneyRivlin, NeoHookean, OgdenHyperfoam
 from ballimpact.fe import SolverOptions
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "balls"

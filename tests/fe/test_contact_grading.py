@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.fe.hex.contact_grading import grading_for_contact
 from ballimpact.fe.hex.mesh import pole_spacing_m

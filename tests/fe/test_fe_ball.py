@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from ballimpact.errors import InputError, InputWarning
-from ballimpact.fe.ball import (
+from ballimpact.balls.ball import (
     PRESETS,
     TABLE_7_3,
     BallModel,
@@ -17,7 +17,7 @@ from ballimpact.fe.ball import (
     load_ball,
     universal_parameters,
 )
-from ballimpact.fe.materials import MooneyRivlin, NeoHookean, OgdenHyperfoam
+from ballimpact.constitutive import MooneyRivlin, NeoHookean, OgdenHyperfoam
 
 # the example ball specification of docs/balls.md, which is the cricket-3layer preset.
 DESIGN_EXAMPLE = {

@@ -5,7 +5,7 @@ notes; issue 39: the sample's contact time with the default processing)."""
 import pytest
 
 import ballimpact.fe
-from ballimpact.fe.demo import (
+from ballimpact.universal.demo import (
     DEMO_IMPACTS,
     DEMO_NOTES,
     SAMPLE_CONTACT_TIME_S,

@@ -8,10 +8,10 @@ import pytest
 import scipy.sparse.linalg as sla
 
 from ballimpact.errors import InputWarning, SimulationError
-from ballimpact.fe.ball import BallModel, Layer
+from ballimpact.balls.ball import BallModel, Layer
 from ballimpact.fe.axi.kernel import ball_arrays
 from ballimpact.fe.steps import cast
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.constitutive import material_from_dict
 from ballimpact.fe import Axisymmetric, SolverOptions, simulate, simulate_batch
 from ballimpact.fe.engine import kernel_for
 
@@ -78,7 +78,7 @@ def test_increment_shrinks_as_the_ball_stiffens():
     assert result.final_time_increment_s < result.stable_time_increment_s
     assert result.energy_balance_error < 0.01
     # the pulse comes back uniformly sampled, so the 19 features can be taken from it
-    from ballimpact.features import extract_features
+    from ballimpact.records.features import extract_features
 
     features = extract_features(result.record()).values
     assert features["P6"] == pytest.approx(result.peak_force_n, rel=0.01)

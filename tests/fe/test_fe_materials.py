@@ -9,7 +9,7 @@ import pytest
 from scipy.optimize import brentq
 
 from ballimpact.errors import InputError
-from ballimpact.fe.materials import (
+from ballimpact.constitutive import (
     MooneyRivlin,
     OgdenHyperfoam,
     Sym,

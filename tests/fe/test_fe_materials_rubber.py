@@ -12,7 +12,7 @@ import pytest
 
 from ballimpact.errors import InputError
 from ballimpact.fe import load_ball, simulate
-from ballimpact.fe.materials import NeoHookean, Sym, Yeoh, energy_and_stress, material_from_dict
+from ballimpact.constitutive import NeoHookean, Sym, Yeoh, energy_and_stress, material_from_dict
 from ballimpact.fe import SolverOptions
 
 YEOH = {"model": "yeoh", "c10_pa": 1.1e6, "c20_pa": -4.0e4, "c30_pa": 1.5e3}

@@ -19,7 +19,7 @@ from ballimpact.fe.runs import (
     speed_sweep_summary,
     sweep_json_row,
 )
-from ballimpact.sweep import ROW_KEYS, sweep_row
+from ballimpact.fe.sweep import ROW_KEYS, sweep_row
 
 COARSE = SolverOptions(element_size_m=4e-3)
 BALL, SPEED = "cricket-universal", 20.0

@@ -2,7 +2,7 @@
 
 import pytest
 
-from ballimpact.fe.ball import load_ball
+from ballimpact.balls.ball import load_ball
 from ballimpact.fe import SolverOptions, simulate
 
 pytestmark = pytest.mark.slow

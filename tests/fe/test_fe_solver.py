@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError, SimulationError
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import material_from_dict
 from ballimpact.fe import SolverOptions, simulate, simulate_batch
 
 RADIUS, DENSITY, E, SPEED = 0.036, 800.0, 10e6, 1.0
@@ -165,7 +165,7 @@ def test_bad_speed_is_an_input_error():
 
 def test_messages_show_plain_numbers_not_numpy_reprs():
     """NumPy 2 writes numpy scalars as np.float64(...) with !r: messages show plain numbers."""
-    from ballimpact.fe.materials.stability import mooney_rivlin_drucker
+    from ballimpact.constitutive.stability import mooney_rivlin_drucker
     from ballimpact.oblique import ImpactCondition, Options3D
 
     ball = _sphere({"model": "neo_hookean", "c10_pa": 2e6})

@@ -1,4 +1,4 @@
-"""The FE speed range (`plausibility.FE_SPEED_RANGE_M_S`: the speeds the solvers were checked
+"""The FE speed range (`fe.speed_range.FE_SPEED_RANGE_M_S`: the speeds the solvers were checked
 at, 0.001-80 m/s axisymmetric, 0.001-45 m/s 3D): refused up front by the API and the command
 line, `--allow speed-range` / `allow={"speed-range"}` turns it into a warning, internal callers
 stay inside it, slow impacts (0.8 m/s, issue 24) run, and the presets run over the whole range
@@ -11,13 +11,14 @@ import warnings
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.fe.demo import DEMO_IMPACTS
+from ballimpact.universal.demo import DEMO_IMPACTS
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball, simulate, simulate_batch
 from ballimpact.fe import engine
 from ballimpact.fe import SolverOptions
 from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique, simulate_oblique_batch
-from ballimpact.plausibility import CHECKS, FE_3D_SPEED_RANGE_M_S, FE_SPEED_RANGE_M_S
+from ballimpact.checks import CHECKS
+from ballimpact.fe.speed_range import FE_3D_SPEED_RANGE_M_S, FE_SPEED_RANGE_M_S
 
 LOW, HIGH = FE_SPEED_RANGE_M_S
 RANGE_TEXT = f"{LOW:g}..{HIGH:g} m/s"

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError
-from ballimpact.fe.ball import TABLE_7_3, BallModel, Layer, load_ball
-from ballimpact.fe.materials import MooneyRivlin, NeoHookean
-from ballimpact.fe.materials.stability import (
+from ballimpact.balls.ball import TABLE_7_3, BallModel, Layer, load_ball
+from ballimpact.constitutive import MooneyRivlin, NeoHookean
+from ballimpact.constitutive.stability import (
     MODES,
     drucker_warnings,
     long_term_mooney_rivlin,
@@ -179,8 +179,8 @@ def test_bad_ranges(args, key):
 
 
 # ---- every material: the general check from the material's own energy -------------------------
-from ballimpact.fe.materials import LinearElastic, material_from_dict  # noqa: E402
-from ballimpact.fe.materials.stability import (  # noqa: E402
+from ballimpact.constitutive import LinearElastic, material_from_dict  # noqa: E402
+from ballimpact.constitutive.stability import (  # noqa: E402
     checked,
     drucker_unstable,
     stable_range,

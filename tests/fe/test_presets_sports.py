@@ -10,7 +10,7 @@ import pytest
 
 from ballimpact.errors import InputError
 from ballimpact.fe import PRESETS, SolverOptions, describe_presets, load_ball, simulate
-from ballimpact.fe.ball import SPORTS_PRESETS
+from ballimpact.balls.ball import SPORTS_PRESETS
 from ballimpact.universal import load_model
 from ballimpact.universal.identify import reference_size
 from ballimpact.universal.model import FEATURES

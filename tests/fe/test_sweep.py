@@ -18,8 +18,8 @@ import pytest
 from ballimpact import cli
 from ballimpact.errors import InputError
 from ballimpact.fe import SolverOptions, load_ball, simulate
-from ballimpact.fe.ball import universal_spec
-from ballimpact.sweep import (
+from ballimpact.balls.ball import universal_spec
+from ballimpact.fe.sweep import (
     DIFFERENCE_KEYS,
     ROW_KEYS,
     compare_rows,

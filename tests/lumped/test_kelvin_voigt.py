@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from ballimpact import InputWarning, apply_filter, extract_features, process, remove_baseline
-from ballimpact.pulses import KelvinVoigt
+from ballimpact.records.pulses import KelvinVoigt
 
 # a cricket ball (160 g) at 10 m/s, contact about 1 ms, COR 0.83
 BALL = KelvinVoigt(mass_kg=0.16, stiffness_n_m=1.5e6, damping_n_s_m=60.0, impact_speed_m_s=10.0)

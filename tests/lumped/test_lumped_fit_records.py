@@ -15,7 +15,7 @@ from ballimpact.lumped.fit_records import (
     parameter_scatter,
     typical_values,
 )
-from ballimpact.pipeline import process
+from ballimpact.records.pipeline import process
 
 
 def test_typical_values_are_the_middle_of_the_default_bounds():

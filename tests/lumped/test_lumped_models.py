@@ -18,7 +18,7 @@ from ballimpact.lumped import (
 )
 from ballimpact.lumped.simulate import parameter_vector, run_one
 from ballimpact.lumped.thesis import sim1
-from ballimpact.pulses import KelvinVoigt
+from ballimpact.records.pulses import KelvinVoigt
 
 M, V = 0.16, 20.0
 

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.fe.materials import material_from_dict
-from ballimpact.fe.materials.stability import mooney_rivlin_drucker
+from ballimpact.constitutive import material_from_dict
+from ballimpact.constitutive.stability import mooney_rivlin_drucker
 
 DATA = Path(__file__).resolve().parents[2] / "src" / "ballimpact" / "data"
 UNI = f"{DATA / 'treloar1944_uniaxial.csv'}:uniaxial"

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError, InputWarning
-from ballimpact.fe.materials import material_from_dict
-from ballimpact.fe.materials.stability import mooney_rivlin_drucker
+from ballimpact.constitutive import material_from_dict
+from ballimpact.constitutive.stability import mooney_rivlin_drucker
 from ballimpact.material.data import MaterialTest, read_test
 from ballimpact.material.hyperelastic import fit_hyperelastic
 from ballimpact.material.modes import free_stretch, material_stress

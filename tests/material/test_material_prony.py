@@ -29,7 +29,7 @@ def noisy(values, fraction, seed):
 def test_relaxation_ratio_agrees_with_the_solver_relaxation_function():
     import jax
 
-    from ballimpact.fe.materials.viscoelastic import relaxation_function
+    from ballimpact.constitutive.viscoelastic import relaxation_function
 
     rng = np.random.default_rng(5)
     g = rng.uniform(0.0, 0.3, 3)
@@ -231,7 +231,7 @@ def test_dma_at_one_temperature_needs_no_shift():
 # ---- into a material ---------------------------------------------------------------------------
 
 def test_merge_prony_loads_and_keeps_long_term_constants():
-    from ballimpact.fe.materials import material_from_dict
+    from ballimpact.constitutive import material_from_dict
 
     material = {"model": "mooney_rivlin", "c10_pa": 1.5e6, "c01_pa": 0.5e6}
     merged = ve.merge_prony(material, TWO_TERMS)

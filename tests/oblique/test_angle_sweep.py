@@ -8,9 +8,9 @@ import pytest
 
 from ballimpact.errors import InputWarning
 from ballimpact.fe import Hexahedral, ImpactCondition, Options3D, load_ball
-from ballimpact.fe.ball import BallModel, Layer
+from ballimpact.balls.ball import BallModel, Layer
 from ballimpact.fe.hex.target import Target
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.constitutive import material_from_dict
 from ballimpact.oblique.rigid_body import normalised_incidence
 from ballimpact.oblique.sweep import (
     ROW_FIELDS,

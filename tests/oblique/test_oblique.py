@@ -14,8 +14,8 @@ import pytest
 from ballimpact import fe
 from ballimpact.cli import main
 from ballimpact.errors import InputError, InputWarning
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import Sym, energy_and_stress, material_from_dict
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import Sym, energy_and_stress, material_from_dict
 from ballimpact.fe import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, rigid_oblique_impact,
                                 simulate_oblique, simulate_oblique_batch)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from ballimpact.fe import load_ball
-from ballimpact.fe.ball import BallModel, Layer
-from ballimpact.fe.materials import material_from_dict
+from ballimpact.balls.ball import BallModel, Layer
+from ballimpact.constitutive import material_from_dict
 from ballimpact.fe import SolverOptions, simulate
 from ballimpact.oblique import (ImpactCondition, Options3D, Target, simulate_oblique,
                                 simulate_oblique_batch)

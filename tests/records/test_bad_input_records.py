@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.io import wavfile
 
-from ballimpact.pulses import KelvinVoigt
+from ballimpact.records.pulses import KelvinVoigt
 
 BALL = KelvinVoigt(mass_kg=0.16, stiffness_n_m=1.5e6, damping_n_s_m=60.0, impact_speed_m_s=10.0)
 SPEEDS = ["--mass-kg", 0.16, "--impact-speed-m-s", 10]

@@ -6,12 +6,12 @@ import json
 import numpy as np
 import pytest
 
-from ballimpact import datasets
+from ballimpact.records import datasets
 from ballimpact.cli import main
 from ballimpact.cli.calibrate import parse_test
-from ballimpact.loaders import load_record
+from ballimpact.records.loaders import load_record
 from ballimpact.material.data import parse_spec, read_test
-from ballimpact.repeats import expand_records
+from ballimpact.records.repeats import expand_records
 
 DATA = datasets.DATA
 

@@ -8,8 +8,8 @@ pulses of 1 ms sampled at several phases of the sampling grid. Quantities whose 
 import numpy as np
 import pytest
 
-from ballimpact.features import FEATURE_NAMES, extract_features
-from ballimpact.pulses import half_sine, triangle
+from ballimpact.records.features import FEATURE_NAMES, extract_features
+from ballimpact.records.pulses import half_sine, triangle
 
 PEAK_N, MASS_KG, SPEED_M_S = 8.0e3, 0.16, 20.0
 TOLERANCE = {20e3: 0.02, 1e6: 0.005}

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from ballimpact import ImpactRecord, InputError, apply_filter
-from ballimpact.filters import cfc_filter, lowess, polynomial_fit, savitzky_golay
-from ballimpact.pulses import half_sine
+from ballimpact.records.filters import cfc_filter, lowess, polynomial_fit, savitzky_golay
+from ballimpact.records.pulses import half_sine
 
 
 def j211_pass(x, rate_hz, cfc):

@@ -11,8 +11,8 @@ import pytest
 
 from ballimpact.cli import main
 from ballimpact.errors import InputWarning
-from ballimpact.loaders import LBF_N, load_record, read_csv
-from ballimpact.pulses import KelvinVoigt
+from ballimpact.records.loaders import LBF_N, load_record, read_csv
+from ballimpact.records.pulses import KelvinVoigt
 
 BALL = KelvinVoigt(mass_kg=0.16, stiffness_n_m=1.5e6, damping_n_s_m=60.0, impact_speed_m_s=10.0)
 RECORD = BALL.record(200e3)

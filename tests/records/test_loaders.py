@@ -7,7 +7,7 @@ import pytest
 from scipy.io import wavfile
 
 from ballimpact import InputError, load_record
-from ballimpact.pulses import half_sine
+from ballimpact.records.pulses import half_sine
 
 # the thesis' rig: PCB 223A, 94.42 mV/kN, charge amplifier gain 10
 SENSITIVITY_V_PER_N, GAIN = 94.42e-3 / 1e3, 10.0

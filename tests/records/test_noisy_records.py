@@ -9,10 +9,11 @@ from importlib import resources
 import numpy as np
 import pytest
 
-from ballimpact import apply_filter, process, pulses
+from ballimpact import apply_filter, process
+from ballimpact.records import pulses
 from ballimpact.errors import InputWarning
-from ballimpact.records import contact_window, remove_baseline
-from ballimpact.ringing import find_resonance
+from ballimpact.records.record import contact_window, remove_baseline
+from ballimpact.records.ringing import find_resonance
 
 SAMPLE = resources.files("ballimpact") / "data" / "sample_impact.csv"
 #: The sample's exact contact time and peak (its header, examples/make_sample_record.py).

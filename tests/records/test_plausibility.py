@@ -11,12 +11,12 @@ from scipy.io import wavfile
 
 from ballimpact.cli import main
 from ballimpact.errors import InputError
-from ballimpact.loaders import load_record
-from ballimpact.pipeline import process
-from ballimpact.features import extract_features
-from ballimpact.plausibility import check_polarity, clipped_spans, find_pulses, likely_slips
-from ballimpact.pulses import KelvinVoigt, half_sine
-from ballimpact.records import ImpactRecord
+from ballimpact.records.loaders import load_record
+from ballimpact.records.pipeline import process
+from ballimpact.records.features import extract_features
+from ballimpact.records.plausibility import check_polarity, clipped_spans, find_pulses, likely_slips
+from ballimpact.records.pulses import KelvinVoigt, half_sine
+from ballimpact.records.record import ImpactRecord
 
 BALL = KelvinVoigt(mass_kg=0.16, stiffness_n_m=1.5e6, damping_n_s_m=60.0, impact_speed_m_s=10.0)
 SCALARS = {"mass_kg": 0.16, "impact_speed_m_s": 10.0, "rebound_speed_m_s": BALL.cor * 10.0}
@@ -86,7 +86,7 @@ def test_one_pulse_with_ringing_and_pure_noise_are_not_several_pulses():
     """The built-in sample (3% load-cell ringing, 1% noise) is one pulse; noise alone is none."""
     from importlib import resources
 
-    from ballimpact.loaders import load_record
+    from ballimpact.records.loaders import load_record
 
     sample = load_record(resources.files("ballimpact") / "data" / "sample_impact.csv")
     assert len(find_pulses(sample.time_s, sample.force_n)) == 1
@@ -118,7 +118,7 @@ def test_multichannel_wav_needs_a_channel(capsys, tmp_path, channels):
 
 
 def test_chosen_channel_is_read(tmp_path):
-    from ballimpact.loaders import load_record
+    from ballimpact.records.loaders import load_record
 
     data = np.column_stack([np.zeros_like(pulse_codes()), pulse_codes()])
     path = tmp_path / "stereo.wav"

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from ballimpact import ImpactRecord, InputError, contact_window, remove_baseline, resample
-from ballimpact.pulses import half_sine
+from ballimpact.records.pulses import half_sine
 
 
 @pytest.mark.parametrize(

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from ballimpact import repeats
+from ballimpact.records import repeats
 from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.lumped import hunt_crossley_lambda

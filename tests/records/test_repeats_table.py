@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ballimpact import load_record, process, repeats
+from ballimpact import load_record, process
+from ballimpact.records import repeats
 from ballimpact.errors import InputError, InputWarning
 
 SPEED_SET = Path(str(resources.files("ballimpact") / "data" / "speed_set"))

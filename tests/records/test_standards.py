@@ -20,10 +20,10 @@ import pytest
 from ballimpact import cli
 from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import SolverOptions
-from ballimpact.pulses import triangle
+from ballimpact.records.pulses import triangle
+from ballimpact.records.loaders import LBF_N
 from ballimpact.standards import (
     INCH_M,
-    LBF_N,
     METHODS,
     SIXTY_MPH_M_S,
     ball_id_function,
@@ -298,7 +298,7 @@ def test_model_compression_equals_fe_compress(reference_run, capsys):
 def test_a_noisy_records_uncertainty_is_given_in_each_unit_of_the_method(tmp_path, capsys):
     """A noisy record: each shot's standard uncertainty in every unit the method reports, the
     lbf/in one the N/m one over 175.1268 (both from the record's bootstrap, docs/features.md)."""
-    from ballimpact.pulses import hunt_crossley_pulse, load_cell_record
+    from ballimpact.records.pulses import hunt_crossley_pulse, load_cell_record
 
     pulse, duration, _ = hunt_crossley_pulse(0.5, SIXTY_MPH_M_S, MASS_KG)
     record = load_cell_record(pulse, duration, 100e3, noise=0.01, rng=np.random.default_rng(2))

@@ -78,8 +78,8 @@ def test_allow_reaches_the_runs_of_a_ball_and_of_the_universal_model(tmp_path, m
     import importlib
 
     import ballimpact.fe as fe
-    from ballimpact.loaders import load_record
-    from ballimpact.pipeline import process
+    from ballimpact.records.loaders import load_record
+    from ballimpact.records.pipeline import process
     from ballimpact.report.inputs import label_tests
     from ballimpact.report.models import parse_models, run_model
 

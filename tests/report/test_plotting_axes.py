@@ -20,7 +20,7 @@ from ballimpact.material import plots as material_plots
 from ballimpact.material.data import read_test
 from ballimpact.material.hyperelastic import fit_hyperelastic
 from ballimpact.oblique import plots as oblique_plots
-from ballimpact.pipeline import process
+from ballimpact.records.pipeline import process
 from ballimpact.universal import load_model
 from ballimpact.universal import plots as universal_plots
 from ballimpact.universal.model import TARGETS
@@ -30,7 +30,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
 #: every module with pictures: none may choose a backend or import pyplot when imported
 PLOT_MODULES = ("ballimpact.plotting", "ballimpact.material.plots", "ballimpact.calibrate.plots",
                 "ballimpact.universal.plots", "ballimpact.video.plots",
-                "ballimpact.oblique.plots", "ballimpact.oblique.output", "ballimpact.sweep",
+                "ballimpact.oblique.plots", "ballimpact.oblique.output", "ballimpact.fe.sweep",
                 "ballimpact.report.figures")
 
 

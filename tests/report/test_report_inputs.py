@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import CheckFailed, InputError
-from ballimpact.records import ImpactRecord
+from ballimpact.records.record import ImpactRecord
 from ballimpact.report.build import best_miss, raise_if_unmatched
 from ballimpact.report.inputs import builtin_ball, builtin_note, check_test_record
 

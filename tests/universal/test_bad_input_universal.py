@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.plausibility import FE_SPEED_RANGE_M_S as SPEEDS
+from ballimpact.fe.speed_range import FE_SPEED_RANGE_M_S as SPEEDS
 from ballimpact.universal import space
 from ballimpact.universal.dataset import COLUMNS, PULSE_SAMPLES, SHAPE_POINTS, batch_paths, \
     write_batch
@@ -465,7 +465,7 @@ def test_a_foam_template_and_soft_ranges_run_with_allow_ball_units(tmp_path, bad
     --allow ball-units, which the study keeps for its runs' balls (the FE runs are stubbed)."""
     import ballimpact.fe
     from ballimpact.fe import FailedRun
-    from ballimpact.fe.ball import universal_spec
+    from ballimpact.balls.ball import universal_spec
 
     foam = tmp_path / "foam.json"
     foam.write_text(json.dumps(universal_spec({"c10_pa": 2e3, "c01_pa": 0.0, "g1": 0.5,

@@ -176,8 +176,8 @@ def missed_fe_check(monkeypatch):
 
 @pytest.mark.filterwarnings("ignore:.*interval clipped")
 def test_a_missed_fe_check_is_a_warning_by_default(model, missed_fe_check):
-    from ballimpact.loaders import load_record
-    from ballimpact.pipeline import process
+    from ballimpact.records.loaders import load_record
+    from ballimpact.records.pipeline import process
 
     test = process(load_record(DATA / "sample_impact.csv"))
     with pytest.warns(InputWarning, match=r"FE check failed: force NRMSE 29\.0% > 5\.0%"):
@@ -234,8 +234,8 @@ def test_max_nrmse_miss_exits_3_with_the_json_and_one_error_line(sample, capsys,
 def test_a_model_written_with_force_after_failing_its_check_is_used_with_a_warning(sample):
     import copy
 
-    from ballimpact.loaders import load_record
-    from ballimpact.pipeline import process
+    from ballimpact.records.loaders import load_record
+    from ballimpact.records.pipeline import process
 
     failed = load_model()
     failed.metadata = copy.deepcopy(failed.metadata)

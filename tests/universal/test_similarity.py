@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError
-from ballimpact.features import extract_features
+from ballimpact.records.features import extract_features
 from ballimpact.fe import SolverOptions, load_ball, simulate
-from ballimpact.fe.ball import universal_spec
+from ballimpact.balls.ball import universal_spec
 from ballimpact.universal.similarity import (BallSize, check_size, groups, map_features,
                                              map_params)
 

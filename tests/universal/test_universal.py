@@ -10,7 +10,7 @@ import pytest
 from ballimpact.cli import main
 from ballimpact.errors import InputError
 from ballimpact.fe import FailedRun, SolverOptions, load_ball, simulate_batch
-from ballimpact.plausibility import FE_SPEED_RANGE_M_S as SPEEDS
+from ballimpact.fe.speed_range import FE_SPEED_RANGE_M_S as SPEEDS
 from ballimpact.universal import space
 from ballimpact.universal.dataset import load_dataset
 from ballimpact.universal.model import load_model
@@ -211,7 +211,7 @@ def test_cli_bad_input_exits_2(capsys, tmp_path):
 
 
 def test_speed_table_ball_interpolates_as_the_universal_preset(tmp_path):
-    from ballimpact.fe.ball import TABLE_7_3, UNIVERSAL_DENSITY_KG_M3, UNIVERSAL_RADIUS_M
+    from ballimpact.balls.ball import TABLE_7_3, UNIVERSAL_DENSITY_KG_M3, UNIVERSAL_RADIUS_M
 
     rows = [dict(row) for row in reversed(TABLE_7_3)]  # any order
     path = tmp_path / "table.json"

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ballimpact.fe import load_ball, simulate
-from ballimpact.features import extract_features
+from ballimpact.records.features import extract_features
 from ballimpact.universal import identify, load_model
 
 

@@ -8,8 +8,8 @@ import pytest
 
 from ballimpact.cli import main
 from ballimpact.errors import InputError
-from ballimpact.loaders import load_record
-from ballimpact.pulses import half_sine
+from ballimpact.records.loaders import load_record
+from ballimpact.records.pulses import half_sine
 from ballimpact.video import SyntheticImpact, analyse, measure, render, track
 from ballimpact.video.trajectory import check_speeds
 from ballimpact.video.frames import write_frames_npz

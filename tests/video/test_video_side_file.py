@@ -7,7 +7,7 @@ import math
 import pytest
 
 from ballimpact.errors import InputError
-from ballimpact.loaders import read_side_file
+from ballimpact.records.loaders import read_side_file
 from ballimpact.video import check_mass, write_side_file
 
 #: a measurement's summary: 20 m/s at 30 degrees in, 12 m/s at 40 degrees out

@@ -174,7 +174,8 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
            max_evaluations, population, generations, allow) -> None:
     """Everything that can be checked before the first FE run (errors name the flag)."""
     from ..fe import load_ball
-    from ..plausibility import check_allow, check_fe_speed
+    from ..checks import check_allow
+    from ..fe.speed_range import check_fe_speed
     from .compression import check_against_ball
     from .problem import sub_ball
     from .search import check_search_options

@@ -216,7 +216,7 @@ def check_scale(path: str, low: float, high: float, value: float, allow=(), *,
     of 1000, brings the bounds around the value (or within half of it), the message gives them.
     `option` (the flag), `reference` (what `value` is) and `units` ((SI unit, slips), else from
     the path's ending) let other flags share the check (`fit --bound`)."""
-    from ..plausibility import flag
+    from ..checks import flag
 
     size = max(abs(low), abs(high))
     if low <= value <= high or value == 0.0:
@@ -292,13 +292,13 @@ class CalibrationProblem:
     #: None: those of the tests' kinds (`default_objectives`)
     objectives: tuple[str, ...] | None = None
     start: dict[str, float] = field(default_factory=dict)  # path -> value; default template
-    #: plausibility checks turned into warnings (`plausibility.CHECKS`; e.g. "speed-range" for
+    #: plausibility checks turned into warnings (`checks.CHECKS`; e.g. "speed-range" for
     #: tests outside the FE solver's checked speeds)
     allow: frozenset = frozenset()
 
     def __post_init__(self) -> None:
         from ..fe import load_ball
-        from ..plausibility import check_allow
+        from ..checks import check_allow
 
         self.start = dict(self.start)  # the caller's dict is left alone
         self.allow = check_allow(self.allow)

@@ -24,7 +24,7 @@ def synthetic_record(spec: dict, speed_m_s: float, options, noise: float,
 def synthetic_test(name: str, spec: dict, speed_m_s: float, options, noise: float,
                    rng: np.random.Generator, layers: str | None = None) -> CalibrationTest:
     """A processed synthetic test (see `synthetic_record`)."""
-    from ..pipeline import process
+    from ..records.pipeline import process
 
     record, _ = synthetic_record(spec, speed_m_s, options, noise, rng, layers)
     return CalibrationTest(name, process(record, warn_noisy=False).features, layers)

@@ -12,7 +12,7 @@ from typing import Any
 
 from ..checks import allowed_range, check_range
 from ..errors import InputError
-from ..sweep import write_table
+from ..fe.sweep import write_table
 from .simulate_3d import check_flags, checked_allow, inputs_3d, starter
 
 #: the angles a sweep accepts (deg from the normal; `ImpactCondition.angle_deg`'s range)

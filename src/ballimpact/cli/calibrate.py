@@ -9,7 +9,7 @@ import shlex
 from pathlib import Path
 from typing import Any
 
-from ..datasets import PREFIX, is_builtin
+from ..records.datasets import PREFIX, is_builtin
 from ..errors import InputError
 from .common import (
     add_processing,

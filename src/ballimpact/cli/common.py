@@ -12,13 +12,11 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..features import DEFAULT_IMPULSE_TOLERANCE, METHODS
-from ..filters import FILTER_NAMES
-from ..loaders import load_record
-from ..pipeline import DEFAULT_DAMPING_RATIO, ProcessedImpact, process
-from ..plausibility import CHECKS
-
-#: Flags that mean the same in every verb: each is accepted wherever the other is (one name
+from ..records.features import DEFAULT_IMPULSE_TOLERANCE, METHODS
+from ..records.filters import FILTER_NAMES
+from ..records.loaders import load_record
+from ..records.pipeline import DEFAULT_DAMPING_RATIO, ProcessedImpact, process
+from ..checks import CHECKS
 #: everywhere for the user; the verbs keep the name they were written with as `dest`).
 FLAG_ALIASES = (("--impact-speed-m-s", "--speed-m-s"),)
 

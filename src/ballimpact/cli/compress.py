@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..plausibility import check_allow
+from ..checks import check_allow
 from ..progress import CountProgress
 from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
 from .simulate import SolverDefaults

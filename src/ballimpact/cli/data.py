@@ -32,7 +32,7 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from .. import datasets
+    from ..records import datasets
 
     if args.step == "list":
         sets = [d.to_dict() for d in datasets.DATASETS.values()]

@@ -1,5 +1,5 @@
 """`ballimpact demo`: the main job on a built-in default (README): the two cricket-ball presets'
-FE impacts, printed and plotted, and the built-in sample test identified (`fe.demo`)."""
+FE impacts, printed and plotted, and the built-in sample test identified (`universal.demo`)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def _stderr(line: str) -> None:
 
 
 def run_demo(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe.demo import DEMO_IMPACTS, DEMO_NOTES, demo_impacts, demo_summaries
+    from ..universal.demo import DEMO_IMPACTS, DEMO_NOTES, demo_impacts, demo_summaries
     from ..plotting import plot_fe
 
     check_plot_path(args.plot)
@@ -59,8 +59,8 @@ def run_demo(args: argparse.Namespace) -> dict[str, Any]:
 
 def _demo_identify(quiet: bool) -> dict[str, Any]:
     """The built-in sample test identified as a universal ball with the built-in model
-    (`fe.demo.identify_sample`), printed unless `quiet`."""
-    from ..fe.demo import SAMPLE_CONTACT_TIME_S, SAMPLE_PEAK_FORCE_N, identify_sample
+    (`universal.demo.identify_sample`), printed unless `quiet`."""
+    from ..universal.demo import SAMPLE_CONTACT_TIME_S, SAMPLE_PEAK_FORCE_N, identify_sample
 
     _stderr("identifying the built-in sample test with the built-in universal model ...")
     sample = identify_sample()

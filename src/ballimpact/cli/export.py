@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, InputWarning
-from ..plausibility import check_allow
+from ..checks import check_allow
 from .common import add_allow
 
 

@@ -9,11 +9,11 @@ import time
 from pathlib import Path
 from typing import Any
 
-from .. import repeats
+from ..records import repeats
 from ..errors import InputError
-from ..features import FEATURE_NAMES
-from ..pipeline import ProcessedImpact
-from ..sweep import parse_speeds
+from ..records.features import FEATURE_NAMES
+from ..records.pipeline import ProcessedImpact
+from ..fe.sweep import parse_speeds
 from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,
                      load, process_record)
 

@@ -11,7 +11,7 @@ from typing import Any
 from ..errors import InputError
 from ..fileio import write_atomic
 from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
-from ..repeats import expand_records
+from ..records.repeats import expand_records
 from .common import (
     add_processing,
     add_record_options,

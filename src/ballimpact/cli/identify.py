@@ -10,8 +10,8 @@ from typing import Any
 
 from ..errors import InputError
 from ..fileio import check_distinct_files, table_text, write_table
-from ..plausibility import check_allow
-from ..repeats import DEFAULT_SPEED_TOLERANCE
+from ..checks import check_allow
+from ..records.repeats import DEFAULT_SPEED_TOLERANCE
 from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
                        verdict_line)
 from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,

@@ -10,10 +10,10 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..plausibility import check_allow
+from ..checks import check_allow
 from .angle_sweep import parse_angles, run_angle_sweep
 from .common import add_allow, check_output_folder, finite_float
-from ..sweep import parse_speeds, sweep_figure, write_table
+from ..fe.sweep import parse_speeds, sweep_figure, write_table
 from .simulate_3d import check_flags, checked_allow, inputs_3d, print_3d, starter
 
 

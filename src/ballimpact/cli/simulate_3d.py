@@ -11,7 +11,8 @@ from typing import Any
 
 from ..checks import check_range
 from ..errors import InputError
-from ..plausibility import check_allow, check_fe_speed
+from ..checks import check_allow
+from ..fe.speed_range import check_fe_speed
 from .common import check_output_folder, check_plot_path, use_compilation_cache
 
 #: flags of one solver only (attribute: the flag's name in snake case)

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..plausibility import check_allow
+from ..checks import check_allow
 from ..standards import (METHODS, describe_methods, from_records, get_method, on_model,
                          stats_text, write_result_table)
 from .common import add_filtering, check_output_folder, use_compilation_cache

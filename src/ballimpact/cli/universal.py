@@ -11,7 +11,7 @@ from typing import Any
 
 from ..checks import check_fraction
 from ..errors import InputError
-from ..filters import check_filter_name
+from ..records.filters import check_filter_name
 from ..progress import progress_bar
 from .common import (add_allow, assignments, check_output_folder, check_plot_path,
                      use_compilation_cache)

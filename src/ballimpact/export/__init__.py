@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from ..fe.progress import RunEstimate
-from ..plausibility import check_allow
+from ..checks import check_allow
 from . import abaqus, lsdyna, vtk
 from .geometry import SOLVERS, BallGeometry, ball_geometry, estimate_elements
 from .importer import read_abaqus_file, read_ball, read_materials

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from .. import __version__
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from .geometry import HEX_FACES, QUAD_FACES, BallGeometry
 from .materials import ExportError, abaqus_material, number
 from .setup import ImpactSetup, layer_labels

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from ..fe.axi.mesh import estimate_mesh, layered_sphere_mesh
 from ..fe.options import SolverOptions
 from ..fe.hex.element import geometry

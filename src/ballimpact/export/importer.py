@@ -22,9 +22,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from ..fe.ball import load_ball
-from ..fe.materials import material_from_dict
-from ..plausibility import check_allow, check_material_values
+from ..balls.ball import load_ball
+from ..constitutive import material_from_dict
+from ..checks import check_allow
+from ..balls.checks import check_material_values
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
 _UNITS_LINE = re.compile(r"^\*\*\s*units\s+(\S+):", re.IGNORECASE | re.MULTILINE)
@@ -275,7 +276,7 @@ def read_ball(text: str, units: str | None = None, name: str = "imported") -> di
 def read_abaqus_file(path, units: str | None = None, *, ball: bool = False,
                      allow=()) -> dict[str, Any]:
     """An ABAQUS input file read into our form (SI): {"materials": [...]} (`read_materials`,
-    each material checked as a ball file's would be: `plausibility.check_material_values`),
+    each material checked as a ball file's would be: `balls.checks.check_material_values`),
     or with `ball` {"ball": specification} of a deck written by `ballimpact export`
     (`read_ball`, named after the file, checked as any ball file: `fe.load_ball`). Errors
     (`InputError`) start with the file's name."""

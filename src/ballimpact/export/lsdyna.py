@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import InputError
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from .geometry import BallGeometry
 from .materials import ExportError, lsdyna_material
 from .setup import ImpactSetup

@@ -39,7 +39,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..errors import InputError
-from ..fe.materials import (LinearElastic, Material, MooneyRivlin, NeoHookean, Ogden,
+from ..constitutive import (LinearElastic, Material, MooneyRivlin, NeoHookean, Ogden,
                             OgdenHyperfoam, Yeoh)
 from .units import UnitSystem
 
@@ -151,7 +151,7 @@ def abaqus_material(name: str, density_kg_m3: float, material: Material, units: 
         e = 9.0 * k * mu / (3.0 * k + mu)
         nu = (3.0 * k - 2.0 * mu) / (2.0 * (3.0 * k + mu))
         cards.lines += ["*ELASTIC" + ("" if calculix else tag), _rows([e * s, nu])[0]]
-    else:  # a model added to fe.materials but not here
+    else:  # a model added to constitutive but not here
         raise ExportError(f"{name}: material model {material.model!r} has no {code} card")
     if viscous and not calculix:
         cards.lines.append("*VISCOELASTIC, TIME=PRONY")

@@ -7,7 +7,7 @@ import re
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from ..fe.estimates import hertz_contact_time_s
 from ..checks import check_range
 

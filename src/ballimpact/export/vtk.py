@@ -9,7 +9,7 @@ import meshio
 import numpy as np
 
 from ..errors import InputError
-from ..fe.ball import BallModel
+from ..balls.ball import BallModel
 from .geometry import BallGeometry
 from .units import UnitSystem
 

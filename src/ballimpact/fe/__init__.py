@@ -1,25 +1,39 @@
 """Explicit finite-element ball models (thesis chapters 5 and 6): layered hyper-viscoelastic
 balls and one explicit engine (`engine`) whose geometry is a plug-in: axisymmetric
 (`Axisymmetric`, normal impacts on a rigid plane) or hexahedral 3D (`Hexahedral`, oblique and
-spinning impacts with friction, on a rigid plane or a slab)."""
+spinning impacts with friction, on a rigid plane or a slab).
 
-from .ball import (
-           PRESETS,
-           BallModel,
-           Layer,
-           describe_presets,
-           load_ball,
-           universal_parameters,
-)
-from .compression import CompressionResult, compress
-from .engine import Axisymmetric, Hexahedral, estimate, simulate, simulate_batch
-from .options import ExplicitOptions, ImpactCondition, Options3D, SolverOptions
-from .progress import RunProgress
-from .result import FailedRun, ImpactResult
-from .solver import FEResult, estimate_run  # one release: FutureWarning
+The names below are imported when first used (PEP 562): importing a light module of the package
+(`fe.sweep`, `fe.speed_range`) does not load JAX, which the command line's start-up needs."""
 
-__all__ = ["PRESETS", "Axisymmetric", "BallModel", "CompressionResult", "ExplicitOptions",
-           "FailedRun", "FEResult", "Hexahedral", "ImpactCondition", "ImpactResult", "Layer",
-           "Options3D", "RunProgress", "SolverOptions", "compress", "describe_presets",
-           "estimate", "estimate_run", "load_ball", "simulate", "simulate_batch",
-           "universal_parameters"]
+from __future__ import annotations
+
+import importlib
+
+#: name -> the module that defines it
+_WHERE = {
+    **dict.fromkeys(("PRESETS", "BallModel", "Layer", "describe_presets", "load_ball",
+                     "universal_parameters"), "ballimpact.balls"),
+    **dict.fromkeys(("CompressionResult", "compress"), "ballimpact.fe.compression"),
+    **dict.fromkeys(("Axisymmetric", "Hexahedral", "estimate", "simulate", "simulate_batch"),
+                    "ballimpact.fe.engine"),
+    **dict.fromkeys(("ExplicitOptions", "ImpactCondition", "Options3D", "SolverOptions"),
+                    "ballimpact.fe.options"),
+    "RunProgress": "ballimpact.fe.progress",
+    **dict.fromkeys(("FailedRun", "ImpactResult"), "ballimpact.fe.result"),
+    **dict.fromkeys(("FEResult", "estimate_run"), "ballimpact.fe.solver"),  # one release
+}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str):
+    if name in _WHERE:
+        value = getattr(importlib.import_module(_WHERE[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'ballimpact.fe' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_WHERE))

@@ -38,7 +38,7 @@ import numpy as np
 from ..errors import InputError, InputWarning, SimulationError
 from .axi.kernel import Kernel, ball_arrays
 from .steps import cast
-from .materials.stability import drucker_warnings
+from ..constitutive.stability import drucker_warnings
 from ..checks import shown
 from .options import SolverOptions
 
@@ -126,7 +126,7 @@ class CompressionResult:
 
 
 #: fastest platen (m/s): the top of the impact speeds the FE solver is checked for
-#: (`plausibility.speed-range`); a faster one is no quasi-static test (and mostly mm/s as m/s)
+#: (the `speed-range` check); a faster one is no quasi-static test (and mostly mm/s as m/s)
 MAX_RATE_M_S = 80.0
 
 

@@ -27,7 +27,8 @@ import numpy as np
 
 from ..checks import shown
 from ..errors import InputError, InputWarning
-from ..plausibility import check_allow, check_fe_speed
+from ..checks import check_allow
+from .speed_range import check_fe_speed
 from .axi.geometry import Axisymmetric
 from .driver import run_chunks
 from .estimates import hertz_contact_radius_m, hertz_contact_time_s, time_limit_default
@@ -99,7 +100,7 @@ def impact_conditions(conditions, n: int | None = None) -> list[ImpactCondition]
 
 def check_speeds(conditions, geometry: Geometry, allow=()) -> None:
     """Every impact speed (of `ImpactCondition`s, or speeds in m/s) inside the speeds
-    `geometry` was checked at (`plausibility.check_fe_speed`; "speed-range" in `allow`: a
+    `geometry` was checked at (`fe.speed_range.check_fe_speed`; "speed-range" in `allow`: a
     warning), one message for the first outside."""
     speeds = [c.speed_m_s if isinstance(c, ImpactCondition) else c for c in _items(conditions)]
     for speed in np.unique(speeds):
@@ -265,7 +266,7 @@ def simulate(ball, condition, options=None, progress=None, *, geometry: Geometry
     spinning and slab impacts). `options` (`SolverOptions` or `Options3D`) is short for the
     geometry with those settings.
 
-    A speed outside the speeds the geometry was checked at (`plausibility.FE_SPEED_RANGE_M_S`,
+    A speed outside the speeds the geometry was checked at (`fe.speed_range.FE_SPEED_RANGE_M_S`,
     `FE_3D_SPEED_RANGE_M_S`, docs/fe.md) raises `InputError` before anything is meshed or
     compiled; with `allow={"speed-range"}` it runs, with an `InputWarning` starting
     "speed-range:". So does a run whose memory estimate exceeds the memory available

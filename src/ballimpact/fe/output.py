@@ -29,7 +29,7 @@ def write_run_files(result, *, csv: Path | None = None, table: Path | None = Non
     if csv is not None:
         written["csv"] = write_history(csv, result.history)
     if table is not None:
-        from ..sweep import write_table as write_rows
+        from .sweep import write_table as write_rows
         from .runs import sweep_json_row
 
         written["table"] = write_rows([sweep_json_row(result)], table)

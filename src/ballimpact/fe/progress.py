@@ -15,7 +15,7 @@ import sys
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from ..plausibility import flag
+from ..checks import flag
 from ..progress import RunProgress, format_progress
 from ..progress import duration as _duration
 

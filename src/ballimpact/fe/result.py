@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ..records import ImpactRecord
+from ..records.record import ImpactRecord
 from .driver import RunFigures
 from .options import ImpactCondition
 

@@ -15,8 +15,8 @@ from typing import Any
 
 import numpy as np
 
-from ..plausibility import check_fe_speed
-from .ball import BallModel, load_ball
+from .speed_range import check_fe_speed
+from ..balls.ball import BallModel, load_ball
 from .engine import Axisymmetric, Geometry, default_group_size, estimate, simulate
 from .options import SolverOptions
 from .progress import RunEstimate
@@ -39,7 +39,7 @@ def load_model(spec, speed_m_s: float | None = None, *, moduli: str | None = Non
 
 def check_sweep_speeds(speeds_m_s: Sequence[float], allow=()) -> None:
     """Each speed of a sweep (m/s) against the axisymmetric FE speed range
-    (`plausibility.check_fe_speed`) before anything is loaded; a non-positive or non-finite
+    (`fe.speed_range.check_fe_speed`) before anything is loaded; a non-positive or non-finite
     speed is left to `load_ball`, which names the field."""
     for speed in speeds_m_s:
         if math.isfinite(speed) and speed > 0:
@@ -81,7 +81,7 @@ def run_speed_sweep(spec, speeds_m_s: Sequence[float], options=None, *,
     the cost estimated with the ball of the slowest speed (the longest run) before meshing, then
     `start`; its progress callback is used when the sweep runs as one vmapped group. Returns
     the `sweep.Sweep`."""
-    from ..sweep import run_sweep, sweep_balls
+    from .sweep import run_sweep, sweep_balls
 
     check_sweep_speeds(speeds_m_s, allow)
     balls = sweep_balls(spec, speeds_m_s, moduli=moduli, allow=allow)
@@ -97,7 +97,7 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
     """One run's JSON object (SI): `result.summary()`, the 19 features of its pulse, the ball's
     specification, and for the axisymmetric solver the material constants it used
     (instantaneous), for a slab target its specification."""
-    from ..features import extract_features
+    from ..records.features import extract_features
 
     out = result.summary()
     out["features"] = extract_features(result.record()).to_dict()["features"]
@@ -115,7 +115,7 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
 def sweep_json_row(result: ImpactResult) -> dict[str, Any]:
     """A speed sweep's row (`sweep.sweep_row`, SI) with the run's energy balance error, steps and
     ball name."""
-    from ..sweep import sweep_row
+    from .sweep import sweep_row
 
     return {**sweep_row(result), "energy_balance_error": result.energy_balance_error,
             "steps": result.steps, "ball_name": result.ball_name}

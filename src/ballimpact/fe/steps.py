@@ -17,7 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .materials import Sym, energy_and_stress, prony_update
+from ..constitutive import Sym, energy_and_stress, prony_update
 from .stable_increment import alternating_start, lanczos_largest, shrunk_increment
 
 #: Lanczos steps for the largest eigenvalue of the assembled system at the start (the estimate

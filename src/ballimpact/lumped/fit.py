@@ -35,8 +35,8 @@ from scipy.optimize import least_squares
 from ..checks import shown
 from ..errors import InputError, InputWarning
 from ..identifiability import identification_notes, standard_errors
-from ..pipeline import ProcessedImpact, process
-from ..records import ImpactRecord, sample_rate_hz
+from ..records.pipeline import ProcessedImpact, process
+from ..records.record import ImpactRecord, sample_rate_hz
 from .base import BatchResult, LumpedModel, Scale
 from .registry import get_model
 from .simulate import sample_on

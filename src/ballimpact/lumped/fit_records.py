@@ -108,7 +108,7 @@ def parameter_scatter(table: SpeedTable) -> list[dict[str, Any]]:
     `repeats.DEFAULT_SPEED_TOLERANCE`, as identify and report group them): the mean and standard
     deviation (ddof = 1) of each fitted parameter over the repeats (`repeats.mean_sd`): the
     scatter of the tests carried into the parameters."""
-    from ..repeats import group_by_speed, mean_sd
+    from ..records.repeats import group_by_speed, mean_sd
 
     rows = [dict(zip(table.params, values)) for values in zip(*table.params.values())]
     groups = group_by_speed(table.speeds_m_s).tolist()

@@ -1,6 +1,6 @@
 """Kelvin-Voigt model: a linear spring and dashpot, F = k y + c y' (thesis 2.4, eq. 2-13..2-22).
 
-Its closed-form solution is `ballimpact.pulses.KelvinVoigt`. The ball leaves when the force
+Its closed-form solution is `ballimpact.records.pulses.KelvinVoigt`. The ball leaves when the force
 returns to zero, t_c = [pi - atan2(2 b w, w0^2 - 2 b^2)] / w, which comes before the displacement
 does (t_c = pi / w, the separation of the classic solution and of the thesis, with a tensile force
 just before it). `kelvin_voigt_from_test` inverts either convention: k and c from the contact time

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..checks import check_positive, shown
 from ..errors import InputError, SimulationError
-from ..records import ImpactRecord
+from ..records.record import ImpactRecord
 from .base import BatchResult, LumpedModel
 from .registry import get_model
 

@@ -15,8 +15,8 @@ import numpy as np
 from ..checks import check_positive, shown
 from ..errors import InputError
 from ..fileio import table_text
-from ..pipeline import ProcessedImpact
-from ..records import ImpactRecord
+from ..records.pipeline import ProcessedImpact
+from ..records.record import ImpactRecord
 from .fit import FitResult, fit
 from .registry import get_model
 from .simulate import simulate

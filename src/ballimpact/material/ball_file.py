@@ -20,7 +20,7 @@ from typing import Any
 from ..errors import InputError
 from ..checks import check_positive
 from ..fileio import check_distinct_files, write_atomic
-from ..plausibility import BALL_RANGES, ball_unit_slip, check_ball_diameter, check_ball_mass
+from ..balls.checks import BALL_RANGES, ball_unit_slip, check_ball_diameter, check_ball_mass
 from .files import read_material, read_prony_terms
 
 #: largest relative difference between a given mass and the one the densities give
@@ -161,7 +161,7 @@ def _with_prony(materials: list[dict], names: list[str], layer: str | None,
                 file: str | Path) -> None:
     """The Prony terms of `file` into the material of `layer` (None: the only layer), for
     --prony [LAYER=]FILE."""
-    from ..fe.materials import material_from_dict
+    from ..constitutive import material_from_dict
 
     text = str(file) if layer is None else f"{layer}={file}"
     if layer is None:

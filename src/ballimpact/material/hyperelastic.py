@@ -35,11 +35,11 @@ import numpy as np
 from scipy.optimize import least_squares, nnls
 
 from ..errors import InputError, InputWarning
-from ..fe.materials import material_from_dict
+from ..constitutive import material_from_dict
 from ..identifiability import standard_errors
 from .data import MaterialTest
 from .modes import COMPRESSIBLE, deformation_stress, term_stresses
-from ..fe.materials.stability import MODES as STABLE_MODES
+from ..constitutive.stability import MODES as STABLE_MODES
 from .stability import stable_ranges, unstable_within
 from .viscoelastic import r_squared
 
@@ -76,7 +76,7 @@ class _Block:
 @dataclass(frozen=True)
 class HyperelasticFit:
     """A fitted material and how well it fits. `material` is the object a ball's layer holds
-    (loads with `fe.materials.material_from_dict`); `constants` and `standard_errors` are keyed
+    (loads with `constitutive.material_from_dict`); `constants` and `standard_errors` are keyed
     by the constant's path in it (`c10_pa`, `terms[0].alpha`, `terms.nu` for hyperfoam's common
     Poisson ratio); `residuals` are model minus measured stress (Pa) per test file."""
 

@@ -1,5 +1,5 @@
 """Nominal (first Piola-Kirchhoff) stresses of the material-test deformations, from the very strain
-energies the FE ball uses (`fe.materials`, `MATERIALS[model].energy(C, constants)`).
+energies the FE ball uses (`constitutive`, `MATERIALS[model].energy(C, constants)`).
 
 Rubber laws (neo-Hookean, Mooney-Rivlin, Yeoh, Ogden) are fitted as incompressible, as ABAQUS
 fits test data: only their deviatoric energy W(l1, l2, l3) enters, on isochoric principal
@@ -31,8 +31,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError
-from ..fe.materials import MATERIALS, Material
-from ..fe.materials.base import Sym
+from ..constitutive import MATERIALS, Material
+from ..constitutive.base import Sym
 
 #: deformations of the stress tests
 DEFORMATIONS = ("uniaxial", "equibiaxial", "biaxial", "planar", "volumetric")

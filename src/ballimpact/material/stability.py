@@ -1,14 +1,14 @@
 """Drucker-stable stretch ranges of a fitted (or given) material per deformation mode, and the
 unstable intervals that fall inside the stretches a test (or an impact) reaches. A thin layer
-over `fe.materials.stability`, which checks the material's own energy."""
+over `constitutive.stability`, which checks the material's own energy."""
 
 from __future__ import annotations
 
 from typing import Any
 
 from ..errors import InputError
-from ..fe.materials import Material
-from ..fe.materials.stability import MODES, checked, drucker_unstable, stable_range
+from ..constitutive import Material
+from ..constitutive.stability import MODES, checked, drucker_unstable, stable_range
 
 
 def stable_ranges(material: Material) -> dict[str, tuple[float, float]]:
@@ -41,7 +41,7 @@ def stability_report(*, ball=None, material_file=None, speed_m_s: float | None =
     with `speed_m_s` (m/s, a ball only), the stretch range an FE run of the ball at that speed
     reaches and whether it stays inside each mode's range."""
     from ..fe import load_ball, simulate
-    from ..fe.materials import material_from_dict
+    from ..constitutive import material_from_dict
     from .files import read_material
 
     if speed_m_s is not None and ball is None:

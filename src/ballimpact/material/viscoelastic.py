@@ -1,6 +1,6 @@
 """Prony series from relaxation, creep and DMA tests, with time-temperature shifting.
 
-The series is the FE materials' one (fe/materials/base.py): the normalised relaxation modulus
+The series is the FE materials' one (constitutive/base.py): the normalised relaxation modulus
 g_R(t) = G(t) / G(0) = 1 - sum g_i (1 - exp(-t / tau_i)), g_i >= 0, sum g_i < 1, tau_i in s.
 
 - Relaxation data give g_R(t) directly.
@@ -719,7 +719,7 @@ def merge_prony(material: dict, prony: Sequence[dict], *, bulk: bool = False,
                 where: str = "material") -> dict:
     """A copy of `material` (a ball file layer's `material` object) with `prony` replaced by the
     given terms ({"g", "tau_s"}; k_i = g_i when `bulk`, so the bulk modulus relaxes alike, else
-    0), checked by `fe.materials.material_from_dict` (its errors name the key, prefixed by
+    0), checked by `constitutive.material_from_dict` (its errors name the key, prefixed by
     `where`).
 
     The material's constants and `moduli` are kept as they are. With `moduli: long_term` (the
@@ -727,7 +727,7 @@ def merge_prony(material: dict, prony: Sequence[dict], *, bulk: bool = False,
     1 / (1 - sum g) (and the bulk one by 1 / (1 - sum k)) to get the instantaneous ones, so adding
     a Prony series makes the ball stiffer at impact -- right for constants from slow (quasi-static)
     tests. Constants measured at impact rates are instantaneous: set `moduli: instantaneous`."""
-    from ..fe.materials import material_from_dict  # the FE package is heavy: loaded when used
+    from ..constitutive import material_from_dict  # the FE package is heavy: loaded when used
 
     if not isinstance(material, dict):
         raise InputError(f"{where}: expected an object, got {type(material).__name__}")

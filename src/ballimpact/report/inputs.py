@@ -15,8 +15,8 @@ from importlib import resources
 from pathlib import Path
 
 from ..errors import InputError
-from ..pipeline import ProcessedImpact
-from ..records import ImpactRecord
+from ..records.pipeline import ProcessedImpact
+from ..records.record import ImpactRecord
 
 BUILTIN_SETS = ("sample", "speeds")
 

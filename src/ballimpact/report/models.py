@@ -123,7 +123,7 @@ def parse_models(text: str) -> list[ModelSpec]:
 def check_balls(specs: list[ModelSpec], impact_speed_m_s: float, allow=()) -> None:
     """Load each ball model once before anything runs, so that a ball file that is not a ball
     is refused up front, naming it, instead of failing at every test. `allow`: the plausibility
-    checks that only warn (`plausibility.CHECKS`, e.g. "ball-units")."""
+    checks that only warn (`checks.CHECKS`, e.g. "ball-units")."""
     from ..fe import load_ball
 
     for spec in specs:

@@ -142,7 +142,7 @@ def repeats_table(runs: list[ModelRun]) -> Table | None:
     """Per fitted or identified model and speed group of two or more tests (repeats: speeds
     within `repeats.DEFAULT_SPEED_TOLERANCE` of each other), the mean and standard deviation
     (ddof = 1) of each parameter over the repeats; None without repeats."""
-    from ..repeats import group_by_speed, mean_sd
+    from ..records.repeats import group_by_speed, mean_sd
 
     rows: list[list[Any]] = []
     for model in dict.fromkeys(r.model for r in runs if r.parameters):

@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputWarning
-from ..pipeline import process
-from ..repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
+from ..records.pipeline import process
+from ..records.repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
                        group_by_speed, mean_sd, pulse_band)
 from .identify import Identification, identify
 from .similarity import check_size

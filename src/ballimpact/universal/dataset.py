@@ -23,7 +23,7 @@ import numpy as np
 
 from ..comparison import PULSE_RATE_HZ
 from ..errors import InputError
-from ..features import FEATURE_NAMES
+from ..records.features import FEATURE_NAMES
 from ..fileio import first_line, read_arrays, replacing
 from . import space
 

@@ -135,7 +135,7 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     with `filter` (see `filters`).
     Returns per-run errors and their median and 90th percentile."""
     from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
-    from ..features import extract_features
+    from ..records.features import extract_features
     from ..comparison import compare, noisy_features, pulse_nrmse
     from .dataset import load_dataset
     from .identify import estimate

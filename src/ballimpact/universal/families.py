@@ -67,8 +67,8 @@ def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
     with the clean test: force NRMSE, COR error, contact time and peak force errors per run, and
     their median, 90th percentile and maximum."""
     from ..fe import FailedRun, load_ball, simulate_batch
-    from ..features import extract_features
-    from ..pipeline import process
+    from ..records.features import extract_features
+    from ..records.pipeline import process
     from ..comparison import PULSE_RATE_HZ, noisy_record
     from .study import pulse_100khz
 
@@ -114,7 +114,7 @@ def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
 
 
 def _spec(params: dict, size: BallSize, model: UniversalModel, name: str) -> dict:
-    from ..fe.ball import universal_spec
+    from ..balls.ball import universal_spec
 
     return universal_spec(params, size.radius_m, size.density_kg_m3,
                           model.metadata["template"]["moduli"], name)

@@ -18,8 +18,8 @@ import numpy as np
 
 from ..checks import check_fraction, warn_outside_range
 from ..errors import InputError, InputWarning
-from ..features import FEATURE_NAMES
-from ..plausibility import check_allow, flag
+from ..records.features import FEATURE_NAMES
+from ..checks import check_allow, flag
 from . import space
 from ..comparison import compare, features_pulse, pulse_nrmse
 from ..verdict import Tolerances, judge
@@ -253,7 +253,7 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     force NRMSE's alone): `verification["passed"]` only when all pass, `verification["missed"]`
     names each miss, and a miss is an `InputWarning` (the command line exits 3)."""
     from ..fe import load_ball
-    from ..fe.ball import universal_spec
+    from ..balls.ball import universal_spec
 
     started = time.perf_counter()
     allow = check_allow(allow)
@@ -328,7 +328,7 @@ def model_inputs(processed, model: UniversalModel) -> dict[str, float]:
     features = processed.features
     if features.method == model.feature_method or not hasattr(processed, "filtered"):
         return features.values
-    from ..features import extract_features
+    from ..records.features import extract_features
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)  # said once already, by `process`
@@ -365,7 +365,7 @@ def check_max_nrmse(value: float) -> float:
 
 def verify_run(spec: dict, measured_features, options=None, allow: Collection[str] = ()):
     """One FE run of the identified ball at the test's speed, compared with the test."""
-    from ..features import extract_features
+    from ..records.features import extract_features
     from ..fe import SolverOptions, load_ball, simulate
 
     speed = measured_features.values["P15"]

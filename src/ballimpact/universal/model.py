@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..features import FEATURE_NAMES
+from ..records.features import FEATURE_NAMES
 from ..fileio import read_arrays, replacing, write_atomic
 from . import space
 from .dataset import SHAPE_POINTS

@@ -23,7 +23,7 @@ import math
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from ..plausibility import check_ball_diameter, check_ball_mass, check_ball_values
+from ..balls.checks import check_ball_diameter, check_ball_mass, check_ball_values
 
 GROUPS = ("rho_v2_over_mu0", "c01_over_c10", "g1", "tau1_v_over_r")
 
@@ -101,7 +101,7 @@ def map_ranges(ranges: dict[str, list[float]], source: BallSize, target: BallSiz
 
 
 def check_diameter(diameter_m: float, flag: str = "--ball-diameter-m") -> float:
-    """A ball diameter (m) within those of solid sports balls (`plausibility.check_ball_diameter`;
+    """A ball diameter (m) within those of solid sports balls (`balls.checks.check_ball_diameter`;
     one in millimetres is named as such)."""
     return check_ball_diameter(diameter_m, f"ball_diameter_m ({flag})")
 
@@ -109,7 +109,7 @@ def check_diameter(diameter_m: float, flag: str = "--ball-diameter-m") -> float:
 def check_size(diameter_m: float, mass_kg: float, allow: Collection[str] = (),
                flag: str = "--ball-diameter-m") -> BallSize:
     """A ball of `diameter_m` (m) and `mass_kg` (kg), checked as sports balls are
-    (`plausibility.BALL_RANGES`: a diameter in mm or a mass in g is named as such; the density
+    (`balls.checks.BALL_RANGES`: a diameter in mm or a mass in g is named as such; the density
     they give must be a ball's too, the `ball-units` check)."""
     size = BallSize(0.5 * check_diameter(diameter_m, flag),
                     check_ball_mass(mass_kg, "mass_kg (--mass-kg)"))

@@ -20,9 +20,9 @@ import numpy as np
 
 from ..checks import check_range
 from ..errors import InputError
-from ..plausibility import BALL_RANGES, FE_SPEED_RANGE_M_S, check_allow, flag
-
-#: parameter -> (default low, default high, unit)
+from ..balls.checks import BALL_RANGES
+from ..fe.speed_range import FE_SPEED_RANGE_M_S
+from ..checks import check_allow, flag
 PARAMETERS: dict[str, tuple[float, float, str]] = {
     "c10_pa": (4.0e6, 7.0e6, "Pa"),
     "c01_pa": (-1.0e6, 1.0e6, "Pa"),
@@ -73,7 +73,7 @@ def check_ranges(ranges: dict[str, Any], allow: Collection[str] = ()
         raise InputError(f"ranges c10_pa low {out['c10_pa'][0]:g} + c01_pa low "
                          f"{out['c01_pa'][0]:g} = {softest:g} Pa: the softest balls would have "
                          "mu0 = 2 (C10 + C01) <= 0; raise either low end")
-    # ... and a sports ball (`plausibility.BALL_RANGES`), checked here rather than when the
+    # ... and a sports ball (`balls.checks.BALL_RANGES`), checked here rather than when the
     # study reaches that corner. Only the softest corner can fail: `ALLOWED` caps C10 and C01
     # at 1e9 Pa, so the stiffest balls stay below the range's top
     low_mu = BALL_RANGES["shear modulus"][0]
@@ -181,7 +181,7 @@ def universal_ball_spec(params: dict[str, float], template: dict[str, Any],
                         name: str) -> dict[str, Any]:
     """The ball specification (`simulate --ball`'s JSON form) of the universal ball with
     `params` (c10_pa, c01_pa, g1, tau1_s) on a study's template (`template_geometry`)."""
-    from ..fe.ball import universal_spec
+    from ..balls.ball import universal_spec
 
     return universal_spec(params, template["radius_m"], template["density_kg_m3"],
                           template["moduli"], name)

@@ -16,7 +16,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError
 from ..fileio import write_atomic
-from ..plausibility import check_allow
+from ..checks import check_allow
 from . import space
 from .dataset import (
     COLUMNS,
@@ -199,7 +199,7 @@ def run_batch(config: dict[str, Any], batch: int) -> tuple[list[dict], dict[str,
 
 
 def _outputs(result) -> tuple[dict[str, float], np.ndarray, np.ndarray]:
-    from ..features import extract_features
+    from ..records.features import extract_features
 
     features = extract_features(result.record())
     values = {key: float(v) for key, v in features.values.items()}

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..checks import check_range
 from ..errors import InputError
-from ..features import dynamic_stiffness
+from ..records.features import dynamic_stiffness
 from ..standards import SIXTY_MPH_M_S
 from .similarity import BallSize, groups, map_params
 
@@ -157,8 +157,8 @@ def fe_check(model, size: BallSize, params: dict[str, float], speed_m_s: float, 
     `speed_m_s`: its COR (P17) and DS = F_peak^2 / (m v^2) (N/m) from the run's features, as a
     lab would compute them from the record."""
     from ..fe import load_ball, simulate
-    from ..fe.ball import universal_spec
-    from ..features import extract_features
+    from ..balls.ball import universal_spec
+    from ..records.features import extract_features
     from .identify import scaled_options
 
     spec = universal_spec(params, size.radius_m, size.density_kg_m3,
@@ -184,7 +184,7 @@ def constants_for(model, size: BallSize, cor: float, ds_n_m: float,
     `surrogate` (its COR and DS of the found ball), and with `verify` `fe_check` (the FE runs:
     COR, DS, their misses; the last run is the reported one) and `corrections` (FE-driven
     corrections made). `options`: FE settings (default: the study's mesh scaled to the ball)."""
-    from ..fe.ball import universal_spec
+    from ..balls.ball import universal_spec
     from .identify import check_speed, reference_size
 
     if not isinstance(size, BallSize):

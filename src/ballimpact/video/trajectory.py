@@ -294,8 +294,8 @@ def write_side_file(path: str | Path, summary: dict, mass_kg: float | None = Non
 
 def check_mass(mass_kg: float) -> float:
     """A ball mass (kg) for the side file: a finite number > 0 within the masses of
-    `plausibility.BALL_RANGES`, else `InputError` (grams typed as kg named as such)."""
-    from ..plausibility import BALL_RANGES
+    `balls.checks.BALL_RANGES`, else `InputError` (grams typed as kg named as such)."""
+    from ..balls.checks import BALL_RANGES
 
     if not (math.isfinite(mass_kg) and mass_kg > 0):
         raise InputError(f"--mass-kg = {mass_kg:g}: must be a finite number > 0 (kg)")

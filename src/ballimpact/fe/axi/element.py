@@ -25,8 +25,8 @@ import jax
 import numpy as np
 
 from ..assembly import corner_tables, gather_nodal as gather_corners
-from ..fastmath import cube_root
-from ..materials import Sym
+from ...constitutive.fastmath import cube_root
+from ...constitutive import Sym
 from .mesh import AxisymmetricMesh
 
 _G = 1.0 / np.sqrt(3.0)

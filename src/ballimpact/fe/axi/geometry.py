@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import InputError, InputWarning
-from ..materials.stability import drucker_warnings
+from ...constitutive.stability import drucker_warnings
 from ..options import ImpactCondition, SolverOptions
 from ..result import ImpactResult, contact_end_time, energy_histories
 from .element import geometry as element_geometry
@@ -68,7 +68,7 @@ class Axisymmetric:
 
     options: SolverOptions = SolverOptions()
 
-    #: the speed range's key (`plausibility.check_fe_speed`)
+    #: the speed range's key (`fe.speed_range.check_fe_speed`)
     solver = "axisymmetric"
     #: element updates above which a run is flagged as very long: about 5 min at
     #: `SECONDS_PER_ELEMENT_STEP` (the universal ball at 25 m/s with 0.2 mm elements; the

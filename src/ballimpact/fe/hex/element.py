@@ -25,7 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..assembly import corner_tables, gather_nodal as gather_corners
-from ..fastmath import cube_root
+from ...constitutive.fastmath import cube_root
 from .mesh import HEX_CORNERS, HexMesh
 
 _GAUSS = HEX_CORNERS / np.sqrt(3.0)     # 2 x 2 x 2 points (weight 1), for volumes and masses

@@ -282,7 +282,7 @@ class Hexahedral:
     options: Options3D = Options3D()
     half: bool | None = None
 
-    #: the speed range's key (`plausibility.check_fe_speed`)
+    #: the speed range's key (`fe.speed_range.check_fe_speed`)
     solver = "3d"
     #: element updates above which a run is flagged as very long: about 1.5 min at
     #: `SECONDS_PER_ELEMENT_STEP` (about 36 divisions, half model; the default 16 is 1.5e7 by

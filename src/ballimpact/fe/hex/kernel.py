@@ -32,7 +32,7 @@ import numpy as np
 
 from ..stable_increment import alternating_start
 from ..steps import PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple, step_events
-from ..materials import Sym, energy_and_stress
+from ...constitutive import Sym, energy_and_stress
 from .element import (
     HexGeometry,
     cofactor,

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from ...errors import InputError
-from ..materials import Material, material_from_dict
+from ...constitutive import Material, material_from_dict
 from ...checks import check_keys, spec_number
 
 

@@ -34,10 +34,11 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError, InputWarning
-from .plausibility import check_allow, check_momentum, check_polarity, select_pulse
-from .checks import check_positive
-from .records import ContactWindow, ImpactRecord, contact_window
+from ..errors import InputError, InputWarning
+from ..checks import check_allow
+from .plausibility import check_momentum, check_polarity, select_pulse
+from ..checks import check_positive
+from .record import ContactWindow, ImpactRecord, contact_window
 
 FEATURE_NAMES: dict[str, str] = {
     "P1": "contact_time_s",
@@ -356,7 +357,7 @@ def extract_features(
       the rebound speed is measured; beyond it an `InputWarning` is issued (and listed in
       `warnings`).
     - `threshold_fraction`, `noise_factor`: the contact-window threshold (see `contact_window`).
-    - `allow`: plausibility checks to turn from errors into warnings (`plausibility.CHECKS`).
+    - `allow`: plausibility checks to turn from errors into warnings (`checks.CHECKS`).
     - `method`: `"samples"` (default) takes the pulse as piecewise linear through the samples,
       its ends extrapolated to zero from the window's outermost samples: exact for a noise-free
       record (a simulation). `"fit"` fits the contact start and end with the shape a contact

@@ -23,9 +23,9 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from ...errors import InputError
-from ..fastmath import cube_root
-from ...checks import check_keys, spec_number
+from ..errors import InputError
+from .fastmath import cube_root
+from ..checks import check_keys, spec_number
 from .base import Material, Sym, bulk_from_d1
 from .ogden_hyperfoam import principal_power_sum
 

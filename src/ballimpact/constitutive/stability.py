@@ -57,8 +57,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ...errors import InputError
-from ...checks import shown
+from ..errors import InputError
+from ..checks import shown
 from .base import Material, Sym
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
@@ -67,7 +67,7 @@ from .ogden_hyperfoam import OgdenHyperfoam
 from .yeoh import Yeoh
 
 if TYPE_CHECKING:
-    from ..ball import BallModel
+    from ..balls.ball import BallModel
 
 MODES = ("uniaxial", "equibiaxial", "planar")
 _BISECTIONS = 60

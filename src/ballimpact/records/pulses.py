@@ -11,9 +11,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import InputError
-from .checks import check_positive
-from .records import ImpactRecord
+from ..errors import InputError
+from ..checks import check_positive
+from .record import ImpactRecord
 
 
 def sample_times(duration_s: float, rate_hz: float, pre_s: float, post_s: float, phase: float):
@@ -136,7 +136,7 @@ def hunt_crossley_pulse(cor: float | None, impact_speed_m_s: float, mass_kg: flo
     integrated to 1e-11 (the sample record's ball, examples/make_sample_record.py)."""
     from scipy.integrate import solve_ivp
 
-    from .lumped import hunt_crossley_lambda
+    from ..lumped import hunt_crossley_lambda
 
     lam = 0.0 if cor is None else hunt_crossley_lambda(cor, impact_speed_m_s)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ...checks import spec_number
+from ..checks import spec_number
 from .base import Material, bulk_from_d1, isochoric_invariants
 
 

@@ -5,7 +5,7 @@
 
 from __future__ import annotations
 
-from ...errors import InputError
+from ..errors import InputError
 from .base import MODULI, Material, PronyTerm, Sym, energy_and_stress, stress_parts
 from .linear_elastic import LinearElastic
 from .mooney_rivlin import MooneyRivlin

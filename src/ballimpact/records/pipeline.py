@@ -7,21 +7,16 @@ import warnings
 from collections.abc import Collection
 from dataclasses import dataclass
 
-from .errors import InputError, InputWarning
+from ..errors import InputError, InputWarning
 from .features import DEFAULT_IMPULSE_TOLERANCE, ImpactFeatures, extract_features
 from .filters import apply_filter
-from .plausibility import (
-    check_allow,
-    check_clipping,
-    check_polarity,
-    noisy_window_note,
-    select_pulse,
-)
-from .checks import check_fraction, check_positive
+from ..checks import check_allow
+from .plausibility import check_clipping, check_polarity, noisy_window_note, select_pulse
+from ..checks import check_fraction, check_positive
 
 #: Damping ratio of a load cell whose resonance is given without one (`--load-cell-hz`).
 DEFAULT_DAMPING_RATIO = 0.03
-from .records import ImpactRecord, remove_baseline, resample
+from .record import ImpactRecord, remove_baseline, resample
 
 
 @dataclass(frozen=True)
@@ -43,7 +38,7 @@ def check_resonance(resonance_hz: float, damping_ratio: float, record: ImpactRec
     """A load-cell resonance given by the user (`--load-cell-hz`, `--load-cell-damping`):
     `InputError` naming the flag for a resonance in kHz, one above the record's Nyquist
     frequency, or a damping ratio outside (0, 1) (a percentage named as such)."""
-    from .records import sample_rate_hz
+    from .record import sample_rate_hz
 
     check_positive("resonance_hz (--load-cell-hz)", resonance_hz)
     if resonance_hz < MIN_RESONANCE_HZ:
@@ -64,7 +59,7 @@ def without_ringing(record: ImpactRecord, resonance_hz: float | None = None,
     given (`resonance_hz`, Hz, and `damping_ratio`), or the one found ringing on after the
     contact (`ringing.find_resonance`); as it is when none is given or found, or when it is not
     uniformly sampled."""
-    from .records import contact_window, sample_rate_hz
+    from .record import contact_window, sample_rate_hz
     from .ringing import Resonance, compensate, find_resonance
 
     try:

@@ -17,9 +17,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ...checks import check_keys, spec_number
-from ...errors import InputError
-from ..fastmath import cube_root
+from ..checks import check_keys, spec_number
+from ..errors import InputError
+from .fastmath import cube_root
 
 MODULI = ("long_term", "instantaneous")
 INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0 (instantaneous), as ABAQUS/Explicit (nu 0.475)

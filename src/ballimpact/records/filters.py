@@ -15,9 +15,9 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from numpy.polynomial import Polynomial
 
-from .errors import InputError, InputWarning
-from .checks import check_positive
-from .records import ImpactRecord, baseline_noise_rms, contact_window, rms, sample_rate_hz
+from ..errors import InputError, InputWarning
+from ..checks import check_positive
+from .record import ImpactRecord, baseline_noise_rms, contact_window, rms, sample_rate_hz
 
 #: SAE J211-1 design frequency of the 2-pole Butterworth stage, as a multiple of the CFC number.
 #: Run forwards and backwards, the 4-pole phaseless filter is -3 dB at about 1.65 x CFC (Hz).

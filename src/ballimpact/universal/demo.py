@@ -31,7 +31,7 @@ SAMPLE_FILE = "sample_impact.csv"
 def demo_impacts(announce: Callable[[str, float], None] | None = None) -> list:
     """The `DEMO_IMPACTS` on a rigid plane with the default mesh (`fe.simulate`), in order;
     `announce(preset, speed_m_s)` is called before each."""
-    from . import load_ball, simulate  # the package's, looked up at call time
+    from ..fe import load_ball, simulate  # the package's, looked up at call time
 
     results = []
     for name, speed in DEMO_IMPACTS:
@@ -75,9 +75,9 @@ def identify_sample() -> SampleIdentification:
     with the built-in model (its FE check included). Warnings are about a user's own data
     (issue 24): the package's sample and model are ours, so what identify would warn about (a
     C01 interval on its training bound) becomes a note; any other warning goes on as one."""
-    from ..loaders import load_record
-    from ..pipeline import process
-    from ..universal import identify, load_model
+    from ..records.loaders import load_record
+    from ..records.pipeline import process
+    from . import identify, load_model
 
     sample = Path(str(resources.files("ballimpact") / "data" / SAMPLE_FILE))
     model = load_model()

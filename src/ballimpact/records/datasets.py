@@ -15,12 +15,12 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from .errors import InputError
+from ..errors import InputError
 
 #: The prefix that marks a built-in data set in a file argument.
 PREFIX = "builtin:"
 #: The installed data folder.
-DATA = Path(__file__).resolve().parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 _TRELOAR = ("Treloar, L.R.G. (1944) Trans. Faraday Soc. 40:59-70: vulcanised natural rubber; "
             "numbers as tabulated in the file's comment lines")

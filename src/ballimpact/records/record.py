@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from .checks import check_positive
-from .errors import InputError
+from ..checks import check_positive
+from ..errors import InputError
 
 #: Relative spread of the time step above which a record counts as non-uniformly sampled.
 UNIFORM_STEP_TOLERANCE = 1e-2

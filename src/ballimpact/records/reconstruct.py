@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from .edges import EdgeFit, fit_edge
-from .records import ContactWindow, ImpactRecord, rms
+from .record import ContactWindow, ImpactRecord, rms
 
 #: Points of the curve per sample interval between the edges (the curve is piecewise linear
 #: through them: a smooth pulse's peak is then within (1/4)^2 / 8 of a sample's curvature).

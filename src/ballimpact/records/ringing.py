@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .reconstruct import discrepancy_weight
-from .records import ContactWindow, ImpactRecord, pre_impact_slice, sample_rate_hz
+from .record import ContactWindow, ImpactRecord, pre_impact_slice, sample_rate_hz
 
 #: Fewest samples in the contact, and after it, that the search needs.
 MIN_SAMPLES = 16

@@ -11,8 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ...errors import InputError
-from ...checks import spec_number
+from ..errors import InputError
+from ..checks import spec_number
 from .base import Material, bulk_from_d1, isochoric_invariants
 
 

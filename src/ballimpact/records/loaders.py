@@ -39,12 +39,12 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError, InputWarning
-from .fileio import is_number, read_table
-from .checks import check_positive
+from ..errors import InputError, InputWarning
+from ..fileio import is_number, read_table
+from ..checks import check_positive
 from .datasets import DATA
 from .datasets import resolve as resolve_builtin
-from .records import ImpactRecord
+from .record import ImpactRecord
 
 #: CSV column name -> (record field, factor to SI).
 CSV_COLUMNS: dict[str, tuple[str, float]] = {

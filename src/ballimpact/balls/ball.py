@@ -39,8 +39,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, InputWarning
-from ..plausibility import check_allow, check_ball
-from .materials import MODULI, Material, material_from_dict
+from ..checks import check_allow
+from .checks import check_ball
+from ..constitutive import MODULI, Material, material_from_dict
 from ..checks import check_keys, spec_number
 from ..checks import shown
 
@@ -456,7 +457,7 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None, *,
     the others. A universal model's recorded name ("cricket-universal@25.0m/s") loads again.
     Errors are `InputError`s naming the key's path ("ball.layers[1].outer_radius_m ...").
 
-    Every ball loaded passes the `ball-units` plausibility check (`plausibility.check_ball`:
+    Every ball loaded passes the `ball-units` plausibility check (`balls.checks.check_ball`:
     radius, mass, densities and moduli inside the ranges of solid sports balls, so that a ball
     written in millimetres or MPa is caught before it is meshed); with "ball-units" in `allow`
     a failure is an `InputWarning` instead.

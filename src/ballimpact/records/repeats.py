@@ -24,11 +24,11 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError, InputWarning
+from ..errors import InputError, InputWarning
 from .features import FEATURE_NAMES, ImpactFeatures
-from .fileio import check_distinct_files, write_table
+from ..fileio import check_distinct_files, write_table
 from .pipeline import ProcessedImpact
-from .records import ImpactRecord
+from .record import ImpactRecord
 
 #: Suffixes of the record files a folder is expanded to (side files `x.json` are not records).
 RECORD_SUFFIXES = (".csv", ".wav")

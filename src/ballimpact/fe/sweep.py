@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InputError
-from .features import dynamic_stiffness
+from ..errors import InputError
+from ..records.features import dynamic_stiffness
 
 #: the columns of a sweep's rows (SI, unit in the name), in the table's order
 ROW_KEYS = ("impact_speed_m_s", "cor", "peak_force_n", "contact_time_s", "max_deflection_m",
@@ -37,7 +37,7 @@ VERSUS_SPEED = (("cor", "COR", 1.0), ("peak_force_n", "peak force (kN)", 1e-3),
 def parse_speeds(text: str) -> tuple[float, ...]:
     """Impact speeds (m/s) from a comma-separated list ("5,10,20.5"): each item a finite number,
     none empty, none given twice (a sweep that ran one speed twice would look like two points).
-    Their order is kept; the range is checked by the solver (`plausibility.check_fe_speed`).
+    Their order is kept; the range is checked by the solver (`fe.speed_range.check_fe_speed`).
     Raises `InputError` with a message naming the item."""
     items = text.split(",")
     speeds: list[float] = []
@@ -76,7 +76,7 @@ def sweep_balls(spec, speeds_m_s: Sequence[float], *, moduli: str | None = None,
                 allow=()) -> list:
     """The ball `spec` (preset, file or dict: `fe.load_ball`) loaded at each speed (m/s), with
     `moduli` ("long_term" or "instantaneous") overriding its convention when given."""
-    from .fe import load_ball
+    from . import load_ball
 
     balls = [load_ball(spec, impact_speed_m_s=float(s), allow=allow) for s in speeds_m_s]
     if moduli is not None:
@@ -89,7 +89,7 @@ def run_sweep(balls: Sequence, speeds_m_s: Sequence[float], options=None, *, lab
     """`balls[i]` at `speeds_m_s[i]` (m/s) in one `fe.simulate_batch` call (vmapped groups of
     one compiled program: the balls must share their layer structure, as `sweep_balls` gives).
     Errors and warnings are `simulate_batch`'s (speed range, memory, unresolved contact)."""
-    from .fe import SolverOptions, simulate_batch
+    from . import SolverOptions, simulate_batch
 
     options = SolverOptions() if options is None else options
     speeds = tuple(float(s) for s in speeds_m_s)
@@ -157,7 +157,7 @@ def compare_rows(sweeps: Sequence[Sweep]) -> list[dict[str, Any]]:
 def write_table(rows: Sequence[dict[str, Any]], path: str | Path) -> str:
     """`rows` as CSV (`fileio.write_table`: the header from the first row's keys, SI units in
     the names; numbers with 10 significant digits, a non-finite one empty)."""
-    from .fileio import write_table as write_csv
+    from ..fileio import write_table as write_csv
 
     rows = list(rows)
     return write_csv(Path(path), list(rows[0]), rows, ".10g")

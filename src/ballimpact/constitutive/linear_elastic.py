@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ...checks import spec_number
+from ..checks import spec_number
 from .base import Material, Sym
 
 

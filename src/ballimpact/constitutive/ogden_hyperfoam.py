@@ -21,9 +21,9 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from ...errors import InputError
-from ..fastmath import power
-from ...checks import check_keys, spec_number
+from ..errors import InputError
+from .fastmath import power
+from ..checks import check_keys, spec_number
 from .base import Material
 from .spectral import trace_power
 
