@@ -8,8 +8,6 @@ records. Used wherever a model meets a test: calibration, the universal model, t
 - `compare`: the scalar comparison (NRMSE, COR, contact time, peak force).
 - `noisy_record` / `noisy_features`: a pulse sampled at `PULSE_RATE_HZ` (100 kHz) with a baseline
   and white noise, processed as a measured test.
-- `compare_balls`: two or more FE balls side by side at the same speeds, without tests
-  (`ballimpact compare`), their --ball values checked by `check_balls`.
 
 A "test" here is anything with `features` (`ImpactFeatures`) and `pulse` (time s, force N from
 its contact start), e.g. `calibrate.CalibrationTest`.
@@ -17,17 +15,11 @@ its contact start), e.g. `calibrate.CalibrationTest`.
 
 from __future__ import annotations
 
-import sys
-import time
 import warnings
-from collections.abc import Sequence
-from dataclasses import dataclass
-from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from .errors import InputError, InputWarning
+from .errors import InputWarning
 
 #: the sampling rate (Hz) of stored and synthetic pulses
 PULSE_RATE_HZ = 100e3
@@ -155,82 +147,3 @@ def noisy_features(pulse_n, impact_speed_m_s, cor, mass_kg, noise, rng, filter="
         warnings.simplefilter("ignore", InputWarning)
         return process(record, filter=filter, warn_noisy=False, method=method,
                        uncertainty=False).features.values
-
-
-def _ball_key(spec: str) -> str:
-    """What makes two --ball values the same ball: a file by its resolved path, else the name."""
-    path = Path(spec)
-    return str(path.resolve()) if path.is_file() else spec
-
-
-def check_balls(specs: Sequence[str]) -> list[str]:
-    """Two or more balls, each given once (a file under two spellings counts as twice)."""
-    specs = list(specs)
-    if len(specs) < 2:
-        raise InputError(f"--ball: give two or more balls to compare (got {len(specs)}); one "
-                         "ball at several speeds is `simulate --speed-m-s 5,10,20`")
-    seen: dict[str, str] = {}
-    for spec in specs:
-        key = _ball_key(spec)
-        if key in seen:
-            spelling = f" (as {seen[key]})" if seen[key] != spec else ""
-            raise InputError(f"--ball: {spec} is given twice{spelling}; give each ball once")
-        seen[key] = spec
-    return specs
-
-
-@dataclass
-class BallComparison:
-    """`compare_balls`' result: the balls (`specs`, the first the reference), the speeds (m/s),
-    each ball's `sweep.Sweep`, the long table (`sweep.compare_rows`) and the runs' wall time."""
-
-    specs: list[str]
-    speeds_m_s: tuple[float, ...]
-    sweeps: list
-    rows: list[dict[str, Any]]
-    wall_time_s: float
-
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON of `ballimpact compare` (without the files it wrote)."""
-        return {"balls": self.specs, "reference_ball": self.specs[0],
-                "speeds_m_s": list(self.speeds_m_s), "comparison": self.rows,
-                "sweeps": [{"ball": s.label, "ball_names": [r.ball_name for r in s.results],
-                            "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
-                            "rows": s.rows()} for s in self.sweeps],
-                "wall_time_s": self.wall_time_s}
-
-
-def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=None, *,
-                  moduli: str | None = None, allow=frozenset()) -> BallComparison:
-    """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
-    more, `check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
-    speeds one batched run (`sweep.run_sweep`, `options` a `fe.SolverOptions`), `moduli`
-    overriding every ball's convention: every ball loaded and its run estimated before any
-    runs; a large run's warning and progress go to stderr."""
-    from .fe import RunProgress, SolverOptions, estimate
-    from .fe.engine import default_group_size
-    from .fe.runs import check_sweep_speeds
-    from .fe.sweep import compare_rows, run_sweep, sweep_balls
-
-    specs = check_balls(specs)
-    speeds = tuple(float(s) for s in speeds_m_s)
-    options = SolverOptions() if options is None else options
-    check_sweep_speeds(speeds, allow)
-    balls = {spec: sweep_balls(spec, speeds, moduli=moduli, allow=allow) for spec in specs}
-    slowest = min(range(len(speeds)), key=speeds.__getitem__)
-    estimates = {spec: estimate(b[slowest], speeds, options, allow=allow)
-                 for spec, b in balls.items()}
-    started = time.perf_counter()
-    sweeps = []
-    for spec in specs:
-        message = estimates[spec].warning()
-        if message is not None:
-            print(f"warning: {message}", file=sys.stderr, flush=True)
-        print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
-        one_group = len(speeds) <= default_group_size(len(speeds))
-        progress = RunProgress(estimates[spec].end_time_s, options.chunk_steps) if one_group \
-            else None
-        sweeps.append(run_sweep(balls[spec], speeds, options, label=spec, progress=progress,
-                                allow=allow))
-    return BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
-                          time.perf_counter() - started)

@@ -7,9 +7,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..comparison import compare_balls
 from ..checks import check_allow
-from ..fe.sweep import sweep_figure, write_table
+from ..fe.sweep import compare_balls, sweep_figure, write_table
 from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
 from .simulate import add_solver_options, given_speeds, solver_options, speed_list
 

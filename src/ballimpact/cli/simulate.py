@@ -158,13 +158,6 @@ def given_speeds(args: argparse.Namespace) -> tuple[float, ...]:
     return tuple(sorted(speeds)) if isinstance(speeds, (tuple, list)) else (float(speeds),)
 
 
-def check_sweep_speeds(speeds, allow: frozenset[str]) -> None:
-    """`fe.runs.check_sweep_speeds` (for `compare`; importing it here would load the FE)."""
-    from ..fe.runs import check_sweep_speeds as check
-
-    check(speeds, allow)
-
-
 def solver_options(args: argparse.Namespace):
     from ..fe import SolverOptions
 

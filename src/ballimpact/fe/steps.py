@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from functools import partial
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -55,13 +55,37 @@ STATE = {"a": "nodal accelerations (m/s^2)", "d_bv": "bulk-viscous dissipation (
          "x_top": "top Ritz vector of the last increment estimate"}
 
 
+#: an array field of a kernel's parameters or state: NumPy (float64, built on the host) or JAX
+#: (in the kernel's precision, traced)
+Array = jax.Array | np.ndarray
+#: the fields that are not one array, and their types
+FIELD_TYPES = {"groups": list[dict[str, Array]], "mat": list["PronyState"]}
+
+
+class PronyState(NamedTuple):
+    """The material state of one layer or group at its integration points: the instantaneous
+    deviatoric and volumetric stresses of the last step (`s0_dev`, `s0_vol`, Pa; components
+    first) and the Maxwell branches' overstresses (`q_dev`, `q_vol`, Pa; Prony terms first). A
+    layer without bulk relaxation keeps no volumetric branches (`q_vol` and `s0_vol` of size 0
+    along their first axis). Fields in alphabetical order: it flattens as the dict it replaced
+    did."""
+
+    q_dev: Array
+    q_vol: Array
+    s0_dev: Array
+    s0_vol: Array
+
+
+jax.export.register_namedtuple_serialization(PronyState, serialized_name="ballimpact.PronyState")
+
+
 def named_tuple(name: str, module: str, doc: str, shared: dict, own: dict) -> type:
     """A kernel's parameters or state: a NamedTuple of the `shared` and the geometry's `own`
-    fields (name -> what it holds) in alphabetical order, so that it flattens as the dict it
-    replaced did, registered with `jax.export` (the programs kept on disk, `fe.programs`,
-    serialize their arguments' and results' structure)."""
+    fields (name -> what it holds), typed (`Array`, or `FIELD_TYPES`), in alphabetical order,
+    so that it flattens as the dict it replaced did, registered with `jax.export` (the programs
+    kept on disk, `fe.programs`, serialize their arguments' and results' structure)."""
     fields = {**shared, **own}
-    cls = NamedTuple(name, [(field, Any) for field in sorted(fields)])
+    cls = NamedTuple(name, [(field, FIELD_TYPES.get(field, Array)) for field in sorted(fields)])
     cls.__module__ = module
     cls.__doc__ = doc + "\n\n" + "\n".join(f"- `{f}`: {fields[f]}" for f in sorted(fields))
     jax.export.register_namedtuple_serialization(cls, serialized_name=f"ballimpact.{name}")
@@ -215,15 +239,15 @@ def material_stresses(slices, energies, constants, C, mats, dt):
             energy, Sym(*(c[..., a:b] for c in C)), consts)
         s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
         tau = consts["prony_tau_s"]
-        q_dev = prony_update(mat["q_dev"], mat["s0_dev"], s_dev, consts["prony_g"], tau, dt)
-        if mat["q_vol"].shape[0]:  # bulk relaxation (k_i > 0) in this layer
-            q_vol = prony_update(mat["q_vol"], mat["s0_vol"], s_vol, consts["prony_k"], tau, dt)
+        q_dev = prony_update(mat.q_dev, mat.s0_dev, s_dev, consts["prony_g"], tau, dt)
+        if mat.q_vol.shape[0]:  # bulk relaxation (k_i > 0) in this layer
+            q_vol = prony_update(mat.q_vol, mat.s0_vol, s_vol, consts["prony_k"], tau, dt)
         else:
-            q_vol = mat["q_vol"]
+            q_vol = mat.q_vol
         # sums over the Prony terms written out (a reduction is a slow pass of its own)
         stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
-        new_mats.append({"s0_dev": s_dev, "s0_vol": s_vol if q_vol.shape[0] else mat["s0_vol"],
-                         "q_dev": q_dev, "q_vol": q_vol})
+        new_mats.append(PronyState(q_dev=q_dev, q_vol=q_vol, s0_dev=s_dev,
+                                   s0_vol=s_vol if q_vol.shape[0] else mat.s0_vol))
         density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
                    + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
         density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],

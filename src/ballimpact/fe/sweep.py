@@ -12,6 +12,7 @@ their layer structure and differ in constants, which is what `simulate_batch` vm
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -161,6 +162,88 @@ def write_table(rows: Sequence[dict[str, Any]], path: str | Path) -> str:
 
     rows = list(rows)
     return write_csv(Path(path), list(rows[0]), rows, ".10g")
+
+
+# --------------------------------------------------------------------------- balls side by side
+
+
+def _ball_key(spec: str) -> str:
+    """What makes two --ball values the same ball: a file by its resolved path, else the name."""
+    path = Path(spec)
+    return str(path.resolve()) if path.is_file() else spec
+
+
+def check_balls(specs: Sequence[str]) -> list[str]:
+    """Two or more balls, each given once (a file under two spellings counts as twice)."""
+    specs = list(specs)
+    if len(specs) < 2:
+        raise InputError(f"--ball: give two or more balls to compare (got {len(specs)}); one "
+                         "ball at several speeds is `simulate --speed-m-s 5,10,20`")
+    seen: dict[str, str] = {}
+    for spec in specs:
+        key = _ball_key(spec)
+        if key in seen:
+            spelling = f" (as {seen[key]})" if seen[key] != spec else ""
+            raise InputError(f"--ball: {spec} is given twice{spelling}; give each ball once")
+        seen[key] = spec
+    return specs
+
+
+@dataclass
+class BallComparison:
+    """`compare_balls`' result: the balls (`specs`, the first the reference), the speeds (m/s),
+    each ball's `sweep.Sweep`, the long table (`sweep.compare_rows`) and the runs' wall time."""
+
+    specs: list[str]
+    speeds_m_s: tuple[float, ...]
+    sweeps: list
+    rows: list[dict[str, Any]]
+    wall_time_s: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of `ballimpact compare` (without the files it wrote)."""
+        return {"balls": self.specs, "reference_ball": self.specs[0],
+                "speeds_m_s": list(self.speeds_m_s), "comparison": self.rows,
+                "sweeps": [{"ball": s.label, "ball_names": [r.ball_name for r in s.results],
+                            "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
+                            "rows": s.rows()} for s in self.sweeps],
+                "wall_time_s": self.wall_time_s}
+
+
+def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=None, *,
+                  moduli: str | None = None, allow=frozenset()) -> BallComparison:
+    """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
+    more, `check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
+    speeds one batched run (`sweep.run_sweep`, `options` a `fe.SolverOptions`), `moduli`
+    overriding every ball's convention: every ball loaded and its run estimated before any
+    runs; a large run's warning and progress go to stderr."""
+    from .engine import default_group_size, estimate
+    from .options import SolverOptions
+    from .progress import RunProgress
+    from .runs import check_sweep_speeds
+
+    specs = check_balls(specs)
+    speeds = tuple(float(s) for s in speeds_m_s)
+    options = SolverOptions() if options is None else options
+    check_sweep_speeds(speeds, allow)
+    balls = {spec: sweep_balls(spec, speeds, moduli=moduli, allow=allow) for spec in specs}
+    slowest = min(range(len(speeds)), key=speeds.__getitem__)
+    estimates = {spec: estimate(b[slowest], speeds, options, allow=allow)
+                 for spec, b in balls.items()}
+    started = time.perf_counter()
+    sweeps = []
+    for spec in specs:
+        message = estimates[spec].warning()
+        if message is not None:
+            print(f"warning: {message}", file=sys.stderr, flush=True)
+        print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
+        one_group = len(speeds) <= default_group_size(len(speeds))
+        progress = RunProgress(estimates[spec].end_time_s, options.chunk_steps) if one_group \
+            else None
+        sweeps.append(run_sweep(balls[spec], speeds, options, label=spec, progress=progress,
+                                allow=allow))
+    return BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
+                          time.perf_counter() - started)
 
 
 # --------------------------------------------------------------------------- plots

@@ -346,6 +346,7 @@ def extract_features(
     uncertainty: bool = False,
     noise_rms_n: float | None = None,
     smoothing: float | None = None,
+    checked: bool = False,
 ) -> ImpactFeatures:
     """The 19 characteristic values and the load-cell identities of one impact.
 
@@ -370,6 +371,8 @@ def extract_features(
       `smoothing` (`ImpactFeatures.smoothing`).
     - `uncertainty`: also the standard uncertainty of every value from the record's noise
       (`reconstruct.bootstrap_uncertainty`; `ImpactFeatures.uncertainty`).
+    - `checked`: the record has passed `plausibility.check_polarity` and `select_pulse` already
+      (`pipeline.process` runs them before the baseline), so they are not run again.
 
     **Raises:** `InputError` if the mass or impact speed is missing, if the pulse is negative
     (`plausibility.check_polarity`: an inverted load cell), if there is no pulse or several
@@ -385,8 +388,9 @@ def extract_features(
         raise InputError("impact_speed_m_s: the impact speed is required (e.g. --impact-speed-m-s 25)")
     mass, v_in = record.mass_kg, record.impact_speed_m_s
 
-    check_polarity(record)  # an inverted pulse: an error naming the fix
-    select_pulse(record)  # several pulses: an error that lists them
+    if not checked:
+        check_polarity(record)  # an inverted pulse: an error naming the fix
+        select_pulse(record)  # several pulses: an error that lists them
     if method not in METHODS:
         raise InputError(f"method: {method!r}; allowed: {', '.join(METHODS)}")
     window, curve, fitted = _window_and_curve(record, threshold_fraction, noise_factor, method,

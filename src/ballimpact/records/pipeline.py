@@ -129,7 +129,7 @@ def process(
         compensated = without_ringing(raw, resonance_hz, damping_ratio) if ringing else raw
         filtered = apply_filter(compensated, filter, window_s=window_s)
         features = extract_features(filtered, impulse_tolerance=impulse_tolerance, allow=allow,
-                                    method=method, uncertainty=uncertainty)
+                                    method=method, uncertainty=uncertainty, checked=True)
     except InputError as error:
         if source is None or str(error).startswith(source):
             raise

@@ -28,8 +28,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..stable_increment import increment_factor
-from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple,
-                     step_events)
+from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, PronyState, material_stresses,
+                     named_tuple, step_events)
 from .element import (
     AxiGeometry,
     centre_deformation,
@@ -130,17 +130,17 @@ class Kernel(ChunkedSteps):
             return tuple(tuple(self.zeros(n_el) for _ in range(4)) for _ in range(2))
         return self.zeros((2, 4, n_el))
 
-    def initial_materials(self, params) -> list[dict]:
+    def initial_materials(self, params) -> list[PronyState]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.layer_slices, self.bulk_relaxation,
                                         params.groups):
             shape = (4, self.n_points, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at the points
             n_terms = consts["prony_g"].shape[-1]
             n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
-            mats.append({"s0_dev": self.zeros(shape),
-                         "s0_vol": self.zeros(shape if bulk else (0,) + shape[1:]),
-                         "q_dev": self.zeros((n_terms,) + shape),
-                         "q_vol": self.zeros((n_bulk,) + shape)})
+            mats.append(PronyState(q_dev=self.zeros((n_terms,) + shape),
+                                   q_vol=self.zeros((n_bulk,) + shape),
+                                   s0_dev=self.zeros(shape),
+                                   s0_vol=self.zeros(shape if bulk else (0,) + shape[1:])))
         return mats
 
     def initial_state(self, params, speed):

@@ -31,7 +31,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..stable_increment import alternating_start
-from ..steps import PARAMS, STATE, ChunkedSteps, material_stresses, named_tuple, step_events
+from ..steps import (PARAMS, STATE, ChunkedSteps, PronyState, material_stresses, named_tuple,
+                     step_events)
 from ...constitutive import Sym, energy_and_stress
 from .element import (
     HexGeometry,
@@ -109,16 +110,16 @@ class Kernel(ChunkedSteps):
         """Integration points per element as an axis: () reduced, (8,) full."""
         return () if self.reduced else (8,)
 
-    def initial_materials(self, params) -> list[dict]:
+    def initial_materials(self, params) -> list[PronyState]:
         mats = []
         for (a, b), bulk, consts in zip(self.geom.group_slices, self.bulk_relaxation,
                                         params.groups):
             shape = (6,) + self.point_shape + (b - a,)
             n_terms = consts["prony_g"].shape[-1]
-            mats.append({"s0_dev": self.zeros(shape),
-                         "s0_vol": self.zeros(shape if bulk else (0,) + shape[1:]),
-                         "q_dev": self.zeros((n_terms,) + shape),
-                         "q_vol": self.zeros(((n_terms if bulk else 0),) + shape)})
+            mats.append(PronyState(q_dev=self.zeros((n_terms,) + shape),
+                                   q_vol=self.zeros(((n_terms if bulk else 0),) + shape),
+                                   s0_dev=self.zeros(shape),
+                                   s0_vol=self.zeros(shape if bulk else (0,) + shape[1:])))
         return mats
 
     def internal(self, params, u, mats, j_prev, dt):
@@ -178,8 +179,8 @@ class Kernel(ChunkedSteps):
                                                mats):
             (_, s_dev), (_, s_vol) = energy_and_stress(
                 energy, Sym(*(c[..., a:b] for c in right_cauchy_green(F))), consts)
-            parts.append(jnp.stack(s_dev) + jnp.stack(s_vol) - jnp.sum(mat["q_dev"], axis=0)
-                         - jnp.sum(mat["q_vol"], axis=0))
+            parts.append(jnp.stack(s_dev) + jnp.stack(s_vol) - jnp.sum(mat.q_dev, axis=0)
+                         - jnp.sum(mat.q_vol, axis=0))
         S = jnp.concatenate(parts, axis=-1)
         s = ((S[0], S[3], S[5]), (S[3], S[1], S[4]), (S[5], S[4], S[2]))
         FS = [[sum(F[i][k] * s[k][j] for k in range(3)) for j in range(3)] for i in range(3)]

@@ -1,11 +1,11 @@
-"""`comparison.compare_balls` and `comparison.check_balls` (the library side of `ballimpact
+"""`fe.sweep.compare_balls` and `fe.sweep.check_balls` (the library side of `ballimpact
 compare`), called from Python; the command's own tests are in tests/fe/test_sweep.py."""
 
 import json
 
 import pytest
 
-from ballimpact.comparison import check_balls, compare_balls
+from ballimpact.fe.sweep import check_balls, compare_balls
 from ballimpact.errors import InputError
 from ballimpact.fe import SolverOptions, load_ball
 
