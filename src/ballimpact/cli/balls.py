@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 from typing import Any
+from .common import add_json
 
 
 def add_parser(verbs) -> None:
     balls = verbs.add_parser("balls", help="list the built-in ball presets",
                              description="The built-in ball presets usable with --ball.")
-    balls.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(balls)
 
 
 def run_balls(args: argparse.Namespace) -> dict[str, Any]:

@@ -144,6 +144,11 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
     add_allow(parser)
 
 
+def add_json(parser: argparse.ArgumentParser) -> None:
+    """`--json`: the result as one JSON object on stdout (every verb has it)."""
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
 def add_allow(parser: argparse.ArgumentParser) -> None:
     """`--allow NAME`: a plausibility check whose failure becomes a warning (docs/features.md)."""
     parser.add_argument("--allow", action="append", default=[], metavar="CHECK",

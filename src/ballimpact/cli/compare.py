@@ -9,7 +9,7 @@ from typing import Any
 
 from ..checks import check_allow
 from ..fe.sweep import compare_balls, sweep_figure, write_table
-from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
 from .simulate import add_solver_options, given_speeds, solver_options, speed_list
 
 
@@ -30,7 +30,7 @@ def add_parser(verbs) -> None:
                          help="override every ball's moduli convention")
     add_allow(compare)
     add_solver_options(compare)
-    compare.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(compare)
     compare.add_argument("--table", type=Path,
                          help="CSV: a row per speed and ball, with the differences from the "
                               "first ball (SI)")

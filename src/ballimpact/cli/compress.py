@@ -10,7 +10,7 @@ from typing import Any
 from ..errors import InputError
 from ..checks import check_allow
 from ..progress import CountProgress
-from .common import add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
 from .simulate import SolverDefaults
 
 #: print progress lines only for curves that take longer than this (s)
@@ -50,7 +50,7 @@ def add_parser(verbs) -> None:
     compress.add_argument("--moduli", choices=("long_term", "instantaneous"),
                           help="override the ball's moduli convention")
     add_allow(compress)
-    compress.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(compress)
     compress.add_argument("--csv", type=Path, help="write the curve (deflection_m,force_n)")
     compress.add_argument("--plot", type=Path, help="PNG: force against deflection")
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 from typing import Any
+from .common import add_json
 
 
 def add_parser(verbs) -> None:
@@ -19,7 +20,7 @@ def add_parser(verbs) -> None:
     steps = data.add_subparsers(dest="step", required=True, metavar="STEP")
     listing = steps.add_parser("list", help="the data sets: name, what it is, source, files",
                                description="The built-in data sets.")
-    listing.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(listing)
     copy = steps.add_parser("copy", help="copy a data set's files into a folder",
                             description="Copy the files of a built-in data set (a record with "
                                         "its side file; a folder set as a folder) into DEST.")
@@ -28,7 +29,7 @@ def add_parser(verbs) -> None:
                       help="folder to copy into (default: the current folder; made if its "
                            "parent exists)")
     copy.add_argument("--force", action="store_true", help="overwrite files that exist")
-    copy.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(copy)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:

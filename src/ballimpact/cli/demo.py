@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..verdict import verdict_line
-from .common import check_plot_path, use_compilation_cache
+from .common import add_json, check_plot_path, use_compilation_cache
 
 DEMO_PLOT = "ballimpact-demo.png"
 
@@ -21,7 +21,7 @@ def add_parser(verbs) -> None:
         description="Simulate the cricket-universal ball at 25 m/s and the cricket-3layer ball "
                     "at 20.8 m/s on a rigid plane; print peak force, contact time, COR and the "
                     "energy balance error, and write one PNG.")
-    demo.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(demo)
     demo.add_argument("--plot", type=Path, default=Path(DEMO_PLOT),
                       help=f"PNG to write (default {DEMO_PLOT})")
 

@@ -12,7 +12,7 @@ from typing import Any
 
 from ..errors import InputError, InputWarning
 from ..checks import check_allow
-from .common import add_allow
+from .common import add_json, add_allow
 
 
 def add_parser(verbs) -> None:
@@ -60,7 +60,7 @@ def add_parser(verbs) -> None:
     export.add_argument("--pole-grading", type=float, help="3d mesh: grading toward the pole")
     export.add_argument("--half-model", action="store_true",
                         help="3d impact deck: the half y >= 0 with a symmetry plane")
-    export.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(export)
     add_allow(export)
 
     imp = verbs.add_parser(
@@ -75,7 +75,7 @@ def add_parser(verbs) -> None:
     imp.add_argument("--ball", action="store_true",
                      help="the whole ball (radii from the mesh) of a deck written by export")
     imp.add_argument("--out", type=Path, help="write the result as JSON to this file")
-    imp.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(imp)
     add_allow(imp)
 
 

@@ -13,6 +13,7 @@ from ..fileio import write_atomic
 from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
 from ..records.repeats import expand_records
 from .common import (
+    add_json,
     add_processing,
     add_record_options,
     assignments,
@@ -66,7 +67,7 @@ def add_parser(verbs) -> None:
 
     models = verbs.add_parser("models", help="list the lumped models and their parameters",
                               description="The lumped models, their parameters and SI units.")
-    models.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(models)
 
 
 def run_fit(args: argparse.Namespace) -> dict[str, Any]:

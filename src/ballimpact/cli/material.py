@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import check_output_folder, check_plot_path, use_compilation_cache
+from .common import add_json, check_output_folder, check_plot_path, use_compilation_cache
 
 #: models of `material fit`: the hyperelastic fits and the Prony series of viscoelastic tests
 FIT_MODELS = ("neo_hookean", "mooney_rivlin", "yeoh", "ogden", "ogden_hyperfoam", "prony")
@@ -56,7 +56,7 @@ def add_parser(verbs) -> None:
                           "default k_i = 0")
     fit.add_argument("--out", type=Path, help="write the material JSON here (atomically)")
     fit.add_argument("--plot", type=Path, help="PNG: data and fit per mode")
-    fit.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(fit)
 
     ball = steps.add_parser(
         "ball", help="a ball file from fitted materials, a diameter and a mass",
@@ -86,7 +86,7 @@ def add_parser(verbs) -> None:
                            "a prony list; repeatable")
     ball.add_argument("--name", help="the ball's name (default: the --out file's name)")
     ball.add_argument("--out", type=Path, required=True, help="the ball file to write (.json)")
-    ball.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(ball)
 
     check = steps.add_parser(
         "check", help="Drucker-stable stretch ranges of a ball's materials",
@@ -98,7 +98,7 @@ def add_parser(verbs) -> None:
     source.add_argument("--material", type=Path, help="material JSON (as `material fit --out`)")
     check.add_argument("--speed-m-s", type=float, dest="speed_m_s",
                        help="impact speed (m/s): run the ball and check its stretch range")
-    check.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(check)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:

@@ -9,7 +9,7 @@ from typing import Any
 from ..errors import InputError
 from ..fileio import check_distinct_files
 from ..verdict import add_tolerance_flags, tolerances_from
-from .common import (add_filtering, add_record_options, load, process_record,
+from .common import (add_json, add_filtering, add_record_options, load, process_record,
                      use_compilation_cache)
 
 DEFAULT_MODELS = "single_element,three_element,universal"
@@ -41,7 +41,7 @@ def add_parser(verbs) -> None:
                         help="seed of the lumped GA fits (default 0)")
     add_filtering(report)
     report.add_argument("--quiet", action="store_true", help="no progress bar")
-    report.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(report)
     add_record_options(report)
     add_tolerance_flags(report)
 

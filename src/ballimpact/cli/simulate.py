@@ -12,7 +12,7 @@ from typing import Any
 from ..errors import InputError
 from ..checks import check_allow
 from .angle_sweep import parse_angles, run_angle_sweep
-from .common import add_allow, check_output_folder, finite_float
+from .common import add_json, add_allow, check_output_folder, finite_float
 from ..fe.sweep import parse_speeds, sweep_figure, write_table
 from .simulate_3d import check_flags, checked_allow, inputs_3d, print_3d, starter
 
@@ -101,7 +101,7 @@ def add_parser(verbs) -> None:
     simulate.add_argument("--moduli", choices=("long_term", "instantaneous"),
                           help="override the balls' moduli convention: long_term or "
                                "instantaneous")
-    simulate.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(simulate)
     simulate.add_argument("--csv", type=Path, help="write the histories (one row per step)")
     simulate.add_argument("--plot", type=Path,
                           help="PNG: force-time curve and deformed shape at peak force (a sweep: "

@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..checks import check_allow
 from ..standards import (METHODS, describe_methods, from_records, get_method, on_model,
                          stats_text, write_result_table)
-from .common import add_filtering, check_output_folder, use_compilation_cache
+from .common import add_json, add_filtering, check_output_folder, use_compilation_cache
 from .simulate import SolverDefaults
 
 
@@ -53,7 +53,7 @@ def add_parser(verbs) -> None:
                                "universal study's mesh scaled to the ball)")
     standard.add_argument("--table", type=Path,
                           help="write a CSV: a row per shot, per ball and over all balls")
-    standard.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(standard)
     add_filtering(standard)
 
 

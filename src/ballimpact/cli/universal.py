@@ -13,7 +13,7 @@ from ..checks import check_fraction
 from ..errors import InputError
 from ..records.filters import check_filter_name
 from ..progress import progress_bar
-from .common import (add_allow, assignments, check_output_folder, check_plot_path,
+from .common import (add_json, add_allow, assignments, check_output_folder, check_plot_path,
                      use_compilation_cache)
 
 
@@ -53,7 +53,7 @@ def add_parser(verbs) -> None:
     run.add_argument("--workers", type=int, help="run on a local Dask cluster of N processes")
     run.add_argument("--scheduler", help="run on the Dask scheduler at ADDRESS")
     add_allow(run)  # ball-units: a template or ranges outside sports balls (a foam ball)
-    run.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(run)
 
     train = steps.add_parser("train", help="train the universal model on the study in DIR",
                              description="Train the inverse (features -> parameters with 90%% "
@@ -74,7 +74,7 @@ def add_parser(verbs) -> None:
                        help="write the model even if it fails its held-out check (R^2 of mu0, "
                             "g1, contact time, peak force and COR >= 0.5 on the held-out runs); "
                             "it is then marked failed in its JSON")
-    train.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(train)
 
     report = steps.add_parser("report", help="held-out figures of a model, with plots",
                               description="Per parameter median and 90th-percentile errors, "
@@ -93,7 +93,7 @@ def add_parser(verbs) -> None:
                         help="closed loop with --noise: filter of the noisy records (default none)")
     report.add_argument("--refine", choices=("none", "surrogate"),
                         help="closed loop: refine on the forward surrogate, or not (default)")
-    report.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(report)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:

@@ -8,7 +8,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..progress import progress_line
-from .common import check_plot_path
+from .common import add_json, check_plot_path
 
 
 def add_parser(verbs) -> None:
@@ -38,7 +38,7 @@ def add_parser(verbs) -> None:
                             "speed and angle, and --mass-kg (docs/video.md)")
     video.add_argument("--mass-kg", type=float, help="ball mass (kg), for the side file")
     video.add_argument("--plot", type=Path, help="write the tracked and fitted trajectory (PNG)")
-    video.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(video)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
