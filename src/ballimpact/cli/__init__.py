@@ -132,7 +132,7 @@ VERBS = {"features": ("features", "run"), "fit": ("fit", "run_fit"),
          "import-material": ("export", "run_import"), "video": ("video", "run"),
          "report": ("report", "run"), "material": ("material", "run"),
          "compress": ("compress", "run"), "standard": ("standard", "run"),
-         "compare": ("compare", "run"), "data": ("data", "run")}
+         "compare": ("compare", "run"), "data": ("data", "run"), "bat": ("bat", "run")}
 
 
 def _module(name: str):

@@ -1,0 +1,195 @@
+"""`ballimpact bat`: a ball on a flexible bat (`bats.bat_impact`, `bats.impact_sweep`): the
+collision efficiency, batted-ball speed, energy split and bending stress at one impact point,
+or along the bat with its sweet spot; docs/equipment.md, "Ball on bat"."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .common import add_allow, add_json, check_plot_path
+
+#: the hands' positions (m from the knob end) of `--grip`
+GRIP_POSITIONS_M = (0.05, 0.15)
+
+
+def add_parser(verbs) -> None:
+    bat = verbs.add_parser(
+        "bat", help="a ball on a flexible bat: collision efficiency, sweet spot, vibration",
+        description="The ball (a Hunt-Crossley contact law fitted to the FE ball's impact on a "
+                    "rigid plane at the collision's relative speed, or given as hc:MASS_KG:"
+                    "STIFFNESS:DAMPING_S_M) on the bat's Timoshenko-beam modes "
+                    "(docs/equipment.md, 'Ball on bat'). The bat's swing is a rigid rotation "
+                    "about --pivot-m if given, else a translation.")
+    bat.add_argument("--bat", required=True,
+                     help="bat preset (baseball-wood-34in, baseball-aluminium-bbcor-34in, "
+                          "cricket-willow-sh) or bat file (JSON/TOML)")
+    bat.add_argument("--ball", required=True,
+                     help="ball preset or file (its law from one FE run), or "
+                          "hc:MASS_KG:STIFFNESS:DAMPING_S_M (F = k d^1.5 (1 + 1.5 c d'))")
+    bat.add_argument("--speed-m-s", type=float, required=True,
+                     help="the ball's speed toward the bat (m/s)")
+    bat.add_argument("--impact-m", required=True, metavar="X|START:STOP:STEP",
+                     help="impact point from the knob end (m), or a sweep along the bat")
+    bat.add_argument("--bat-speed-m-s", type=float, default=0.0,
+                     help="the bat's speed toward the ball at the impact point (m/s; default 0)")
+    bat.add_argument("--pivot-m", type=float,
+                     help="the swing's centre of rotation from the knob end (m); with "
+                          "--support pivot the bat is pinned there")
+    bat.add_argument("--support", choices=("free", "pivot"), default="free",
+                     help="free bat (default) or pinned at --pivot-m")
+    bat.add_argument("--grip", metavar="STIFFNESS_N_M:DAMPING_N_S_M",
+                     help=f"hands at {GRIP_POSITIONS_M[0]:g} and {GRIP_POSITIONS_M[1]:g} m: a "
+                          "spring and dashpot each; prints the force on the hands")
+    bat.add_argument("--modes", type=int, default=12,
+                     help="bat modes kept, rigid ones included (default 12)")
+    add_allow(bat)
+    add_json(bat)
+    bat.add_argument("--plot", type=Path,
+                     help="PNG: the sweet-spot plot (a sweep) or the contact force (one point)")
+
+
+def _numbers(text: str, flag: str, count: int) -> list[float]:
+    parts = text.split(":")
+    if len(parts) != count:
+        raise InputError(f"{flag} = {text!r}: expected {count} numbers separated by ':'")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise InputError(f"{flag} = {text!r}: not a number") from None
+    if not all(math.isfinite(v) for v in values):
+        raise InputError(f"{flag} = {text!r}: not a finite number")
+    return values
+
+
+def impact_points(text: str, length_m: float) -> list[float]:
+    """`--impact-m`: one point, or START:STOP:STEP (STOP included), all on the bat."""
+    if ":" in text:
+        start, stop, step = _numbers(text, "--impact-m", 3)
+        if stop < start:
+            raise InputError(f"--impact-m = {text}: STOP {stop:g} is less than START {start:g}")
+        if step <= 0:
+            raise InputError(f"--impact-m = {text}: STEP must be > 0 m")
+        count = int(math.floor((stop - start) / step + 1e-9)) + 1
+        if count > 1000:
+            raise InputError(f"--impact-m = {text}: {count} points; at most 1000")
+        points = [start + i * step for i in range(count)]
+    else:
+        points = _numbers(text, "--impact-m", 1)
+    for x in points:
+        if not 0.0 < x <= length_m:
+            raise InputError(f"--impact-m = {text}: {x:g} m is off the bat (0, {length_m:g}] m "
+                             "from the knob end")
+    return points
+
+
+def _ball(args, speed: float):
+    from ..bats.ball_law import HuntCrossleyBall, ball_law
+
+    if args.ball.startswith("hc:"):
+        mass, k, c = _numbers(args.ball[3:], "--ball hc:", 3)
+        try:
+            return HuntCrossleyBall(mass, k, c, name=args.ball)
+        except InputError as error:
+            raise InputError(f"--ball: {error}") from None
+    print(f"ball law: one FE run of {args.ball} at {speed:g} m/s on a rigid plane ...",
+          file=sys.stderr, flush=True)
+    return ball_law(args.ball, speed, allow=args.allow)
+
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..bats import Grip, load_bat
+    from ..bats.impact import bat_impact, bat_model
+    from ..bats.sweep import impact_sweep
+    from ..checks import check_allow
+
+    check_plot_path(args.plot)
+    args.allow = check_allow(args.allow)
+    spec = load_bat(args.bat)
+    if not args.speed_m_s > 0:
+        raise InputError(f"--speed-m-s = {args.speed_m_s:g}: must be > 0 m/s")
+    if args.bat_speed_m_s < 0:
+        raise InputError(f"--bat-speed-m-s = {args.bat_speed_m_s:g}: must be >= 0 m/s")
+    points = impact_points(args.impact_m, spec.length_m)
+    if args.pivot_m is not None and not 0.0 <= args.pivot_m <= spec.length_m:
+        raise InputError(f"--pivot-m = {args.pivot_m:g}: beyond the bat, allowed [0, "
+                         f"{spec.length_m:g}] m from the knob end")
+    if args.support == "pivot" and args.pivot_m is None:
+        raise InputError("--support pivot: needs --pivot-m")
+    if not 2 <= args.modes <= 200:
+        raise InputError(f"--modes = {args.modes}: allowed range [2, 200]")
+    grip = None
+    if args.grip is not None:
+        k, c = _numbers(args.grip, "--grip", 2)
+        if k < 0 or c < 0:
+            raise InputError(f"--grip = {args.grip}: stiffness and damping must be >= 0")
+        grip = Grip(GRIP_POSITIONS_M, k, c)
+    law = _ball(args, args.speed_m_s + args.bat_speed_m_s)
+    bm = bat_model(spec, support=args.support, pivot_m=args.pivot_m, grip=grip,
+                   modes=args.modes)
+    kw = {"bat_speed_m_s": args.bat_speed_m_s, "pivot_m": args.pivot_m}
+    if len(points) == 1:
+        result = bat_impact(bm, law, args.speed_m_s, points[0], **kw)
+        out = result.summary()
+    else:
+        from ..progress import CountProgress
+
+        result = impact_sweep(bm, law, args.speed_m_s, points, progress=CountProgress(
+            "impact point"), **kw)
+        out = result.summary()
+    if args.plot is not None:
+        from ..bats.plots import plot_contact_force, plot_sweet_spot
+        from ..plotting import save_and_close, subplots
+
+        figure, ax = subplots(figsize=(7, 4.5), layout="constrained")
+        (plot_contact_force if len(points) == 1 else plot_sweet_spot)(ax, result)
+        out["plot"] = str(save_and_close(figure, args.plot))
+    if not args.json:
+        _print(out, law, len(points) == 1)
+    return out
+
+
+def _print(out: dict, law, single: bool) -> None:
+    moi = out["bat_moment_of_inertia_kg_m2"]
+    freqs = ", ".join(f"{f:.0f}" for f in out["mode_frequencies_hz"])
+    print(f"{out['bat']}: {out['bat_mass_kg']:.3f} kg, centre of mass "
+          f"{out['bat_centre_of_mass_m']:.3f} m, I knob {moi['knob']:.3f} / CM {moi['centre_of_mass']:.4f} kg m^2, "
+          f"{out['support']}; modes {freqs} Hz")
+    cal = law.calibration
+    print(f"ball {law.name}: {law.mass_kg:.4g} kg, k {law.stiffness:.4g} N/m^1.5, "
+          f"c {law.damping_s_m:.4g} s/m"
+          + (f" (FE at {cal['speed_m_s']:g} m/s: COR {cal['fe_cor']:.4f}, contact "
+             f"{cal['fe_contact_time_s'] * 1e3:.3f} ms, peak force {cal['fe_peak_force_n']:.4g} N;"
+             f" law: COR {cal['law_cor']:.4f}, peak force {cal['law_peak_force_n']:.4g} N)"
+             if cal else ""))
+    speeds = f"ball {out['speed_m_s']:g} m/s, bat {out['bat_speed_m_s']:g} m/s"
+    if single:
+        print(f"at {out['impact_m']:g} m from the knob ({out['from_barrel_end_m']:.3f} m from the "
+              f"barrel end), {speeds}: e_A {out['collision_efficiency']:.4f} (rigid bat "
+              f"{out['rigid_collision_efficiency']:.4f}), batted-ball speed "
+              f"{out['batted_ball_speed_m_s']:.2f} m/s")
+        print(f"  contact {out['contact_duration_s'] * 1e3:.3f} ms, peak force "
+              f"{out['peak_force_n']:.4g} N; ball lost {out['ball_energy_lost_j']:.4g} J, bat "
+              f"vibration {out['bat_vibration_energy_total_j']:.4g} J, rigid "
+              f"{out['bat_rigid_energy_j']:.4g} J (energy balance error "
+              f"{out['energy_balance_error']:.1e})")
+        print(f"  largest bending stress {out['max_bending_stress_pa'] / 1e6:.4g} MPa at "
+              f"{out['max_bending_stress_x_m']:.3f} m from the knob"
+              + (f"; largest force on the hands {max(map(abs, out['hands_force']['force_n'])):.4g}"
+                 " N" if "hands_force" in out else ""))
+        return
+    print(f"{speeds}\n  x (m)  from end (m)  e_A     BBS (m/s)  vibration (J)  stress (MPa)")
+    for p in out["points"]:
+        print(f"  {p['impact_m']:.3f}  {p['from_barrel_end_m']:.3f}         "
+              f"{p['collision_efficiency']:.4f}  {p['batted_ball_speed_m_s']:9.2f}  "
+              f"{p['bat_vibration_energy_total_j']:13.3f}  "
+              f"{p['max_bending_stress_pa'] / 1e6:12.1f}")
+    s = out["sweet_spot"]
+    print(f"sweet spot: largest e_A {s['max_collision_efficiency']:.4f} at "
+          f"{s['max_efficiency_m']:.3f} m ({s['max_efficiency_from_barrel_end_m']:.3f} m from "
+          f"the barrel end); least vibration at {s['least_vibration_m']:.3f} m "
+          f"({s['least_vibration_from_barrel_end_m']:.3f} m from the barrel end)")

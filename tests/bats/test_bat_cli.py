@@ -1,0 +1,62 @@
+"""`ballimpact bat` (docs/equipment.md, "Ball on bat"): JSON keys, the sweep and its plot, the
+printed lines, bad input in one line naming the flag. A direct Hunt-Crossley law (no FE run)."""
+
+import json
+
+import pytest
+
+from ballimpact.cli import main
+
+BALL = "hc:0.145188:2.009e7:0.019749"  # the FE baseball's law at 61 m/s
+BASE = ["bat", "--bat", "baseball-wood-34in", "--ball", BALL, "--speed-m-s", "61"]
+
+
+def _json(capsys, argv):
+    assert main(argv + ["--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_one_point_json(capsys):
+    out = _json(capsys, BASE + ["--impact-m", "0.70", "--grip", "2e4:20", "--modes", "8"])
+    for key in ("collision_efficiency", "batted_ball_speed_m_s", "bat_mass_kg",
+                "mode_frequencies_hz", "ball_energy_lost_j", "bat_vibration_energy_j",
+                "bat_rigid_energy_j", "energy_balance_error", "max_bending_stress_pa",
+                "max_bending_stress_x_m", "warnings"):
+        assert key in out, key
+    assert set(out["bat_moment_of_inertia_kg_m2"]) == {"knob", "centre_of_mass"}
+    assert set(out["contact_force"]) == {"time_s", "force_n"}
+    assert set(out["hands_force"]) == {"time_s", "force_n"}
+    assert len(out["mode_frequencies_hz"]) == 8
+    assert 0.1 < out["collision_efficiency"] < 0.3
+
+
+def test_sweep_json_plot_and_printed_lines(capsys, tmp_path):
+    png = tmp_path / "sweet.png"
+    argv = BASE + ["--impact-m", "0.70:0.74:0.02", "--bat-speed-m-s", "10", "--pivot-m", "0.15",
+                   "--modes", "6"]
+    out = _json(capsys, argv + ["--plot", str(png)])
+    assert [round(p["impact_m"], 6) for p in out["points"]] == [0.70, 0.72, 0.74]
+    assert set(out["sweet_spot"]) >= {"max_efficiency_m", "least_vibration_m"}
+    assert out["plot"] == str(png) and png.stat().st_size > 0
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "sweet spot: largest e_A" in text and "least vibration at" in text
+
+
+@pytest.mark.parametrize("extra, fragments", [
+    (["--impact-m", "0.95"], ["--impact-m", "off the bat"]),
+    (["--impact-m", "0.7", "--pivot-m", "1.2"], ["--pivot-m", "beyond the bat"]),
+    (["--impact-m", "0.74:0.70:0.01"], ["--impact-m", "STOP"]),
+    (["--impact-m", "0.7:0.8"], ["--impact-m", "3 numbers"]),
+    (["--impact-m", "0.7", "--bat-speed-m-s", "-3"], ["--bat-speed-m-s", ">= 0"]),
+    (["--impact-m", "0.7", "--support", "pivot"], ["--pivot-m"]),
+])
+def test_bad_input_is_one_line_naming_the_flag(bad_input, extra, fragments):
+    bad_input(BASE + extra, *fragments)
+
+
+def test_a_negative_speed_and_a_bad_law_are_refused(bad_input):
+    argv = ["bat", "--bat", "baseball-wood-34in", "--ball", BALL, "--impact-m", "0.7"]
+    bad_input(argv + ["--speed-m-s", "-5"], "--speed-m-s", "> 0")
+    bad_input(["bat", "--bat", "baseball-wood-34in", "--ball", "hc:0.145:-1:0.02",
+               "--speed-m-s", "61", "--impact-m", "0.7"], "--ball", "stiffness")
