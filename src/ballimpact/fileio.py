@@ -227,3 +227,30 @@ def json_safe(value):
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
+
+
+def read_spec_file(path: Path, what: str) -> Any:
+    """A specification file (`what`: "ball", "bat", ...) as parsed JSON, or TOML for a `.toml`
+    suffix; `InputError` naming the file for one that cannot be read or parsed."""
+    import json
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".toml":
+            try:
+                import tomllib
+            except ModuleNotFoundError:  # Python 3.10
+                try:
+                    import tomli as tomllib  # type: ignore[no-redef]
+                except ModuleNotFoundError:
+                    raise InputError(f"{path}: reading TOML needs Python 3.11 or the 'tomli' "
+                                     f"package; use JSON") from None
+            with open(path, "rb") as f:
+                return tomllib.load(f)
+        return json.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the {what} file ({exc.strerror or exc})") from None
+    except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
+        kind = "TOML" if suffix == ".toml" else "JSON"
+        raise InputError(f"{path}: not valid {kind} ({exc})".replace("\n", " ")) from None

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from ..fileio import read_spec_file
 from ..errors import InputError, InputWarning
 from ..checks import check_allow
 from .checks import check_ball
@@ -427,28 +428,6 @@ def _preset(name: str, impact_speed_m_s: float | None) -> BallModel:
     return _universal(impact_speed_m_s)
 
 
-def _read_file(path: Path) -> dict:
-    suffix = path.suffix.lower()
-    try:
-        if suffix == ".toml":
-            try:
-                import tomllib
-            except ModuleNotFoundError:  # Python 3.10
-                try:
-                    import tomli as tomllib  # type: ignore[no-redef]
-                except ModuleNotFoundError:
-                    raise InputError(f"{path}: reading TOML needs Python 3.11 or the 'tomli' "
-                                     f"package; use JSON") from None
-            with open(path, "rb") as f:
-                return tomllib.load(f)
-        return json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the ball file ({exc.strerror or exc})") from None
-    except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
-        kind = "TOML" if suffix == ".toml" else "JSON"
-        raise InputError(f"{path}: not valid {kind} ({exc})") from None
-
-
 def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None, *,
               allow=()) -> BallModel:
     """A ball from a preset name, a JSON or TOML file (by suffix; JSON otherwise), or a dict.
@@ -485,7 +464,7 @@ def load_ball(spec: str | Path | dict, impact_speed_m_s: float | None = None, *,
     if not path.is_file():
         raise InputError(f"ball = {str(spec)!r}: neither a preset ({', '.join(PRESETS)}) nor an "
                          f"existing file")
-    data = _read_file(path)
+    data = read_spec_file(path, "ball")
     try:
         if isinstance(data, dict) and "speed_table" in data:
             ball = _speed_table_ball(data, str(data.get("name", path.stem)), impact_speed_m_s)

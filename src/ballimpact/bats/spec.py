@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from ..checks import check_keys, check_range, is_finite_number, range_text, shown, spec_number
+from ..fileio import read_spec_file
 from ..errors import InputError
 
 _TOP_KEYS = {"name", "description", "source", "length_m", "profile", "wall_thickness_m",
@@ -248,22 +249,6 @@ def preset_data(name: str) -> dict[str, Any]:
     return json.loads(_PRESET_FILES[name].read_text(encoding="utf-8"))
 
 
-def _read_file(path: Path) -> Any:
-    suffix = path.suffix.lower()
-    try:
-        if suffix == ".toml":
-            import tomllib  # Python 3.11+
-
-            with open(path, "rb") as f:
-                return tomllib.load(f)
-        return json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the bat file ({exc.strerror or exc})") from None
-    except (ValueError, UnicodeDecodeError) as exc:  # JSONDecodeError, TOMLDecodeError
-        kind = "TOML" if suffix == ".toml" else "JSON"
-        raise InputError(f"{path}: not valid {kind} ({exc})".replace("\n", " ")) from None
-
-
 def load_bat(spec: str | Path | dict | BatSpec) -> BatSpec:
     """A bat from a preset name (`PRESETS`), a JSON or TOML file (by suffix), a dict, or a
     `BatSpec` (returned as is)."""
@@ -280,7 +265,7 @@ def load_bat(spec: str | Path | dict | BatSpec) -> BatSpec:
     if not path.is_file():
         raise InputError(f"bat = {str(spec)!r}: neither a preset ({', '.join(PRESETS)}) nor an "
                          "existing file")
-    data = _read_file(path)
+    data = read_spec_file(path, "bat")
     try:
         return bat_from_dict(data, default_name=path.stem)
     except InputError as exc:

@@ -1,6 +1,7 @@
 """`ballimpact standard METHOD`: a published ball test method (ASTM F1887 COR, F2845 dynamic
 stiffness, F1888 compression) on a lab's records (per ball mean, SD, count; over the balls) or on
-a ball model (`--ball`: the quantities and the model's cost). docs/standards.md."""
+a ball model (`--ball`: the quantities and the model's cost). docs/standards.md. `standard bbcor
+--bat BAT --ball BALL`, a bat's certification, is `standard_bbcor`'s (docs/equipment.md)."""
 
 from __future__ import annotations
 
@@ -27,9 +28,12 @@ def add_parser(verbs) -> None:
                     "the ball means) or on a ball model (--ball: the quantities and the model's "
                     f"cost). Methods: {listed}. The ball id of a record is its file name up to "
                     "the last '_' or '-' (ballA_01.csv -> ballA) unless --ball-id-pattern says "
-                    "otherwise (docs/standards.md).")
+                    "otherwise (docs/standards.md). 'standard bbcor --bat BAT --ball BALL': the "
+                    "BBCOR certification of a baseball bat (ASTM F2219 / NCAA BBCOR) on the "
+                    "bat's model (docs/equipment.md, 'BBCOR').")
     standard.add_argument("method", nargs="?", metavar="METHOD",
-                          help=f"one of {', '.join(METHODS)} (or the designation, e.g. F1887)")
+                          help=f"one of {', '.join(METHODS)} (or the designation, e.g. F1887), "
+                               "or bbcor (a bat: --bat, --ball)")
     standard.add_argument("paths", nargs="*", type=Path, metavar="FILES_OR_DIRS",
                           help="a lab's records: impact records (CSV/WAV with JSON side files) "
                                "or compression curves (CSV), or folders of them")
@@ -37,7 +41,11 @@ def add_parser(verbs) -> None:
                           help="list the methods with a one-line description each")
     standard.add_argument("--ball",
                           help="run the method on this ball model: a preset (see `ballimpact "
-                               "balls`) or a ball specification JSON/TOML")
+                               "balls`) or a ball specification JSON/TOML; with bbcor also "
+                               "hc:MASS_KG:STIFFNESS:DAMPING_S_M")
+    standard.add_argument("--bat",
+                          help="bbcor: the bat, a preset (baseball-wood-34in, "
+                               "baseball-aluminium-bbcor-34in) or a bat file (JSON/TOML)")
     standard.add_argument("--mass-kg", type=float,
                           help="ball mass (kg) of every impact record, over its side file's")
     standard.add_argument("--ball-id-pattern", metavar="REGEX",
@@ -67,8 +75,17 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                 print(f"{entry['method']:<18} {entry['designation']:<11} {entry['description']}")
         return {"methods": methods}
     if args.method is None:
-        raise InputError(f"METHOD: missing; one of {', '.join(METHODS)} (or --list)")
-    method = get_method(args.method)
+        raise InputError(f"METHOD: missing; one of {', '.join(METHODS)}, bbcor (or --list)")
+    from . import standard_bbcor
+
+    if standard_bbcor.is_bbcor(args.method):
+        return standard_bbcor.run(args)
+    if args.bat is not None:
+        raise InputError(f"--bat: only the bbcor method takes a bat, not {args.method}")
+    try:
+        method = get_method(args.method)
+    except InputError as error:
+        raise InputError(f"{error}; or bbcor (a bat's BBCOR: --bat, --ball)") from None
     if args.paths and args.ball is not None:
         raise InputError("give either FILES_OR_DIRS (a lab's records) or --ball (a model), not "
                          "both")

@@ -31,6 +31,10 @@ report says so, and the warning does).
 
 The modules: `methods` (the facts, ball ids, the speed checks), `lab` (`from_records`), `model`
 (`on_model`), `results` (statistics, text, the CSV table).
+
+Kept apart from `METHODS` (it needs a bat, not a rigid wall, and runs on the bat's model only):
+`bbcor` (ASTM F2219 / NCAA BBCOR), the bat-ball COR of a baseball bat; docs/equipment.md,
+"BBCOR".
 """
 
 from .methods import (
@@ -58,6 +62,13 @@ from .lab import (
 from .model import (
     on_model as on_model,
 )
+from .bbcor import (
+    BBCOR_METHOD as BBCOR_METHOD,
+    BBCORMethod as BBCORMethod,
+    BBCORResult as BBCORResult,
+    bbcor as bbcor,
+    bbcor_of as bbcor_of,
+)
 from .results import (
     shot_stats as shot_stats,
     stats_text as stats_text,
@@ -66,8 +77,9 @@ from .results import (
     write_result_table as write_result_table,
 )
 
-__all__ = ["ALIASES", "COMPRESSION_STEPS", "DEFAULT_BALL_PATTERN", "INCH_M", "METHODS", "Method",
-           "QUARTER_INCH_M", "Quantity", "SIXTY_MPH_M_S", "SPEED_TOLERANCE_M_S",
-           "ball_id_function", "checked_speed", "compression_quantities", "describe_methods",
-           "from_records", "get_method", "impact_quantities", "on_model", "shot_stats",
-           "speed_note", "stats_text", "summarise", "table_rows", "write_result_table"]
+__all__ = ["ALIASES", "BBCOR_METHOD", "BBCORMethod", "BBCORResult", "COMPRESSION_STEPS",
+           "DEFAULT_BALL_PATTERN", "INCH_M", "METHODS", "Method", "QUARTER_INCH_M", "Quantity",
+           "SIXTY_MPH_M_S", "SPEED_TOLERANCE_M_S", "ball_id_function", "bbcor", "bbcor_of",
+           "checked_speed", "compression_quantities", "describe_methods", "from_records",
+           "get_method", "impact_quantities", "on_model", "shot_stats", "speed_note",
+           "stats_text", "summarise", "table_rows", "write_result_table"]
