@@ -60,3 +60,15 @@ def test_a_negative_speed_and_a_bad_law_are_refused(bad_input):
     bad_input(argv + ["--speed-m-s", "-5"], "--speed-m-s", "> 0")
     bad_input(["bat", "--bat", "baseball-wood-34in", "--ball", "hc:0.145:-1:0.02",
                "--speed-m-s", "61", "--impact-m", "0.7"], "--ball", "stiffness")
+
+
+def test_unit_slips_are_named(bad_input):
+    """A ball mass in grams and positions on the bat in millimetres: exit 2, one line naming the
+    flag and the slip."""
+    ball = ["bat", "--bat", "baseball-wood-34in", "--speed-m-s", "40"]
+    bad_input(ball + ["--ball", "hc:145:2e7:0.02", "--impact-m", "0.7"],
+              "--ball", "grams given as kg", "0.145")
+    law = ball + ["--ball", "hc:0.145:2e7:0.02"]
+    bad_input(law + ["--impact-m", "700"], "--impact-m", "off the bat", "millimetres", "0.7")
+    bad_input(law + ["--impact-m", "0.7", "--pivot-m", "152"], "--pivot-m", "millimetres",
+              "0.152")

@@ -29,6 +29,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..checks import check_positive, check_range, shown
+from ..balls.checks import check_ball_mass
 from ..errors import InputError, SimulationError
 
 #: largest relative difference allowed between the law's COR on the rigid plane and the FE one
@@ -81,7 +82,7 @@ class HuntCrossleyBall:
     calibration: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
-        check_positive("ball.mass_kg", self.mass_kg)
+        check_ball_mass(self.mass_kg, "ball.mass_kg")  # grams typed as kg named as such
         check_positive("ball.stiffness", self.stiffness)
         check_range("ball.damping_s_m", self.damping_s_m, 0.0, unit="s/m")
 

@@ -83,8 +83,13 @@ def impact_points(text: str, length_m: float) -> list[float]:
     for x in points:
         if not 0.0 < x <= length_m:
             raise InputError(f"--impact-m = {text}: {x:g} m is off the bat (0, {length_m:g}] m "
-                             "from the knob end")
+                             f"from the knob end{_millimetres(x, length_m)}")
     return points
+
+
+def _millimetres(x: float, length_m: float) -> str:
+    """The hint for a position on the bat typed in mm."""
+    return f"; {x:g} looks like millimetres: use {x / 1000:g}" if 0 < x / 1000 <= length_m else ""
 
 
 def _ball(args, speed: float):
@@ -117,7 +122,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     points = impact_points(args.impact_m, spec.length_m)
     if args.pivot_m is not None and not 0.0 <= args.pivot_m <= spec.length_m:
         raise InputError(f"--pivot-m = {args.pivot_m:g}: beyond the bat, allowed [0, "
-                         f"{spec.length_m:g}] m from the knob end")
+                         f"{spec.length_m:g}] m from the knob end"
+                         f"{_millimetres(args.pivot_m, spec.length_m)}")
     if args.support == "pivot" and args.pivot_m is None:
         raise InputError("--support pivot: needs --pivot-m")
     if not 2 <= args.modes <= 200:
