@@ -121,3 +121,19 @@ def test_presets_with_the_fe_baseball(name):
                        pivot_m=result.pivot_m, modes=4)
     assert bbcor_of(rigid.collision_efficiency, result.r) == pytest.approx(result.rigid_bbcor,
                                                                            rel=0.01)
+
+
+def test_a_bat_over_the_limit_exits_3_with_its_result(capsys):
+    """An undamped ball law (its rigid-plane COR 1) reads a BBCOR far above 0.500: the check
+    fails (exit 3) and the JSON result is still printed, with meets_limit false."""
+    import json
+
+    from ballimpact.cli import main
+
+    code = main(["standard", "bbcor", "--bat", "baseball-wood-34in", "--ball",
+                 "hc:0.145:2e7:0.0", "--json"])
+    out, err = capsys.readouterr()
+    result = json.loads(out)
+    assert code == 3
+    assert result["bbcor"] > 0.5 and result["meets_limit"] is False
+    assert "exceeds the limit 0.500" in err

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..errors import InputError
+from ..errors import CheckFailed, InputError
 
 #: the names `standard` takes for this method (lower case)
 NAMES = ("bbcor", "f2219", "astm f2219")
@@ -50,6 +50,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     result = bbcor(spec, law, progress=CountProgress("impact point")).summary()
     if not args.json:
         print_bbcor(result)
+    if not result["meets_limit"]:  # a certification the bat fails: exit 3, the result printed
+        raise CheckFailed(f"BBCOR {result['bbcor']:.4f} exceeds the limit "
+                          f"{result['limit']:.3f} ({result['designation']})", result)
     return result
 
 
