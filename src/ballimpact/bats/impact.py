@@ -86,6 +86,8 @@ class BatImpactResult:
     contact_force_n: np.ndarray = field(repr=False)
     history_time_s: np.ndarray = field(repr=False)
     hands_force_n: np.ndarray | None = field(repr=False)
+    #: the FE ball's run on the rigid plane at the relative speed (`fe_impact`; None: the law)
+    fe_reference: Any = field(default=None, repr=False)
 
     @property
     def from_barrel_end_m(self) -> float:
@@ -113,7 +115,8 @@ class BatImpactResult:
         return out
 
 
-_HISTORIES = ("contact_time_s", "contact_force_n", "history_time_s", "hands_force_n")
+_HISTORIES = ("contact_time_s", "contact_force_n", "history_time_s", "hands_force_n",
+              "fe_reference")
 
 
 def bat_model(bat, *, support: str = "free", pivot_m: float | None = None, grip=None,
@@ -164,6 +167,36 @@ def _swing(bm: BatModes, x_i: float, speed: float, pivot_m: float | None) -> np.
     return bm.vectors.T @ bm.beam.mass @ field_
 
 
+def checked_collision(bm: BatModes, speed_m_s: float, bat_speed_m_s: float, impact_m: float,
+                      pivot_m: float | None) -> tuple[float, float, float, float | None]:
+    """(ball speed m/s, bat speed m/s, impact point m, pivot m or None) checked: speeds > 0 and
+    >= 0, the point and the pivot on the bat, the point not at a pin."""
+    spec = bm.bat
+    pivot_m = bm.pivot_m if bm.support == "pivot" else pivot_m
+    v = check_range("speed_m_s", speed_m_s, 0.0, low_open=True, unit="m/s")
+    V = check_range("bat_speed_m_s", bat_speed_m_s, 0.0, unit="m/s")
+    x_i = check_range("impact_m", impact_m, 0.0, spec.length_m, unit="m",
+                      note="from the knob end, on the bat")
+    if pivot_m is not None:
+        pivot_m = check_range("pivot_m", pivot_m, 0.0, spec.length_m, unit="m")
+    if bm.support == "pivot" and abs(x_i - bm.pivot_m) < 1e-3 * spec.length_m:
+        raise InputError(f"impact_m = {x_i:g}: at the pivot, where the bat cannot move")
+    return v, V, x_i, pivot_m
+
+
+def rigid_efficiency(bm: BatModes, x_i: float, pivot_m: float | None, ball_mass_kg: float,
+                     cor: float) -> tuple[float, float]:
+    """The rigid bat's collision efficiency (e - r) / (1 + r), r = m / M_eff, and M_eff (kg):
+    1/M_eff = 1/M + b^2 / I_cm for a free bat, b^2 / I_pivot pinned (b from the centre of mass
+    or the pivot to x_i); `cor` the ball's COR on a rigid plane at the relative speed."""
+    props = bat_properties(bm.bat)
+    b = x_i - (props.centre_of_mass_m if bm.support == "free" else pivot_m)
+    inv = (1.0 / props.mass_kg + b ** 2 / props.moi_cm_kg_m2 if bm.support == "free"
+           else b ** 2 / props.moi_about_kg_m2(pivot_m))
+    r = ball_mass_kg * inv
+    return float((cor - r) / (1.0 + r)), float(1.0 / inv)
+
+
 def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
                bat_speed_m_s: float = 0.0, support: str = "free", pivot_m: float | None = None,
                grip=None, modes: int = DEFAULT_MODES, elements: int = DEFAULT_ELEMENTS,
@@ -179,15 +212,7 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
     bm = bat_model(bat, support=support, pivot_m=pivot_m, grip=grip, modes=modes,
                    elements=elements)
     spec = bm.bat
-    pivot_m = bm.pivot_m if bm.support == "pivot" else pivot_m
-    v = check_range("speed_m_s", speed_m_s, 0.0, low_open=True, unit="m/s")
-    V = check_range("bat_speed_m_s", bat_speed_m_s, 0.0, unit="m/s")
-    x_i = check_range("impact_m", impact_m, 0.0, spec.length_m, unit="m",
-                      note="from the knob end, on the bat")
-    if pivot_m is not None:
-        pivot_m = check_range("pivot_m", pivot_m, 0.0, spec.length_m, unit="m")
-    if bm.support == "pivot" and abs(x_i - bm.pivot_m) < 1e-3 * spec.length_m:
-        raise InputError(f"impact_m = {x_i:g}: at the pivot, where the bat cannot move")
+    v, V, x_i, pivot_m = checked_collision(bm, speed_m_s, bat_speed_m_s, impact_m, pivot_m)
     m, k, lam = law.mass_kg, law.stiffness, law.lambda_s_m
     n = bm.count
     wx = bm.deflection(x_i)[:, 0]
@@ -290,14 +315,10 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
     rigid = 2 if bm.support == "free" else 1  # on a grip's springs too: the rigid modes on them
     end = state(t_end)[:, 0]
     e_a = -(end[1] + V) / (v + V)
-    b = x_i - (props.centre_of_mass_m if bm.support == "free" else pivot_m)
-    inv = (1.0 / props.mass_kg + b ** 2 / props.moi_cm_kg_m2 if bm.support == "free"
-           else b ** 2 / props.moi_about_kg_m2(pivot_m))
-    r = m * inv
-    e_rigid = law.rigid_plane(v + V).cor
+    e_rigid, m_eff = rigid_efficiency(bm, x_i, pivot_m, m, law.rigid_plane(v + V).cor)
     return BatImpactResult(
         spec.name, law.summary(), v, V, x_i, bm.support, pivot_m, float(e_a),
-        float(e_a * v + (1.0 + e_a) * V), float((e_rigid - r) / (1.0 + r)), float(1.0 / inv),
+        float(e_a * v + (1.0 + e_a) * V), e_rigid, m_eff,
         props.mass_kg, props.centre_of_mass_m,
         {"knob": props.moi_knob_kg_m2, "centre_of_mass": props.moi_cm_kg_m2},
         bm.frequencies_hz.copy(), float(end[-2]), modal_energy[rigid:],

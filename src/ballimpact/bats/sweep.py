@@ -12,6 +12,7 @@ import numpy as np
 from ..errors import InputError
 from .ball_law import HuntCrossleyBall
 from .beam import DEFAULT_ELEMENTS
+from .fe_impact import fe_bat_impact
 from .impact import DEFAULT_MODES, BatImpactResult, bat_impact, bat_model
 
 
@@ -88,12 +89,15 @@ class ImpactSweep:
                                    length - self.least_vibration_m}}
 
 
-def impact_sweep(bat, law: HuntCrossleyBall, speed_m_s: float, points_m, *,
+def impact_sweep(bat, ball, speed_m_s: float, points_m, *,
                  bat_speed_m_s: float = 0.0, support: str = "free",
                  pivot_m: float | None = None, grip=None, modes: int = DEFAULT_MODES,
-                 elements: int = DEFAULT_ELEMENTS, progress=None) -> ImpactSweep:
-    """`bat_impact` at each of `points_m` (the bat's modes computed once); `progress(i, n)`
-    after each point if given."""
+                 elements: int = DEFAULT_ELEMENTS, progress=None, options=None,
+                 allow=()) -> ImpactSweep:
+    """The collision at each of `points_m` (the bat's modes computed once): `bat_impact` with
+    `ball` a `HuntCrossleyBall`, else `fe_impact.fe_bat_impact` with the FE `ball` (a preset,
+    file, dict or `fe.BallModel`; `options` its `fe.SolverOptions`; its run on the rigid plane
+    made once). `progress(i, n)` after each point if given."""
     points = np.atleast_1d(np.asarray(points_m, dtype=float))
     if points.size < 1:
         raise InputError("points_m: no impact points")
@@ -101,8 +105,14 @@ def impact_sweep(bat, law: HuntCrossleyBall, speed_m_s: float, points_m, *,
                    elements=elements)
     results = []
     for i, x in enumerate(points):
-        results.append(bat_impact(bm, law, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
-                                  pivot_m=pivot_m))
+        if isinstance(ball, HuntCrossleyBall):
+            result = bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
+                                pivot_m=pivot_m)
+        else:
+            result = fe_bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
+                                   pivot_m=pivot_m, options=options, allow=allow,
+                                   reference=results[0].fe_reference if results else None)
+        results.append(result)
         if progress is not None:
             progress(i + 1, points.size)
     return ImpactSweep(tuple(results))

@@ -20,17 +20,20 @@ GRIP_POSITIONS_M = (0.05, 0.15)
 def add_parser(verbs) -> None:
     bat = verbs.add_parser(
         "bat", help="a ball on a flexible bat: collision efficiency, sweet spot, vibration",
-        description="The ball (a Hunt-Crossley contact law fitted to the FE ball's impact on a "
-                    "rigid plane at the collision's relative speed, or given as hc:MASS_KG:"
-                    "STIFFNESS:DAMPING_S_M) on the bat's Timoshenko-beam modes "
-                    "(docs/equipment.md, 'Ball on bat'). The bat's swing is a rigid rotation "
-                    "about --pivot-m if given, else a translation.")
+        description="The axisymmetric FE ball on a plane carried by the bat's Timoshenko-beam "
+                    "modes at the impact point (--ball-model fe, the default), or a "
+                    "Hunt-Crossley contact law fitted to the FE ball's impact on a rigid plane "
+                    "at the collision's relative speed (--ball-model law, or given as "
+                    "hc:MASS_KG:STIFFNESS:DAMPING_S_M) on those modes (docs/equipment.md, "
+                    "'Ball on bat'). The bat's swing is a rigid rotation about --pivot-m if "
+                    "given, else a translation.")
     bat.add_argument("--bat", required=True,
                      help="bat preset (baseball-wood-34in, baseball-aluminium-bbcor-34in, "
                           "cricket-willow-sh) or bat file (JSON/TOML)")
     bat.add_argument("--ball", required=True,
                      help="ball preset or file (its law from one FE run), or "
                           "hc:MASS_KG:STIFFNESS:DAMPING_S_M (F = k d^1.5 (1 + 1.5 c d'))")
+    add_ball_model(bat)
     bat.add_argument("--speed-m-s", type=float, required=True,
                      help="the ball's speed toward the bat (m/s)")
     bat.add_argument("--impact-m", required=True, metavar="X|START:STOP:STEP",
@@ -51,6 +54,12 @@ def add_parser(verbs) -> None:
     add_json(bat)
     bat.add_argument("--plot", type=Path,
                      help="PNG: the sweet-spot plot (a sweep) or the contact force (one point)")
+
+
+def add_ball_model(parser) -> None:
+    parser.add_argument("--ball-model", choices=("fe", "law"), default="fe",
+                        help="the FE ball itself on the bat's modes (default) or its contact "
+                             "law (faster; hc:... balls are laws)")
 
 
 def _numbers(text: str, flag: str, count: int) -> list[float]:
@@ -93,8 +102,14 @@ def _millimetres(x: float, length_m: float) -> str:
 
 
 def _ball(args, speed: float):
+    """The collider: a `HuntCrossleyBall` (hc:..., or --ball-model law), or the FE ball
+    (`fe.BallModel`, --ball-model fe) loaded for `speed` (m/s, the relative speed)."""
     from ..bats.ball_law import HuntCrossleyBall, ball_law
 
+    if getattr(args, "ball_model", "law") == "fe" and not args.ball.startswith("hc:"):
+        from ..fe import load_ball
+
+        return load_ball(args.ball, impact_speed_m_s=speed, allow=args.allow)
     if args.ball.startswith("hc:"):
         mass, k, c = _numbers(args.ball[3:], "--ball hc:", 3)
         try:
@@ -108,6 +123,8 @@ def _ball(args, speed: float):
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..bats import Grip, load_bat
+    from ..bats.ball_law import HuntCrossleyBall
+    from ..bats.fe_impact import fe_bat_impact
     from ..bats.impact import bat_impact, bat_model
     from ..bats.sweep import impact_sweep
     from ..checks import check_allow
@@ -134,18 +151,21 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if k < 0 or c < 0:
             raise InputError(f"--grip = {args.grip}: stiffness and damping must be >= 0")
         grip = Grip(GRIP_POSITIONS_M, k, c)
-    law = _ball(args, args.speed_m_s + args.bat_speed_m_s)
+    ball = _ball(args, args.speed_m_s + args.bat_speed_m_s)
     bm = bat_model(spec, support=args.support, pivot_m=args.pivot_m, grip=grip,
                    modes=args.modes)
     kw = {"bat_speed_m_s": args.bat_speed_m_s, "pivot_m": args.pivot_m}
     if len(points) == 1:
-        result = bat_impact(bm, law, args.speed_m_s, points[0], **kw)
+        if isinstance(ball, HuntCrossleyBall):
+            result = bat_impact(bm, ball, args.speed_m_s, points[0], **kw)
+        else:
+            result = fe_bat_impact(bm, ball, args.speed_m_s, points[0], allow=args.allow, **kw)
         out = result.summary()
     else:
         from ..progress import CountProgress
 
-        result = impact_sweep(bm, law, args.speed_m_s, points, progress=CountProgress(
-            "impact point"), **kw)
+        result = impact_sweep(bm, ball, args.speed_m_s, points, progress=CountProgress(
+            "impact point"), allow=args.allow, **kw)
         out = result.summary()
     if args.plot is not None:
         from ..bats.plots import plot_contact_force, plot_sweet_spot
@@ -155,23 +175,32 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         (plot_contact_force if len(points) == 1 else plot_sweet_spot)(ax, result)
         out["plot"] = str(save_and_close(figure, args.plot))
     if not args.json:
-        _print(out, law, len(points) == 1)
+        _print(out, len(points) == 1)
     return out
 
 
-def _print(out: dict, law, single: bool) -> None:
+def _print(out: dict, single: bool) -> None:
     moi = out["bat_moment_of_inertia_kg_m2"]
     freqs = ", ".join(f"{f:.0f}" for f in out["mode_frequencies_hz"])
     print(f"{out['bat']}: {out['bat_mass_kg']:.3f} kg, centre of mass "
           f"{out['bat_centre_of_mass_m']:.3f} m, I knob {moi['knob']:.3f} / CM {moi['centre_of_mass']:.4f} kg m^2, "
           f"{out['support']}; modes {freqs} Hz")
-    cal = law.calibration
-    print(f"ball {law.name}: {law.mass_kg:.4g} kg, k {law.stiffness:.4g} N/m^1.5, "
-          f"c {law.damping_s_m:.4g} s/m"
-          + (f" (FE at {cal['speed_m_s']:g} m/s: COR {cal['fe_cor']:.4f}, contact "
-             f"{cal['fe_contact_time_s'] * 1e3:.3f} ms, peak force {cal['fe_peak_force_n']:.4g} N;"
-             f" law: COR {cal['law_cor']:.4f}, peak force {cal['law_peak_force_n']:.4g} N)"
-             if cal else ""))
+    ball = out["ball"]
+    if ball.get("model") == "fe":
+        f = ball["fe"]
+        print(f"ball {ball['name']} (FE, {f['elements']} elements): {ball['mass_kg']:.4g} kg; on "
+              f"a rigid plane at {f['relative_speed_m_s']:g} m/s COR "
+              f"{f['rigid_plane_cor']:.4f}, contact {f['rigid_plane_contact_time_s'] * 1e3:.3f} "
+              f"ms ({f['rigid_plane_wall_time_s']:.2f} s); on the bat {f['bat_run_steps']} "
+              f"steps, {f['modes_in_contact']} modes ({f['bat_run_wall_time_s']:.2f} s)")
+    else:
+        cal = ball.get("calibration") or {}
+        print(f"ball {ball['name']} (law): {ball['mass_kg']:.4g} kg, k "
+              f"{ball['stiffness_n_m1_5']:.4g} N/m^1.5, c {ball['damping_s_m']:.4g} s/m"
+              + (f" (FE at {cal['speed_m_s']:g} m/s: COR {cal['fe_cor']:.4f}, contact "
+                 f"{cal['fe_contact_time_s'] * 1e3:.3f} ms, peak force "
+                 f"{cal['fe_peak_force_n']:.4g} N; law: COR {cal['law_cor']:.4f}, peak force "
+                 f"{cal['law_peak_force_n']:.4g} N)" if cal else ""))
     speeds = f"ball {out['speed_m_s']:g} m/s, bat {out['bat_speed_m_s']:g} m/s"
     if single:
         print(f"at {out['impact_m']:g} m from the knob ({out['from_barrel_end_m']:.3f} m from the "

@@ -46,6 +46,9 @@ def add_parser(verbs) -> None:
     standard.add_argument("--bat",
                           help="bbcor: the bat, a preset (baseball-wood-34in, "
                                "baseball-aluminium-bbcor-34in) or a bat file (JSON/TOML)")
+    standard.add_argument("--ball-model", choices=("fe", "law"), default="fe",
+                          help="bbcor: the FE ball itself on the bat's modes (default) or its "
+                               "contact law (faster)")
     standard.add_argument("--mass-kg", type=float,
                           help="ball mass (kg) of every impact record, over its side file's")
     standard.add_argument("--ball-id-pattern", metavar="REGEX",

@@ -30,6 +30,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..checks import check_allow
     from ..progress import CountProgress
     from ..standards.bbcor import BBCOR_METHOD, bbcor
+    from ..bats.ball_law import HuntCrossleyBall
     from .bat import _ball
 
     for attribute, flag, what in OTHER_OPTIONS:
@@ -46,8 +47,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     except InputError as error:
         raise InputError(f"--bat: {error}") from None
     args.allow = check_allow(args.allow)
-    law = _ball(args, BBCOR_METHOD.ball_speed_m_s)
-    result = bbcor(spec, law, progress=CountProgress("impact point")).summary()
+    ball = _ball(args, BBCOR_METHOD.ball_speed_m_s)
+    result = bbcor(spec, ball, allow=args.allow, progress=CountProgress("impact point"),
+                   ball_model="law" if isinstance(ball, HuntCrossleyBall) else "fe").summary()
     if not args.json:
         print_bbcor(result)
     if not result["meets_limit"]:  # a certification the bat fails: exit 3, the result printed

@@ -119,7 +119,7 @@ def run_estimate(geometry: Geometry, balls: list, conditions: list, target, elem
     modulus; a slab's geometry slack on it) plus the end margin, at an increment from the
     smallest element and the fastest wave."""
     options = geometry.options
-    layers = list(target.layers) if target is not None else []
+    layers = list(getattr(target, "layers", ()))  # a slab's layers; a backing has none
     steps, end = 0, 0.0
     for ball, condition in zip(balls, conditions):
         end_s = (geometry.slack(target) * hertz_contact_time_s(ball, _normal_speed(condition))

@@ -156,7 +156,7 @@ def _vertex(x: np.ndarray, y: np.ndarray, i: int) -> float:
 
 
 def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
-          elements: int | None = None, allow=(),
+          elements: int | None = None, allow=(), ball_model: str = "law",
           progress: Callable[[int, int], None] | None = None) -> BBCORResult:
     """The BBCOR certification on the model of `bat` (anything `bats.load_bat` takes) with
     `ball`: a ball preset, file or dict (its Hunt-Crossley law fitted to one FE run on a rigid
@@ -164,8 +164,9 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
     `bats.HuntCrossleyBall`. The bat is pinned at the method's pivot and hit at rest at the
     method's speed along the scan (`scan_from_end_m`: the points, m from the barrel end;
     default ours, module docstring, extended while the largest is at an end); BBCOR at the
-    largest, refined. `modes`, `elements`: `bats.bat_model`'s (default its own). `progress(i,
-    n)` after each point of the scan."""
+    largest, refined. `ball_model` "fe": the FE ball itself on the bat's modes
+    (`bats.fe_impact`), not its law. `modes`, `elements`: `bats.bat_model`'s (default its
+    own). `progress(i, n)` after each point of the scan."""
     from ..bats import ball_law, bat_model, bat_properties, impact_sweep, load_bat
     from ..bats.beam import DEFAULT_ELEMENTS
     from ..bats.impact import DEFAULT_MODES, bat_impact
@@ -193,7 +194,29 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
     if ends.size < 1:
         raise InputError(f"bat {spec.name}: no impact point of the scan between the barrel end "
                          "and the pivot")
-    law = ball_law(ball, v, allow=allow)
+    if ball_model not in ("law", "fe"):
+        raise InputError(f"ball_model = {ball_model!r}: allowed 'law' or 'fe'")
+    if ball_model == "fe":
+        from ..bats.fe_impact import fe_bat_impact
+        from ..fe import BallModel, load_ball, simulate
+
+        collider = ball if isinstance(ball, BallModel) else load_ball(
+            ball, impact_speed_m_s=v, allow=allow)
+        reference = simulate(collider, v, allow=allow)
+        mass, rigid_cor = reference.mass_kg, reference.cor
+        ball_summary = {"name": reference.ball_name, "mass_kg": mass, "model": "fe",
+                        "rigid_plane_cor": rigid_cor}
+
+        def one(x_knob: float):
+            return fe_bat_impact(bm, collider, v, x_knob, pivot_m=pivot, reference=reference,
+                                 allow=allow)
+    else:
+        collider = ball_law(ball, v, allow=allow)
+        mass, rigid_cor = collider.mass_kg, collider.rigid_plane(v).cor
+        ball_summary = collider.summary()
+
+        def one(x_knob: float):
+            return bat_impact(bm, collider, v, x_knob, pivot_m=pivot)
     bm = bat_model(spec, support="pivot", pivot_m=pivot,
                    modes=DEFAULT_MODES if modes is None else modes,
                    elements=DEFAULT_ELEMENTS if elements is None else elements)
@@ -201,14 +224,15 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
     moi = props.moi_about_kg_m2(pivot)
 
     def r_at(x_knob: float) -> float:
-        return law.mass_kg * (x_knob - pivot) ** 2 / moi
+        return mass * (x_knob - pivot) ** 2 / moi
 
     results: dict[float, Any] = {}
 
     def hit(points_from_end) -> None:
         new = [float(e) for e in points_from_end if float(e) not in results]
         if new:
-            sweep = impact_sweep(bm, law, v, [length - e for e in new], pivot_m=pivot,
+            sweep = impact_sweep(bm, collider, v, [length - e for e in new], pivot_m=pivot,
+                                 allow=allow,
                                  progress=(None if progress is None else
                                            lambda i, n: progress(len(results) + i,
                                                                  len(results) + n)))
@@ -237,7 +261,7 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
     best_end = _vertex(xs, bb, i)
     best = results.get(best_end)
     if best is None:
-        best = bat_impact(bm, law, v, length - best_end, pivot_m=pivot)
+        best = one(length - best_end)
     x = length - best_end
     r = r_at(x)
     value = bbcor_of(best.collision_efficiency, r)
@@ -245,6 +269,6 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
         best_end, best = float(xs[i]), results[float(xs[i])]
         x, r, value = length - best_end, r_at(length - best_end), float(bb[i])
     return BBCORResult(
-        spec.name, law.summary(), v, pivot, float(x), length, float(value),
-        float(best.collision_efficiency), float(r), float(moi), law.mass_kg,
-        float(law.rigid_plane(v).cor), props.mass_kg, best.energy_balance_error, scan)
+        spec.name, ball_summary, v, pivot, float(x), length, float(value),
+        float(best.collision_efficiency), float(r), float(moi), mass, float(rigid_cor),
+        props.mass_kg, best.energy_balance_error, scan)

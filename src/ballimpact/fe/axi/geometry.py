@@ -15,6 +15,7 @@ import numpy as np
 
 from ...errors import InputError, InputWarning
 from ...constitutive.stability import drucker_warnings
+from ..backing import PlaneBacking, backing_energies
 from ..options import ImpactCondition, SolverOptions
 from ..result import ImpactResult, contact_end_time, energy_histories
 from .element import geometry as element_geometry
@@ -36,8 +37,9 @@ def mesh_radii(ball, options: SolverOptions) -> np.ndarray:
     return np.unique(np.concatenate([radii, extra]))
 
 
-def build_kernel(ball, options: SolverOptions) -> Kernel:
-    """The compiled-program data (mesh, material models, precision) of a ball's structure."""
+def build_kernel(ball, options: SolverOptions, backing_modes: int = 0) -> Kernel:
+    """The compiled-program data (mesh, material models, precision) of a ball's structure, on
+    a fixed plane or a plane on a backing of `backing_modes` modes."""
     radii = np.asarray(ball.layer_radii_m)
     circles = mesh_radii(ball, options)
     mesh = layered_sphere_mesh(tuple(circles), options.element_size_m,
@@ -49,7 +51,8 @@ def build_kernel(ball, options: SolverOptions) -> Kernel:
     return Kernel.build(
         element_geometry(mesh), [type(layer.material).energy for layer in ball.layers],
         [layer.material.sum_k > 0 for layer in ball.layers],
-        reduced=options.integration == "reduced", dtype=np.dtype(options.precision))
+        reduced=options.integration == "reduced", dtype=np.dtype(options.precision),
+        backing_modes=backing_modes)
 
 
 def normal_impact_speed(condition: ImpactCondition) -> float:
@@ -110,10 +113,12 @@ class Axisymmetric:
                              f"{type(self.options).__name__}")
 
     def checked(self, ball, conditions: list, target) -> "Axisymmetric":
-        """The geometry for these runs of `ball`: normal impacts on the rigid plane only."""
-        if target is not None:
-            raise InputError("target: the axisymmetric geometry runs on the rigid plane; a "
-                             "target slab needs the 3D geometry (fe.Hexahedral, --solver 3d)")
+        """The geometry for these runs of `ball`: normal impacts on the rigid plane, fixed or
+        on a backing (`fe.backing.PlaneBacking`)."""
+        if target is not None and not isinstance(target, PlaneBacking):
+            raise InputError("target: the axisymmetric geometry runs on the rigid plane, fixed "
+                             "or on a backing (fe.backing.PlaneBacking); a target slab needs the "
+                             "3D geometry (fe.Hexahedral, --solver 3d)")
         for condition in conditions:
             normal_impact_speed(condition)
         return self
@@ -124,10 +129,11 @@ class Axisymmetric:
     def kernel_key(self, ball, target=None) -> tuple:
         o = self.options
         return ("axisymmetric", structure(ball), o.element_size_m, o.pole_element_size_m,
-                o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision)
+                o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision,
+                0 if target is None else target.count)
 
     def build(self, ball, target=None) -> tuple[Kernel, None]:
-        return build_kernel(ball, self.options), None
+        return build_kernel(ball, self.options, 0 if target is None else target.count), None
 
     def mesh_size(self, ball, target=None) -> tuple[int, float]:
         """(elements, smallest element's length m) of the mesh, from its counting rules."""
@@ -140,7 +146,9 @@ class Axisymmetric:
         return self.options.pole_element_size_m or self.options.element_size_m
 
     def slack(self, target) -> float:
-        return 1.0
+        """The time limit over the Hertz estimate's: a backing's springs may hold the contact
+        longer than a fixed plane."""
+        return 1.0 if target is None else 2.0
 
     def default_group_size(self, runs: int, cpu: bool) -> int:
         """Balls per vmapped group: `CPU_GROUP_SIZE` on a CPU, up to `ACCELERATOR_GROUP_SIZE`
@@ -151,7 +159,11 @@ class Axisymmetric:
         return 0.0
 
     def params(self, ball, target, kernel: Kernel, condition: ImpactCondition):
-        return ball_arrays(ball, kernel.geom, self.options)
+        params = ball_arrays(ball, kernel.geom, self.options, target)
+        if target is not None:
+            target.check_against(float(np.max(params.mass_kg[kernel.geom.surface_nodes])),
+                                 ball.name)
+        return params
 
     def initial(self, conditions: list) -> list[np.ndarray]:
         return [np.array([c.speed_m_s for c in conditions])]
@@ -163,7 +175,7 @@ class Axisymmetric:
                final: dict, params, t_end: float, kernel: Kernel, mesh, wall: float,
                frames: list) -> ImpactResult:
         n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
-        h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
+        h = {name: history[:n, j] for j, name in enumerate(kernel.history_names)}
         speed = condition.speed_m_s
         mass = float(np.sum(params.mass_kg))
         ke0 = 0.5 * mass * speed ** 2
@@ -179,6 +191,8 @@ class Axisymmetric:
                           "strain-energy split is approximate at large strains", InputWarning,
                           stacklevel=4)
         energies["initial_kinetic_energy_j"] = ke0
+        if target is not None:
+            energies.update(backing_energies(h, energies, target))
         stretch = (float(final["stretch_min"]), float(final["stretch_max"]))
         for message in drucker_warnings(ball, *stretch):
             warnings.warn(f"{message}: principal stretches in this range occurred in the ball "
@@ -195,6 +209,7 @@ class Axisymmetric:
             final_time_increment_s=float(final["dt"]), steps=n, elements=geom.n_elements,
             nodes=len(geom.nodes_m), mass_kg=mass, stretch_range=stretch,
             outer_radius_m=ball.outer_radius_m, geometry="axisymmetric",
+            target="rigid plane" if target is None else target.name,
             moduli=tuple(layer.material.moduli for layer in ball.layers),
             nodes_m=np.asarray(geom.nodes_m, np.float64), elements_connectivity=geom.elements,
             layer_slices=geom.layer_slices, displacement_at_peak_m=final["u_peak"].T,

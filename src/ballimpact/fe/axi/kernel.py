@@ -1,6 +1,8 @@
 """The explicit step of a layered axisymmetric ball on a rigid plane (pure JAX).
 
-The ball's south pole touches the plane z = 0 at t = 0, every node moving at -v_in along z.
+The ball's south pole touches the plane z = 0 at t = 0, every node moving at -v_in along z. The
+plane is fixed, or carried by a backing of oscillators (`fe.backing.PlaneBacking`: a headform, a
+bat's modes at the impact point) stepped with the nodes.
 Central difference (velocity form, constant increment) with lumped masses; internal forces from
 `element` (reduced integration with hourglass control, or F-bar) and the materials' strain
 energies with Simo's Prony update; linear and quadratic bulk viscosity; node-to-plane penalty
@@ -27,6 +29,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..backing import no_backing_arrays
 from ..stable_increment import increment_factor
 from ..steps import (LANCZOS_STEPS, PARAMS, STATE, ChunkedSteps, PronyState, material_stresses,
                      named_tuple, step_events)
@@ -47,11 +50,17 @@ from .element import (
 HISTORY = ("time_s", "contact_force_n", "centre_z_m", "centre_velocity_z_m_s", "kinetic_energy_j",
            "internal_work_j", "contact_work_j", "strain_energy_j", "bulk_viscous_dissipation_j",
            "hourglass_energy_j")
+#: the histories a backed plane adds: its position, velocity and acceleration along z, the
+#: oscillators' kinetic plus spring energy, the contact force's work on the plane and the
+#: backing's dashpot dissipation
+BACKING_HISTORY = ("backing_z_m", "backing_velocity_z_m_s", "backing_acceleration_z_m_s2",
+                   "backing_energy_j", "backing_work_j", "backing_damping_j")
 
 
-def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
+def ball_arrays(ball, geom: AxiGeometry, options, backing=None) -> AxiParams:
     """Per-ball parameters of the step (NumPy, float64): masses, contact springs, hourglass and
-    bulk-viscosity factors, increment factor, material constants."""
+    bulk-viscosity factors, increment factor, material constants, and the plane's backing
+    (`fe.backing.PlaneBacking`, None: a fixed plane)."""
     layers = ball.layers
     rho = np.array([layer.density_kg_m3 for layer in layers])
     wave = np.array([layer.material.wave_modulus_pa() for layer in layers])
@@ -73,17 +82,28 @@ def ball_arrays(ball, geom: AxiGeometry, options) -> AxiParams:
         energy_error_limit=np.float64(options.energy_error_limit),
         increment_factor=np.float64(increment_factor(options.time_step_scale,
                                                      options.bulk_viscosity_linear)),
-        groups=[layer.material.constants() for layer in layers])
+        groups=[layer.material.constants() for layer in layers],
+        **(no_backing_arrays() if backing is None else backing.arrays()))
 
 
 AxiParams = named_tuple(
     "AxiParams", __name__, "The axisymmetric kernel's per-ball parameters (SI; NumPy float64 "
     "from `ball_arrays`).", PARAMS,
     {"groups": "material constants per element group (the ball's layers)",
-     "ball_mass_kg": "the ball's mass (kg)"})
+     "ball_mass_kg": "the ball's mass (kg)",
+     "backing_shape_1_sqrt_kg": "the backing's modes' shapes at the impact point "
+                                "(1/sqrt(kg); none: a fixed plane)",
+     "backing_omega2_1_s2": "their squared frequencies (1/s^2)",
+     "backing_damping_1_s": "their damping matrix (1/s)",
+     "backing_velocity0": "their velocities at t = 0 (sqrt(kg) m/s)"})
 AxiState = named_tuple(
     "AxiState", __name__, "The axisymmetric kernel's state between steps (SI; nodal arrays "
-    "(2, n_nodes)).", STATE, {"f_e": "element corner forces (N), the last step's"})
+    "(2, n_nodes)).", STATE, {"f_e": "element corner forces (N), the last step's",
+                              "backing_q": "the backing's modal coordinates (sqrt(kg) m)",
+                              "backing_qd": "their velocities",
+                              "backing_qdd": "their accelerations",
+                              "w_backing": "work of the contact force on the plane (J)",
+                              "d_backing": "the backing's dashpot dissipation (J)"})
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,14 +115,30 @@ class Kernel(ChunkedSteps):
     bulk_relaxation: tuple  # per layer: does it have k_i > 0
     reduced: bool          # one-point integration with hourglass control
     dtype: Any
+    backing_modes: int = 0  # the plane's backing's modes (0: a fixed plane)
 
     @classmethod
-    def build(cls, geom: AxiGeometry, energies, bulk_relaxation, reduced: bool, dtype) -> Kernel:
+    def build(cls, geom: AxiGeometry, energies, bulk_relaxation, reduced: bool, dtype,
+              backing_modes: int = 0) -> Kernel:
         floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
                   if isinstance(getattr(geom, f.name), np.ndarray)
                   and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
         return cls(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
-                   reduced, np.dtype(dtype))
+                   reduced, np.dtype(dtype), backing_modes)
+
+    @property
+    def backed(self) -> bool:
+        return self.backing_modes > 0
+
+    @property
+    def history_names(self) -> tuple[str, ...]:
+        """The columns of a history row (a backing's: `BACKING_HISTORY`, then its modal
+        coordinates `backing_q_K` and velocities `backing_qd_K`, K from 0)."""
+        if not self.backed:
+            return HISTORY
+        n = range(self.backing_modes)
+        return (HISTORY + BACKING_HISTORY + tuple(f"backing_q_{k}" for k in n)
+                + tuple(f"backing_qd_{k}" for k in n))
 
     @property
     def n_points(self) -> int:
@@ -150,7 +186,10 @@ class Kernel(ChunkedSteps):
         scalar = partial(jnp.array, dtype=self.dtype)
         omega2, x_top = self.max_frequency_squared(params, zeros, None, LANCZOS_STEPS)
         dt = params.increment_factor / jnp.sqrt(omega2)
-        return AxiState(u=zeros, v=zeros.at[1].set(-speed), a=zeros, t=scalar(0.0),
+        backing = jnp.zeros_like(params.backing_velocity0)
+        return AxiState(backing_q=backing, backing_qd=params.backing_velocity0,
+                        backing_qdd=backing,
+                        w_backing=scalar(0.0), d_backing=scalar(0.0),u=zeros, v=zeros.at[1].set(-speed), a=zeros, t=scalar(0.0),
                         dt=dt, dt0=dt, x_top=x_top,
                         f_e=self.zero_corner_forces(), f_contact=self.zeros(n),
                         mat=self.initial_materials(params),
@@ -209,13 +248,40 @@ class Kernel(ChunkedSteps):
         lam2_max = jnp.maximum(m_ + d_, Cd.zz)
         return f, new_mats, j0, stored, e_hg, sigma_bv, J, lam2_min, lam2_max, f_e
 
-    def contact(self, params, u, v_half):
-        """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0."""
+    def contact(self, params, u, v_half, plane_z=None, plane_v=None):
+        """Normal contact forces (n_surface,) of the surface nodes on the plane z = 0, or at
+        `plane_z` (m) moving at `plane_v` (m/s) when backed."""
         s = self.geom.surface_nodes
-        penetration = jnp.maximum(-(self.surface_height_m + u[1, s]), 0.0)
+        height, velocity = self.surface_height_m + u[1, s], v_half[1, s]
+        if plane_z is not None:
+            height, velocity = height - plane_z, velocity - plane_v
+        penetration = jnp.maximum(-height, 0.0)
         normal = params.penalty_n_m * penetration \
-            - params.contact_damping_n_s_m * v_half[1, s] * (penetration > 0)
+            - params.contact_damping_n_s_m * velocity * (penetration > 0)
         return jnp.maximum(normal, 0.0)
+
+    def backing_step(self, params, state, dt, u, v_half):
+        """The contact forces with the plane on its backing, and the backing's new state: its
+        modes (`fe.backing`) stepped by the same central difference as the nodes, driven by the
+        contact force (down, -z), with the work of that force on the plane (trapezoidal) and the
+        modal dashpots' dissipation. Returns (forces, new state fields, history row)."""
+        phi, c = params.backing_shape_1_sqrt_kg, params.backing_damping_1_s
+        qd_half = state.backing_qd + 0.5 * dt * state.backing_qdd
+        q = state.backing_q + dt * qd_half
+        plane_z = phi @ q
+        normal = self.contact(params, u, v_half, plane_z, phi @ qd_half)
+        total = jnp.sum(normal)
+        damping = c @ qd_half
+        qdd = -phi * total - damping - params.backing_omega2_1_s2 * q
+        qd = qd_half + 0.5 * dt * qdd
+        dz = plane_z - phi @ state.backing_q
+        w_backing = state.w_backing - 0.5 * (jnp.sum(state.f_contact) + total) * dz
+        d_backing = state.d_backing + dt * (qd_half @ damping)
+        energy = 0.5 * jnp.sum(qd * qd + params.backing_omega2_1_s2 * q * q)
+        new = {"backing_q": q, "backing_qd": qd, "backing_qdd": qdd, "w_backing": w_backing,
+               "d_backing": d_backing}
+        return normal, new, [plane_z, phi @ qd, phi @ qdd, energy, w_backing, d_backing,
+                             *q, *qd]
 
     # ---- the step ----------------------------------------------------------------------------
     def step(self, params, t0, state, i):
@@ -227,7 +293,13 @@ class Kernel(ChunkedSteps):
         u = state.u + dt * v_half
         f_int, mats, j0, stored, e_hg, sigma_bv, J, lam2_min, lam2_max, f_e = self.internal(
             params, u, state.mat, state.j0, dt)
-        normal = self.contact(params, u, v_half)
+        if self.backed:
+            normal, backing, backing_row = self.backing_step(params, state, dt, u, v_half)
+            plane_v = params.backing_shape_1_sqrt_kg @ backing["backing_qd"]
+        else:
+            normal, plane_v, backing_row = self.contact(params, u, v_half), 0.0, []
+            backing = {k: getattr(state, k) for k in ("backing_q", "backing_qd", "backing_qdd",
+                                                      "w_backing", "d_backing")}
         f_contact = self.zeros(len(g.nodes_m)).at[g.surface_nodes].set(normal)
         a = (-f_int).at[1].add(f_contact) / mass
         a = a.at[0].multiply(off_axis)
@@ -261,10 +333,13 @@ class Kernel(ChunkedSteps):
         new = AxiState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
                        x_top=state.x_top, f_e=f_e, f_contact=f_contact, mat=mats,
                        j0=j0, sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
-                       w_contact=w_contact, d_bv=d_bv,
-                       **step_events(state, t, total, v_cm, u, kinetic, w_int, w_contact, min_j,
-                                     lam2_min, lam2_max, params.energy_error_limit))
-        row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg])
+                       w_contact=w_contact, d_bv=d_bv, **backing,
+                       # separation: the ball's centre moving away from the plane
+                       **step_events(state, t, total, v_cm - plane_v, u, kinetic, w_int,
+                                     w_contact, min_j, lam2_min, lam2_max,
+                                     params.energy_error_limit))
+        row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg]
+                        + backing_row)
         return new, row
 
     # ---- the stable increment ----------------------------------------------------------------
