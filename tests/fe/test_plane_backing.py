@@ -10,7 +10,7 @@ import pytest
 from ballimpact import fe
 from ballimpact.errors import InputError
 from ballimpact.fe.backing import PlaneBacking
-from ballimpact.fe.hex.target import Target
+from ballimpact.fe.hex.target import load_target
 
 SPEED = 19.0  # m/s: McIntosh & Janda's (2003) slowest helmet test
 
@@ -90,11 +90,12 @@ def test_bad_backings_are_refused(ball):
     # a backing about as light as the ball's contact nodes: the increment would not be stable
     with pytest.raises(InputError, match="heaviest contact node"):
         fe.simulate(ball, SPEED, target=PlaneBacking.free_mass(1e-4))
-    slab = Target.from_dict({"name": "pad", "half_width_m": 0.1, "layers": [
-        {"thickness_m": 0.01, "density_kg_m3": 100.0,
-         "material": {"model": "neo_hookean", "c10_pa": 1e5, "d1_per_pa": 1e-6}}]})
-    with pytest.raises(InputError, match="3D geometry"):
-        fe.simulate(ball, SPEED, target=slab)
+    # the 3D geometry meshes flat slabs: no plane on a backing, no spherical cap
+    three_d = fe.Hexahedral(fe.Options3D(divisions=4))
+    with pytest.raises(InputError, match="axisymmetric geometry"):
+        fe.simulate(ball, SPEED, geometry=three_d, target=PlaneBacking.free_mass(5.0))
+    with pytest.raises(InputError, match="sphere_radius_m.*axisymmetric"):
+        fe.simulate(ball, SPEED, geometry=three_d, target=load_target("cricket-helmet"))
 
 
 def test_modal_form_matches_the_mass_form():

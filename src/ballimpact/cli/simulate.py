@@ -14,7 +14,8 @@ from ..checks import check_allow
 from .angle_sweep import parse_angles, run_angle_sweep
 from .common import add_json, add_allow, check_output_folder, finite_float
 from ..fe.sweep import parse_speeds, sweep_figure, write_table
-from .simulate_3d import check_flags, checked_allow, inputs_3d, print_3d, starter
+from .simulate_3d import (check_flags, checked_allow, inputs_3d, load_checked_target, print_3d,
+                          starter)
 
 
 class SolverDefaults:
@@ -28,13 +29,15 @@ class SolverDefaults:
 
 def add_parser(verbs) -> None:
     simulate = verbs.add_parser(
-        "simulate", help="FE impact of a ball on a flat surface (normal: axisymmetric; oblique, "
-                         "spin, targets: 3d)",
+        "simulate", help="FE impact of a ball on a surface or a target (normal: axisymmetric; "
+                         "oblique, spin: 3d)",
         description="Explicit FE (hyper-viscoelastic layers, penalty contact) of a ball hitting a "
                     "flat surface: contact force history, COR, contact time, energies and the 19 "
                     "features. --solver axisymmetric (default) runs normal impacts on a rigid "
-                    "plane; --solver 3d runs oblique impacts with Coulomb friction and spin, on a "
-                    "rigid plane or a deformable slab (--target), and adds normal_cor, "
+                    "plane or a layered target (--target: a pad, a helmet; flat or a spherical "
+                    "cap; its base fixed or backed by a headform's mass); --solver 3d runs "
+                    "oblique impacts with Coulomb friction and spin, on a rigid plane or a flat "
+                    "target, and adds normal_cor, "
                     "tangential_cor, rebound_angle_deg and rebound_spin_rad_s. Runs longer than "
                     "a few seconds print their progress on stderr; a mesh estimated above "
                     "2e9 element updates (elements x steps; 3d: 3e8), about 5 min on a 2-core "
@@ -64,14 +67,15 @@ def add_parser(verbs) -> None:
     add_solver_options(simulate)
     # given or not: the 3d solver refuses an axisymmetric mesh size (None: the default)
     simulate.set_defaults(element_size_m=None)
+    simulate.add_argument("--target",
+                          help="a layered target: a preset (cricket-helmet, foam-pad) or a "
+                               "target file (JSON; docs/equipment.md); default: a rigid plane")
     three = simulate.add_argument_group("3d solver")
     three.add_argument("--spin-x-rad-s", type=float, default=0.0,
                        help="out-of-plane spin about the incoming tangential velocity (rad/s, "
                             "right-handed; needs the full model, chosen automatically)")
     three.add_argument("--spin-z-rad-s", type=float, default=0.0,
                        help="out-of-plane spin about the surface normal (rad/s, right-handed)")
-    three.add_argument("--target", type=Path,
-                       help="deformable slab specification (JSON; default: a rigid plane)")
     three.add_argument("--divisions", type=int,
                        help="hexahedra along each 90 degrees of arc (even, 4 to 64; default 16)")
     three.add_argument("--pole-grading", type=float,
@@ -207,7 +211,8 @@ def _run_one(args: argparse.Namespace) -> dict[str, Any]:
                     f"{condition.angle_deg:g} deg ...")
     else:
         ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
-        condition, target, announce = args.speed_m_s, None, None
+        condition, announce = args.speed_m_s, None
+        target = load_checked_target(args, ball)
         geometry = Axisymmetric(solver_options(args))
     result = run_impact(ball, condition, geometry, target=target, allow=allow,
                         start=starter(geometry.options.chunk_steps, announce))
@@ -223,7 +228,8 @@ def _run_one(args: argparse.Namespace) -> dict[str, Any]:
 def _print_one(result, out: dict[str, Any]) -> None:
     """One axisymmetric run's text."""
     e = result.energies_j
-    print(f"{result.ball_name} at {result.impact_speed_m_s:g} m/s ({out['moduli']} moduli): "
+    on = "" if result.target == "rigid plane" else f" on {result.target}"
+    print(f"{result.ball_name} at {result.impact_speed_m_s:g} m/s{on} ({out['moduli']} moduli): "
           f"peak force {result.peak_force_n:.5g} N at {result.time_of_peak_s * 1e3:.4g} ms, "
           f"contact time {result.contact_time_s * 1e3:.4g} ms, COR {result.cor:.4f}")
     print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
@@ -231,6 +237,20 @@ def _print_one(result, out: dict[str, Any]) -> None:
           f"{e['bulk_viscous_dissipation_j']:.4g} J of {e['initial_kinetic_energy_j']:.4g} J")
     print(f"  {result.elements} elements, {result.steps} steps of "
           f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
+    print_target(out)
+
+
+def print_target(out: dict[str, Any]) -> None:
+    """A target's and a backing's figures (`fe.runs.impact_summary`), if any."""
+    for layer in out.get("target_layers", []):
+        print(f"  target layer {layer['name']}: took {layer['work_j']:.4g} J, largest "
+              f"compression {layer['max_compression']:.1%} of its thickness")
+    b = out.get("backing")
+    if b is not None:
+        print(f"  backing: {b['backing_speed_m_s']:.3f} m/s after, peak acceleration "
+              f"{b['backing_peak_acceleration_g']:.1f} g, HIC15 {b['hic15']:.1f}, Gadd "
+              f"{b['gadd_severity_index']:.1f}, peak transmitted force "
+              f"{b['peak_transmitted_force_n']:.4g} N")
 
 
 def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str, Any]:
@@ -245,6 +265,9 @@ def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str,
     if args.csv is not None:
         raise InputError("--csv: writes the histories of one run; a sweep writes a row per "
                          "speed with --table (or give one speed)")
+    if args.target is not None:
+        raise InputError("--target: a speed sweep runs on the rigid plane; give one speed per "
+                         "run on a target")
     check_flags(args)
     allow = check_allow(args.allow)
     options = solver_options(args)

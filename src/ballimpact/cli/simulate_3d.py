@@ -16,8 +16,7 @@ from ..fe.speed_range import check_fe_speed
 from .common import check_output_folder, check_plot_path, use_compilation_cache
 
 #: flags of one solver only (attribute: the flag's name in snake case)
-FLAGS_3D = ("--angle-deg", "--spin-rad-s", "--spin-x-rad-s", "--spin-z-rad-s", "--target",
-            "--vtk", "--animate", "--divisions", "--pole-grading", "--contact-elements",
+FLAGS_3D = ("--angle-deg", "--spin-rad-s", "--spin-x-rad-s", "--spin-z-rad-s", "--vtk", "--animate", "--divisions", "--pole-grading", "--contact-elements",
             "--full-model", "--stick-scale", "--slab-depth-growth")
 FLAGS_AXISYMMETRIC = ("--element-size-m", "--pole-element-size-m")
 
@@ -40,8 +39,8 @@ def check_flags(args: argparse.Namespace) -> None:
         return
     for flag in FLAGS_3D:
         if _given(args, flag) not in (None, 0.0, False):
-            raise InputError(f"{flag}: oblique and spinning impacts, targets, 3D output and the "
-                             "3D mesh need --solver 3d")
+            raise InputError(f"{flag}: oblique and spinning impacts, 3D output and the 3D mesh "
+                             "need --solver 3d")
 
 
 def checked_allow(args: argparse.Namespace) -> frozenset[str]:
@@ -70,11 +69,25 @@ def starter(chunk_steps: int, announce: str | None = None, *, warn_first: bool =
     return start
 
 
+def load_checked_target(args: argparse.Namespace, ball):
+    """--target: a preset or file (`fe.hex.target.load_target`), at least the ball's width, or
+    None."""
+    from ..fe.hex.target import check_target_width, load_target
+
+    if args.target is None:
+        return None
+    target = load_target(args.target)
+    try:
+        check_target_width(target, ball)
+    except InputError as error:
+        raise InputError(f"--target {args.target}: {error}") from None
+    return target
+
+
 def inputs_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     """The 3D run's inputs, checked before anything is meshed: (ball, `ImpactCondition`, target
     or None, `Options3D`). `check_flags` has checked --plot, --table and --friction."""
     from ..fe import ImpactCondition, Options3D
-    from ..fe.hex.target import check_target_width, load_target
     from ..fe.runs import load_model
     from ..oblique.output import check_animation_path
 
@@ -87,13 +100,8 @@ def inputs_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
     condition = ImpactCondition(speed_m_s=args.speed_m_s, angle_deg=args.angle_deg,
                                 spin_rad_s=args.spin_rad_s, friction=args.friction,
                                 spin_x_rad_s=args.spin_x_rad_s, spin_z_rad_s=args.spin_z_rad_s)
-    target = load_target(args.target) if args.target is not None else None
     ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
-    if target is not None:
-        try:
-            check_target_width(target, ball)
-        except InputError as error:
-            raise InputError(f"--target {args.target}: {error}") from None
+    target = load_checked_target(args, ball)
     if args.slab_depth_growth is not None and args.target is None:
         raise InputError("--slab-depth-growth: grades a target slab's cells; give --target FILE")
     frames = args.vtk is not None or args.animate is not None

@@ -217,9 +217,9 @@ def _prepared(balls, conditions, geometry, target, allow, group_size=None, speed
     if len(conditions) != len(balls):
         raise InputError(f"impact_speeds_m_s: expected one speed or {len(balls)} (one per "
                          f"ball), got {len(conditions)}")
+    geometry = geometry.checked(balls[0], conditions, target)
     if any(geometry.structure(b, target) != geometry.structure(balls[0], target) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
-    geometry = geometry.checked(balls[0], conditions, target)
     group_size = group_size or default_group_size(len(balls), geometry)
     check_memory(geometry, balls, conditions, target, allow, group_size)
     return balls, conditions, geometry, group_size

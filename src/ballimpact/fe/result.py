@@ -93,7 +93,8 @@ class ImpactResult(RunFigures):
                     "principal_stretch_range": list(self.stretch_range),
                     "moduli": self.moduli[0] if len(set(self.moduli)) == 1 else list(self.moduli),
                     "integration": self.integration, "precision": self.precision,
-                    "wall_time_s": self.wall_time_s}
+                    "wall_time_s": self.wall_time_s,
+                    **({} if self.target == "rigid plane" else {"target": self.target})}
         c, h = self.condition, self.history
         return {"ball": self.ball_name, "solver": "3d", "impact_speed_m_s": c.speed_m_s,
                 "angle_deg": c.angle_deg, "spin_rad_s": c.spin_rad_s, "friction": c.friction,

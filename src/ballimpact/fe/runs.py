@@ -97,6 +97,7 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
     """One run's JSON object (SI): `result.summary()`, the 19 features of its pulse, the ball's
     specification, and for the axisymmetric solver the material constants it used
     (instantaneous), for a slab target its specification."""
+    from ..protect.headform import backing_figures
     from ..records.features import extract_features
 
     out = result.summary()
@@ -107,8 +108,16 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
             {"layer": layer.name, "model": layer.material.model,
              **{k: (v.tolist() if hasattr(v, "tolist") else v)
                 for k, v in layer.material.constants().items()}} for layer in ball.layers]
-    if target is not None:
+    if target is not None and hasattr(target, "to_dict"):
         out["target_specification"] = target.to_dict()
+        energies = result.energies_j
+        out["target_layers"] = [
+            {"name": layer.name, "work_j": energies[f"target_{layer.name}_work_j"],
+             "max_compression": energies[f"target_{layer.name}_max_compression"]}
+            for layer in target.layers if f"target_{layer.name}_work_j" in energies]
+    backing = backing_figures(result)
+    if backing is not None:
+        out["backing"] = backing
     return out
 
 

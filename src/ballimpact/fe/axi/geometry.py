@@ -8,6 +8,7 @@ per-ball parameters and initial values, the cost constants and the result."""
 from __future__ import annotations
 
 import dataclasses
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -16,10 +17,13 @@ import numpy as np
 from ...errors import InputError, InputWarning
 from ...constitutive.stability import drucker_warnings
 from ..backing import PlaneBacking, backing_energies
+from ..hex.target import Target, check_target_width
 from ..options import ImpactCondition, SolverOptions
 from ..result import ImpactResult, contact_end_time, energy_histories
 from .element import geometry as element_geometry
 from .kernel import HISTORY, Kernel, ball_arrays
+from .target_kernel import TargetKernel, target_params
+from .target_mesh import target_mesh
 from .mesh import estimate_mesh, layered_sphere_mesh
 
 
@@ -40,19 +44,88 @@ def mesh_radii(ball, options: SolverOptions) -> np.ndarray:
 def build_kernel(ball, options: SolverOptions, backing_modes: int = 0) -> Kernel:
     """The compiled-program data (mesh, material models, precision) of a ball's structure, on
     a fixed plane or a plane on a backing of `backing_modes` modes."""
+    mesh = _ball_mesh(ball, options)
+    return Kernel.build(
+        element_geometry(mesh), [type(layer.material).energy for layer in ball.layers],
+        [layer.material.sum_k > 0 for layer in ball.layers],
+        reduced=options.integration == "reduced", dtype=np.dtype(options.precision),
+        backing_modes=backing_modes)
+
+
+def _ball_mesh(ball, options: SolverOptions):
+    """The ball's mesh, its rings assigned to the ball's layers."""
     radii = np.asarray(ball.layer_radii_m)
     circles = mesh_radii(ball, options)
     mesh = layered_sphere_mesh(tuple(circles), options.element_size_m,
                                options.pole_element_size_m, options.pole_zone_deg)
     # mesh rings -> ball layers: a ring belongs to the first layer that reaches its radius
     ring_layer = np.searchsorted(radii, circles - 1e-12 * radii[-1])
-    mesh = dataclasses.replace(mesh, element_layer=ring_layer[mesh.element_layer],
+    return dataclasses.replace(mesh, element_layer=ring_layer[mesh.element_layer],
                                layer_radii_m=tuple(radii))
-    return Kernel.build(
-        element_geometry(mesh), [type(layer.material).energy for layer in ball.layers],
-        [layer.material.sum_k > 0 for layer in ball.layers],
-        reduced=options.integration == "reduced", dtype=np.dtype(options.precision),
-        backing_modes=backing_modes)
+
+
+def build_target_kernel(ball, target, options: SolverOptions) -> TargetKernel:
+    """The kernel of a ball on a layered target (`fe.hex.target.Target`): one mesh, the ball's
+    nodes and elements first (`target_kernel`)."""
+    mesh = _ball_mesh(ball, options)
+    pole = options.pole_element_size_m or options.element_size_m
+    tm = target_mesh([layer.thickness_m for layer in target.layers], target.half_width_m, pole,
+                     target.sphere_radius_m)
+    nb, n_layers = mesh.n_nodes, len(ball.layers)
+    below = mesh.nodes_m[:, 1].min()  # the south pole touches the target's top at t = 0
+    nodes = np.concatenate([mesh.nodes_m, tm.nodes_m + [0.0, below]])
+    surface = np.asarray(mesh.surface_nodes)
+    contact = surface[mesh.nodes_m[surface, 1] < 0.0]  # the lower hemisphere
+    combined = dataclasses.replace(
+        mesh, nodes_m=nodes, elements=np.concatenate([mesh.elements, tm.elements + nb]),
+        element_layer=np.concatenate([mesh.element_layer, tm.element_layer + n_layers]),
+        surface_nodes=contact,
+        layer_radii_m=tuple(mesh.layer_radii_m) + (0.0,) * len(target.layers))
+    geom = dataclasses.replace(element_geometry(combined), surface_layer=n_layers - 1)
+    materials = [layer.material for layer in list(ball.layers) + list(target.layers)]
+    kernel = Kernel.build(geom, [type(m).energy for m in materials],
+                          [m.sum_k > 0 for m in materials],
+                          reduced=options.integration == "reduced",
+                          dtype=np.dtype(options.precision),
+                          backing_modes=0 if target.backing is None else 1)
+    return TargetKernel.build_on(kernel, nb, n_layers, contact, tm.top_nodes + nb,
+                                 tm.base_nodes + nb, tm.axis_layer_nodes + nb,
+                                 tm.thicknesses_m)
+
+
+def target_structure(target) -> tuple:
+    """What a compiled run on a layered target depends on: its layers' thicknesses and material
+    models, its width and shape, whether it is backed."""
+    return (target.half_width_m, target.sphere_radius_m, target.backing is not None,
+            tuple((layer.thickness_m, type(layer.material), layer.material.sum_k > 0,
+                   tuple((k, np.shape(v)) for k, v in sorted(layer.material.constants().items())))
+                  for layer in target.layers))
+
+
+def backing_of(target, base_kg: float = 0.0) -> PlaneBacking | None:
+    """A target's backing (`fe.hex.target.Backing`: a rigid mass on a spring and damper), with
+    the target's base nodes' `base_kg` (kg) added, as the kernel's `PlaneBacking`, unchecked
+    (a test's 1e6 kg stands for the fixed base)."""
+    b = target.backing
+    if b is None:
+        return None
+    mass = b.mass_kg + base_kg
+    return PlaneBacking((mass ** -0.5,), (math.sqrt(b.spring_n_m / mass) / (2.0 * math.pi),),
+                        ((b.damper_n_s_m / mass,),), labels=("backing",),
+                        name=f"{target.name}.backing")
+
+
+def target_energies(history: dict, target, kernel) -> dict[str, float]:
+    """A target's figures at the end of a run: each layer's internal work (J: what it holds
+    and has dissipated) and largest compression on the axis (thickness lost over thickness),
+    and the largest force on its base (N)."""
+    out = {}
+    for k, layer in enumerate(target.layers):
+        out[f"target_{layer.name}_work_j"] = float(history[f"target_layer_{k}_work_j"][-1])
+        out[f"target_{layer.name}_max_compression"] = float(
+            np.max(history[f"target_layer_{k}_compression"]))
+    out["target_max_transmitted_force_n"] = float(np.max(history["transmitted_force_n"]))
+    return out
 
 
 def normal_impact_speed(condition: ImpactCondition) -> float:
@@ -113,12 +186,14 @@ class Axisymmetric:
                              f"{type(self.options).__name__}")
 
     def checked(self, ball, conditions: list, target) -> "Axisymmetric":
-        """The geometry for these runs of `ball`: normal impacts on the rigid plane, fixed or
-        on a backing (`fe.backing.PlaneBacking`)."""
-        if target is not None and not isinstance(target, PlaneBacking):
-            raise InputError("target: the axisymmetric geometry runs on the rigid plane, fixed "
-                             "or on a backing (fe.backing.PlaneBacking); a target slab needs the "
-                             "3D geometry (fe.Hexahedral, --solver 3d)")
+        """The geometry for these runs of `ball`: normal impacts on the rigid plane (fixed or
+        on a backing, `fe.backing.PlaneBacking`) or on a layered target
+        (`fe.hex.target.Target`, flat or a spherical cap, its base fixed or backed)."""
+        if target is not None and not isinstance(target, (PlaneBacking, Target)):
+            raise InputError(f"target = {type(target).__name__}: expected a PlaneBacking or a "
+                             "Target")
+        if isinstance(target, Target):
+            check_target_width(target, ball)
         for condition in conditions:
             normal_impact_speed(condition)
         return self
@@ -128,26 +203,39 @@ class Axisymmetric:
 
     def kernel_key(self, ball, target=None) -> tuple:
         o = self.options
-        return ("axisymmetric", structure(ball), o.element_size_m, o.pole_element_size_m,
-                o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision,
-                0 if target is None else target.count)
+        key = ("axisymmetric", structure(ball), o.element_size_m, o.pole_element_size_m,
+               o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision)
+        if isinstance(target, Target):
+            return key + ("target", target_structure(target))
+        return key + (0 if target is None else target.count,)
 
     def build(self, ball, target=None) -> tuple[Kernel, None]:
+        if isinstance(target, Target):
+            return build_target_kernel(ball, target, self.options), None
         return build_kernel(ball, self.options, 0 if target is None else target.count), None
 
     def mesh_size(self, ball, target=None) -> tuple[int, float]:
-        """(elements, smallest element's length m) of the mesh, from its counting rules."""
+        """(elements, smallest element's length m) of the mesh, from its counting rules (a
+        target's cells counted as meshed)."""
         o = self.options
         mesh = estimate_mesh(mesh_radii(ball, o), o.element_size_m, o.pole_element_size_m,
                              o.pole_zone_deg)
-        return mesh.elements, mesh.smallest_length_m
+        if not isinstance(target, Target):
+            return mesh.elements, mesh.smallest_length_m
+        tm = target_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,
+                         self.pole_element_m(ball), target.sphere_radius_m)
+        cells = np.diff(tm.nodes_m.reshape(-1, len(tm.top_nodes), 2), axis=0)
+        depth = float(np.min(np.linalg.norm(cells, axis=-1)))
+        width = float(np.min(np.diff(tm.nodes_m[tm.top_nodes, 0])))
+        return (mesh.elements + len(tm.elements),
+                min(mesh.smallest_length_m, 0.5 * min(depth, width)))
 
     def pole_element_m(self, ball) -> float:
         return self.options.pole_element_size_m or self.options.element_size_m
 
     def slack(self, target) -> float:
-        """The time limit over the Hertz estimate's: a backing's springs may hold the contact
-        longer than a fixed plane."""
+        """The time limit over the Hertz estimate's: a backing's springs or a soft target may
+        hold the contact longer than a fixed plane."""
         return 1.0 if target is None else 2.0
 
     def default_group_size(self, runs: int, cpu: bool) -> int:
@@ -159,6 +247,14 @@ class Axisymmetric:
         return 0.0
 
     def params(self, ball, target, kernel: Kernel, condition: ImpactCondition):
+        if isinstance(target, Target):
+            layers = list(ball.layers) + list(target.layers)
+            params = ball_arrays(ball, kernel.geom, self.options, None, layers)
+            # the base's nodes move with the backing: their mass is the backing's
+            base_kg = float(np.sum(params.mass_kg[kernel.base_nodes]))
+            params = ball_arrays(ball, kernel.geom, self.options, backing_of(target, base_kg),
+                                 layers)
+            return target_params(params, kernel.ball_nodes)
         params = ball_arrays(ball, kernel.geom, self.options, target)
         if target is not None:
             target.check_against(float(np.max(params.mass_kg[kernel.geom.surface_nodes])),
@@ -177,10 +273,11 @@ class Axisymmetric:
         n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
         h = {name: history[:n, j] for j, name in enumerate(kernel.history_names)}
         speed = condition.speed_m_s
-        mass = float(np.sum(params.mass_kg))
+        mass = float(params.ball_mass_kg)
         ke0 = 0.5 * mass * speed ** 2
         largest = energy_histories(h, ke0)
-        energies = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
+        energies = {name: float(values[-1]) for name, values in h.items()
+                    if name.endswith("_j") and not name.startswith("target_layer_")}
         energies["peak_internal_energy_j"] = float(np.max(h["strain_energy_j"]
                                                           + h["hourglass_energy_j"]))
         energies["peak_hourglass_energy_j"] = float(np.max(h["hourglass_energy_j"]))
@@ -191,7 +288,11 @@ class Axisymmetric:
                           "strain-energy split is approximate at large strains", InputWarning,
                           stacklevel=4)
         energies["initial_kinetic_energy_j"] = ke0
-        if target is not None:
+        if isinstance(target, Target):
+            energies.update(target_energies(h, target, kernel))
+            if target.backing is not None:
+                energies.update(backing_energies(h, energies, backing_of(target)))
+        elif target is not None:
             energies.update(backing_energies(h, energies, target))
         stretch = (float(final["stretch_min"]), float(final["stretch_max"]))
         for message in drucker_warnings(ball, *stretch):

@@ -57,11 +57,12 @@ BACKING_HISTORY = ("backing_z_m", "backing_velocity_z_m_s", "backing_acceleratio
                    "backing_energy_j", "backing_work_j", "backing_damping_j")
 
 
-def ball_arrays(ball, geom: AxiGeometry, options, backing=None) -> AxiParams:
+def ball_arrays(ball, geom: AxiGeometry, options, backing=None, layers=None) -> AxiParams:
     """Per-ball parameters of the step (NumPy, float64): masses, contact springs, hourglass and
     bulk-viscosity factors, increment factor, material constants, and the plane's backing
-    (`fe.backing.PlaneBacking`, None: a fixed plane)."""
-    layers = ball.layers
+    (`fe.backing.PlaneBacking`, None: a fixed plane). `layers`: every element group's (density,
+    material), default the ball's layers (a target's follow them)."""
+    layers = ball.layers if layers is None else layers
     rho = np.array([layer.density_kg_m3 for layer in layers])
     wave = np.array([layer.material.wave_modulus_pa() for layer in layers])
     shear = np.array([layer.material.shear_modulus_pa() for layer in layers])

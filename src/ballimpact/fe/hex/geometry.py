@@ -1,6 +1,8 @@
 """The hexahedral (3D) geometry of the engine (`fe.engine`): a layered ball meshed as an O-grid
 (a half model on the plane of incidence unless told otherwise), oblique impacts with Coulomb
-friction and spin on a rigid plane or a deformable slab (`target.Target`).
+friction and spin on a rigid plane or a deformable slab (`target.Target`; its base fixed, or
+carried by a free rigid backing, `target.Backing`, whose histories the result gains:
+`kernel.BACKING_HISTORY`).
 
 `Hexahedral(options)` gives the engine what it needs of this geometry: the structure a compiled
 program depends on, the mesh's size before it is built, the kernel and mesh, the per-run
@@ -47,13 +49,15 @@ from .target import check_target_width
 
 def structure(ball, target) -> tuple:
     """What a compiled run depends on: the ball's and the slab's layers (radii, thicknesses,
-    material models, bulk relaxation, Prony terms) and the slab's half width."""
+    material models, bulk relaxation, Prony terms), the slab's half width and whether its base is
+    backed (`target.Backing`; its constants are parameters)."""
     layers = tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
                     len(layer.material.prony)) for layer in ball.layers)
     slab = None if target is None else (
         target.half_width_m, tuple((layer.thickness_m, type(layer.material),
                                     layer.material.sum_k > 0, len(layer.material.prony))
-                                   for layer in target.layers))
+                                   for layer in target.layers),
+        target.backing is not None)
     return layers, slab
 
 
@@ -132,7 +136,9 @@ def build_kernel(ball, target, options: Options3D, half: bool) -> tuple[Kernel, 
     kernel = kernel_module.build(
         geom, [type(m).energy for m in materials], [m.sum_k > 0 for m in materials],
         mesh.contact_nodes, mesh.ball_nodes, free, half, options.integration == "reduced",
-        mesh.target, np.dtype(options.precision))
+        mesh.target, np.dtype(options.precision),
+        backing=(mesh.fixed_nodes if target is not None and target.backing is not None
+                 else None))
     return kernel, mesh
 
 
@@ -154,6 +160,7 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
                                              / np.asarray(geom.node_length_m, np.float64)[s]) ** 2
     return HexParams(
         mass_kg=mass, ball_mass_kg=float(np.sum(mass[kernel.ball_nodes])),
+        backing=_backing_constants(target, kernel, mass),
         outer_radius_m=float(ball.outer_radius_m),
         penalty_n_m=penalty, stick_n_m=options.stick_scale * penalty,
         contact_damping_n_s_m=options.contact_damping * 2.0 * np.sqrt(penalty * m_s),
@@ -170,6 +177,17 @@ def model_arrays(ball, target, kernel: Kernel, options: Options3D,
         groups=[layer.material.constants() for layer in layers],
         # arange(n_el) as data: `element.materialized`'s fusion boundary
         element_index=np.arange(geom.n_elements, dtype=np.int32))
+
+
+def _backing_constants(target, kernel: Kernel, mass: np.ndarray) -> np.ndarray:
+    """A backed slab's (M kg, k N/m, c N s/m, the base nodes' lumped mass kg) of the model (a
+    half model carries half of each), or an empty array for a fixed base."""
+    if kernel.backing is None:
+        return np.zeros(0)
+    b = target.backing
+    share = 0.5 if kernel.half else 1.0
+    return np.array([share * b.mass_kg, share * b.spring_n_m, share * b.damper_n_s_m,
+                     float(np.sum(mass[kernel.backing]))])
 
 
 def _contact_spring_factors(ball, target, kernel: Kernel, mass: np.ndarray,
@@ -324,6 +342,14 @@ class Hexahedral:
             raise InputError("half = True: out-of-plane spin (spin_x_rad_s, spin_z_rad_s) needs "
                              "the full model (half = False or None)")
         if target is not None:
+            if not hasattr(target, "layers"):
+                raise InputError(f"target = {type(target).__name__}: the 3D geometry takes a "
+                                 "layered Target; a rigid plane on a PlaneBacking runs on the "
+                                 "axisymmetric geometry")
+            if target.sphere_radius_m is not None:
+                raise InputError(f"target {target.name!r}: sphere_radius_m (a spherical cap) "
+                                 "runs on the axisymmetric geometry (normal impacts); the 3D "
+                                 "geometry meshes flat slabs")
             check_target_width(target, ball)
         options = self.options
         if options.contact_elements is not None:
@@ -384,9 +410,10 @@ class Hexahedral:
                frames: list) -> ImpactResult:
         n = int(np.searchsorted(history[:, 0], t_end * (1 + 1e-6))) + 1
         factor = 2.0 if self.half else 1.0
-        h = {name: history[:n, j] for j, name in enumerate(HISTORY)}
-        for name in HISTORY:
-            if name.endswith("_n") or name.endswith("_j"):
+        names = kernel.history_names
+        h = {name: history[:n, j] for j, name in enumerate(names)}
+        for name in names:
+            if name.endswith("_n") or name.endswith("_j") or name.endswith("_kg_m_s"):
                 h[name] = factor * h[name]
         mass = factor * float(params.ball_mass_kg)
         v, theta = condition.speed_m_s, math.radians(condition.angle_deg)
@@ -394,6 +421,12 @@ class Hexahedral:
         vx, vz = v * math.sin(theta), -v * math.cos(theta)
         ke0 = factor * float(final["ke0"])
         largest = energy_histories(h, ke0)
+        if kernel.backing is not None:  # the backing's spring and damper in the balance
+            balance = (h["kinetic_energy_j"] + h["backing_spring_energy_j"]
+                       + h["backing_damper_dissipation_j"] + h["internal_work_j"]
+                       - h["contact_work_j"] - ke0)
+            h["energy_balance_error"] = balance / ke0
+            largest = float(np.max(np.abs(balance)))
         h["frictional_dissipation_j"] = -h["tangential_work_j"] - h["stick_energy_j"]
         energies = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
         energies["initial_kinetic_energy_j"] = float(ke0)

@@ -14,6 +14,18 @@ excess being slip (a return map, as a plasticity update). k_t is the regularisat
 the elastic slip before sliding is mu N / k_t. The work of the tangential forces less the energy
 held in the stick springs is the frictional dissipation.
 
+Backed target (`target.Backing`; `Kernel.backing` the slab's base node ids, None for a fixed
+base, the program of a fixed base unchanged): the base nodes keep x and y fixed and move along z
+together as one rigid body of mass M + m_base (the backing's M and the base nodes' own lumped
+mass), (M + m_base) a = -F_t - k z - c v with F_t = sum of the base nodes' internal forces along z
+(the force the slab puts on the backing, > 0 pushing it down), integrated by the same central
+difference step; the damper is taken at the step's end velocity v = v_half + dt a / 2 (solved for
+a: unconditionally stable in c). Energies: the step's balance (`step_events`) counts the
+backing's kinetic energy M v^2 / 2 with the nodes' (the base nodes' own is theirs), its spring's
+energy k z^2 / 2 and the damper's dissipation (trapezoidal, as the internal work) as kinetic, so
+KE + backing energies + internal work - contact work = KE0 is the whole system's balance; the
+separation's velocity is the ball centre's relative to the backing.
+
 A `Kernel` holds what a compiled program depends on (mesh, models, contact kind, precision);
 constants, masses, stiffnesses, friction and the impact condition are in `params` and the state,
 so `vmap` batches impacts of one mesh.
@@ -54,6 +66,14 @@ HISTORY = ("time_s", "contact_force_n", "tangential_force_x_n", "tangential_forc
            "contact_slip_velocity_m_s", "kinetic_energy_j", "internal_work_j", "contact_work_j",
            "strain_energy_j", "bulk_viscous_dissipation_j", "hourglass_energy_j",
            "tangential_work_j", "stick_energy_j", "slipping_load_fraction")
+#: the columns a backed target (`Kernel.backing`) adds: the backing's z displacement, velocity
+#: and acceleration (+z up), the force the slab puts on it (N, > 0 pushing it down), its kinetic
+#: energy M v^2 / 2 (the user's mass M; the base nodes' own is in the nodes' kinetic energy),
+#: its spring's energy, its damper's dissipation, and the z momentum of the target (slab nodes
+#: and M; the ball's is its mass times its centre's velocity)
+BACKING_HISTORY = ("backing_z_m", "backing_velocity_z_m_s", "backing_acceleration_z_m_s2",
+                   "transmitted_force_n", "backing_kinetic_energy_j", "backing_spring_energy_j",
+                   "backing_damper_dissipation_j", "target_momentum_z_kg_m_s")
 
 
 def dot3(a, b):
@@ -68,6 +88,8 @@ HexParams = named_tuple(
     {"ball_mass_kg": "the ball's mass (kg; of the model: half for a half model)",
      "contact_spring_factor": "stable-increment factor of each contact spring (a slab's node "
                               "beneath)",
+     "backing": "a backed target's (M kg, k N/m, c N s/m, the base nodes' mass kg), each of "
+                "the model (half for a half model); empty for a fixed base",
      "element_index": "arange of the elements (`element.materialized`'s fusion boundary)",
      "friction": "Coulomb coefficient",
      "groups": "material constants per element group (ball layers, slab layers)",
@@ -76,7 +98,9 @@ HexParams = named_tuple(
 HexState = named_tuple(
     "HexState", __name__, "The hexahedral kernel's state between steps (SI; nodal arrays "
     "(3, n_nodes)).", STATE,
-    {"f_int": "internal nodal forces (N), the last step's",
+    {"backing": "a backed target's (damper dissipation J, damper force N of the last step); "
+                "empty for a fixed base",
+     "f_int": "internal nodal forces (N), the last step's",
      "f_tangential": "friction forces on the contact nodes (N)",
      "stick": "friction stick-spring extensions (m)",
      "w_tangential": "work of the friction forces (J)"})
@@ -96,6 +120,18 @@ class Kernel(ChunkedSteps):
     reduced: bool                # one point with hourglass control, or 2x2x2 points with F-bar
     target: dict | None          # deformable slab: "top" node ids (nx+1, ny+1), "x_m", "y_m"
     dtype: Any
+    backing: np.ndarray | None = None  # a backed slab's base node ids (None: a fixed base)
+
+    @property
+    def history_names(self) -> tuple[str, ...]:
+        """The columns of the step's history row."""
+        return HISTORY if self.backing is None else HISTORY + BACKING_HISTORY
+
+    def backing_mask(self) -> np.ndarray:
+        """(3, n_nodes) 1 on the z components of a backed slab's base nodes, else 0."""
+        mask = np.zeros((3, self.n_nodes))
+        mask[2, self.backing] = 1.0
+        return mask.astype(self.dtype)
 
     @property
     def n_nodes(self) -> int:
@@ -266,9 +302,10 @@ class Kernel(ChunkedSteps):
         scalar = partial(jnp.array, dtype=self.dtype)
         inf = scalar(jnp.inf)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
+        backing = self.zeros((0,) if self.backing is None else (2,))
         return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=scalar(0.0), dt0=scalar(0.0),
                         x_top=alternating_start(self.frequency_mask(), self.dtype),
-                        f_int=zeros, f_contact=zeros,
+                        f_int=zeros, f_contact=zeros, backing=backing,
                         f_tangential=self.zeros((2, n_c)), stick=self.zeros((2, n_c)),
                         mat=self.initial_materials(params), j0=jnp.ones(n_el, self.dtype),
                         sigma_bv=self.zeros(n_el),
@@ -315,6 +352,9 @@ class Kernel(ChunkedSteps):
         forces, stick, where, rel, slipping = self.contact(params, u, v_half, state.stick, dt)
         f_contact = self.nodal_contact(forces, where)
         a = (f_contact - f_int) / mass * self.free_dof
+        if self.backing is not None:
+            a, backing, row_backing, kinetic_backing, energy_backing, v_backing = \
+                self.backed_step(params, state, u, v_half, f_int, a, dt)
         v = v_half + 0.5 * dt * a
         du = u - state.u
         bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (J - state.j0) * g.volume_m3
@@ -332,6 +372,15 @@ class Kernel(ChunkedSteps):
             normal * rel[0], normal * slipping]), axis=1)
         min_j, lam_lo, lam_hi = jnp.min(J), jnp.min(lam_lo), jnp.max(lam_hi)
         cm, vcm, omega = self.rigid_body(params, u, v)
+        velocity_z = vcm[2]
+        if self.backing is not None:
+            # the backing's M v^2 / 2 is kinetic energy; its spring's energy and damper's
+            # dissipation count with it in the balance, and separation is relative to it
+            kinetic = kinetic + kinetic_backing
+            balance_kinetic = kinetic + energy_backing
+            velocity_z = vcm[2] - v_backing
+        else:
+            balance_kinetic, backing = kinetic, state.backing
         w_int = state.w_int + dw_int
         w_contact = state.w_contact + dw_contact
         w_tangential = state.w_tangential + dw_tangential
@@ -341,20 +390,60 @@ class Kernel(ChunkedSteps):
         slipping_share = f_slipping / jnp.where(f_n > 0, f_n, 1.0)
         new = HexState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
                        x_top=state.x_top, f_int=f_int, f_contact=f_contact,
-                       f_tangential=forces[:2], stick=stick, mat=mats, j0=J,
+                       f_tangential=forces[:2], stick=stick, mat=mats, j0=J, backing=backing,
                        sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
                        w_contact=w_contact, w_tangential=w_tangential, d_bv=d_bv,
                        # no shape at the peak: the 3D results keep frames instead
-                       **step_events(state, t, f_n, vcm[2], None, kinetic, w_int, w_contact, min_j,
-                                     lam_lo, lam_hi, params.energy_error_limit))
-        row = jnp.stack([t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0],
-                         omega[1], omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg,
-                         w_tangential, e_stick, slipping_share])
+                       **step_events(state, t, f_n, velocity_z, None, balance_kinetic, w_int,
+                                     w_contact, min_j, lam_lo, lam_hi,
+                                     params.energy_error_limit))
+        columns = [t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0], omega[1],
+                   omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg, w_tangential,
+                   e_stick, slipping_share]
+        if self.backing is not None:
+            columns += row_backing(v)
+        row = jnp.stack(columns)
         return new, row
+
+    def backed_step(self, params, state, u, v_half, f_int, a, dt):
+        """The backing's rigid-body z motion in a step (`Kernel.backing`): the accelerations `a`
+        with the base nodes' z set to the backing's, its new state (damper dissipation J, damper
+        force N), a function of the end velocities v giving its history columns
+        (`BACKING_HISTORY`), its kinetic energy M v^2 / 2 (J), its spring's energy plus its
+        damper's dissipation (J), and its velocity (m/s)."""
+        base = self.backing
+        mass_m, spring, damper, mass_base = (params.backing[i] for i in range(4))
+        z = u[2, base[0]]                         # every base node moves alike
+        transmitted = jnp.sum(f_int[2, base])     # the slab's push on the base, > 0 downward
+        # (M + m_base) a = -F_t - k z - c (v_half + dt a / 2), solved for a
+        a_backing = ((-transmitted - spring * z - damper * v_half[2, base[0]])
+                     / (mass_m + mass_base + 0.5 * dt * damper))
+        a = a + jnp.asarray(self.backing_mask()) * a_backing
+        v_backing = v_half[2, base[0]] + 0.5 * dt * a_backing
+        f_damper = damper * v_backing
+        dissipation = state.backing[0] + 0.5 * (state.backing[1] + f_damper) * (
+            z - state.u[2, base[0]])
+        kinetic = 0.5 * mass_m * v_backing * v_backing
+        e_spring = 0.5 * spring * z * z
+        slab = jnp.asarray(~self.ball_nodes, self.dtype) * params.mass_kg
+
+        def columns(v):
+            momentum = jnp.sum(slab * v[2]) + mass_m * v_backing
+            return [z, v_backing, a_backing, transmitted, kinetic, e_spring, dissipation,
+                    momentum]
+
+        return (a, jnp.stack([dissipation, f_damper]), columns, kinetic, e_spring + dissipation,
+                v_backing)
 
     # ---- the stable increment ----------------------------------------------------------------
     def frequency_mask(self):
-        return jnp.asarray(self.free_dof, self.dtype)
+        """The free degrees of freedom; a backed slab's base nodes free along z each on its own
+        (`contact_springs` ties each to the ground by its share of the backing spring): the
+        backed system is this one with the base nodes' z tied together and the backing's mass
+        added, which lowers every frequency, so the estimate stays an upper bound."""
+        if self.backing is None:
+            return jnp.asarray(self.free_dof, self.dtype)
+        return jnp.asarray(self.free_dof + self.backing_mask(), self.dtype)
 
     def contact_springs(self, params, v):
         """K_contact v (3, n_nodes): every contact node's stick (x, y) and normal (z) springs
@@ -363,11 +452,18 @@ class Kernel(ChunkedSteps):
         s = self.contact_nodes
         springs = params.contact_spring_factor * jnp.stack(
             [params.stick_n_m, params.stick_n_m, params.penalty_n_m])
-        return self.zeros(v.shape).at[:, s].set(springs * v[:, s])
+        kv = self.zeros(v.shape).at[:, s].set(springs * v[:, s])
+        if self.backing is not None:
+            # the backing spring shared by the base nodes in proportion to their masses (each
+            # then at k / m_base, above the backing's k / (M + m_base))
+            spring, mass_base = params.backing[1], params.backing[3]
+            kv = kv + jnp.asarray(self.backing_mask()) * (spring / mass_base) * params.mass_kg * v
+        return kv
 
 
 def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_nodes, free_dof,
-          half: bool, reduced: bool, target, dtype) -> Kernel:
+          half: bool, reduced: bool, target, dtype, backing=None) -> Kernel:
+    """The kernel; `backing`: a backed slab's base node ids (None: a fixed base)."""
     floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
               if isinstance(getattr(geom, f.name), np.ndarray)
               and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
@@ -376,4 +472,5 @@ def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_node
                   "y_m": np.asarray(target["y_m"], dtype)}
     return Kernel(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
                   np.asarray(contact_nodes), np.asarray(ball_nodes), np.asarray(free_dof, dtype),
-                  half, reduced, target, np.dtype(dtype))
+                  half, reduced, target, np.dtype(dtype),
+                  None if backing is None else np.asarray(backing))

@@ -1,0 +1,105 @@
+"""The cost of the ball in use on this machine, printed as JSON (issue 41, docs/equipment.md).
+
+Each run twice (the first compiles; the second, "warm", reuses the program), with references
+measured in the same run:
+- the FE `baseball` at 61 m/s: alone on the rigid plane (the reference), on the free
+  `baseball-wood-34in` bat at 0.70 m (12 modes coupled in the kernel), a sweep of 9 impact
+  points along the bat, and the ball's contact law on the same bat (`bats.bat_impact`);
+- the FE `cricket-men` ball at 19 and 45 m/s: alone on the rigid plane (the reference), on the
+  `cricket-helmet` preset (a shell and liner on a spherical cap, backed by a 5 kg headform;
+  the axisymmetric geometry), with its headform figures.
+
+    python benchmarks/bench_equipment.py
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import time
+
+import numpy as np
+
+
+def _timed(fn):
+    start = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - start
+
+
+def _twice(fn) -> tuple:
+    """(result, first call s, warm call s)."""
+    _, first = _timed(fn)
+    out, warm = _timed(fn)
+    return out, first, warm
+
+
+def bat_figures() -> dict:
+    from ballimpact import fe
+    from ballimpact.bats import ball_law, bat_impact, bat_model, impact_sweep
+    from ballimpact.bats.fe_impact import fe_bat_impact
+
+    speed, x = 61.0, 0.70
+    ball = fe.load_ball("baseball", impact_speed_m_s=speed)
+    wood = bat_model("baseball-wood-34in")
+    alone, alone_first, alone_warm = _twice(lambda: fe.simulate(ball, speed))
+    on_bat, bat_first, bat_warm = _twice(
+        lambda: fe_bat_impact(wood, ball, speed, x, reference=alone))
+    points = wood.bat.length_m - np.arange(0.24, 0.07, -0.02)
+    sweep, sweep_s = _timed(lambda: impact_sweep(wood, ball, speed, points))
+    law = ball_law("baseball", speed)
+    by_law, law_first, law_warm = _twice(lambda: bat_impact(wood, law, speed, x))
+    return {
+        "ball": "baseball", "bat": "baseball-wood-34in", "speed_m_s": speed, "impact_m": x,
+        "ball_alone_rigid_plane": {"first_s": alone_first, "warm_s": alone_warm,
+                                   "steps": alone.steps, "cor": alone.cor},
+        "fe_ball_on_bat": {"first_s": bat_first, "warm_s": bat_warm,
+                           "steps": on_bat.ball["fe"]["bat_run_steps"],
+                           "collision_efficiency": on_bat.collision_efficiency,
+                           "rigid_collision_efficiency": on_bat.rigid_collision_efficiency,
+                           "energy_balance_error": on_bat.energy_balance_error,
+                           "warm_over_ball_alone": bat_warm / alone_warm},
+        "fe_sweep": {"points": int(points.size), "wall_s": sweep_s,
+                     "per_point_s": sweep_s / points.size,
+                     "least_vibration_from_barrel_end_m":
+                         wood.bat.length_m - sweep.least_vibration_m,
+                     "max_efficiency_from_barrel_end_m":
+                         wood.bat.length_m - sweep.max_efficiency_m,
+                     "max_collision_efficiency": float(sweep.collision_efficiency.max())},
+        "law_on_bat": {"first_s": law_first, "warm_s": law_warm,
+                       "collision_efficiency": by_law.collision_efficiency}}
+
+
+def helmet_figures() -> dict:
+    from ballimpact import fe
+    from ballimpact.fe.hex.target import load_target
+    from ballimpact.protect.headform import backing_figures
+
+    helmet = load_target("cricket-helmet")
+    ball = fe.load_ball("cricket-men", impact_speed_m_s=19.0)
+    rows = []
+    for speed in (19.0, 45.0):
+        alone, alone_first, alone_warm = _twice(
+            lambda: fe.simulate(ball, speed, allow={"speed-range"}))
+        run, first, warm = _twice(
+            lambda: fe.simulate(ball, speed, target=helmet, allow={"speed-range"}))
+        head = backing_figures(run, histories=False)
+        rows.append({"speed_m_s": speed, "ball_alone_warm_s": alone_warm,
+                     "ball_alone_steps": alone.steps, "helmet_first_s": first,
+                     "helmet_warm_s": warm, "helmet_steps": run.steps,
+                     "elements": run.elements, "warm_over_ball_alone": warm / alone_warm,
+                     "headform_peak_acceleration_g": head["backing_peak_acceleration_g"],
+                     "hic15": head["hic15"], "energy_balance_error": run.energy_balance_error})
+    return {"target": "cricket-helmet", "ball": "cricket-men", "runs": rows}
+
+
+def main() -> None:
+    out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
+                       "cpus": os.cpu_count()},
+           "bat": bat_figures(), "helmet": helmet_figures()}
+    print(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()
