@@ -40,7 +40,7 @@ def rigid(ball):
 def test_a_thick_steel_plate_is_the_rigid_plane(ball, rigid):
     run = fe.simulate(ball, SPEED, target=_plate(0.01))
     assert run.cor == pytest.approx(rigid.cor, rel=1e-3)                    # measured 5e-5
-    assert run.peak_force_n == pytest.approx(rigid.peak_force_n, rel=0.01)  # 0.35%
+    assert run.peak_force_n == pytest.approx(rigid.peak_force_n, rel=0.01)  # 0.37%
     assert run.contact_time_s == pytest.approx(rigid.contact_time_s, rel=0.005)
     assert abs(run.energy_balance_error) < 1e-4
     assert run.mass_kg == pytest.approx(rigid.mass_kg, rel=1e-12)  # the ball's, not the plate's
@@ -55,7 +55,7 @@ def test_a_backed_plate_conserves_momentum_and_moves_its_mass(ball):
     assert np.max(np.abs(p / (-run.mass_kg * SPEED) - 1.0)) < 1e-9  # measured 7e-15
     plate_kg = 7800.0 * 0.005 * np.pi * 0.1 ** 2
     # the plate between the ball and the mass: the peak acceleration is about the peak force
-    # over the mass and the plate (measured 129.7 g against 124.4 g: +4%)
+    # over the mass and the plate (measured 126.5 g against 124.4 g: +1.7%)
     head = backing_figures(run, histories=False)
     expected_g = run.peak_force_n / ((mass + plate_kg) * G)
     assert head["backing_peak_acceleration_g"] == pytest.approx(expected_g, rel=0.1)
@@ -104,7 +104,7 @@ def test_the_liner_lowers_the_headform_acceleration_and_the_command_line(ball, c
     # the same 5 kg on a bare 5 mm steel plate: the liner lowers the peak acceleration
     bare = fe.simulate(ball, SPEED, target=_plate(0.005, {"mass_kg": 5.0}))
     bare_g = backing_figures(bare, histories=False)["backing_peak_acceleration_g"]
-    assert head["backing_peak_acceleration_g"] < 0.8 * bare_g  # measured 85 against 130 g
+    assert head["backing_peak_acceleration_g"] < 0.85 * bare_g  # measured 95.4 against 126.5 g
     # the printed lines name the target's layers and the headform's figures
     assert main(argv[:-1]) == 0
     text = capsys.readouterr().out

@@ -137,3 +137,18 @@ def test_a_bat_over_the_limit_exits_3_with_its_result(capsys):
     assert code == 3
     assert result["bbcor"] > 0.5 and result["meets_limit"] is False
     assert "exceeds the limit 0.500" in err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, measured", [(WOOD, 0.4465), (ALUMINIUM, 0.4472)])
+def test_presets_with_the_fe_ball_itself(name, measured):
+    """The FE `baseball` itself on the pinned bat's modes (`ball_model="fe"`, the command
+    line's default): the figures docs/equipment.md quotes, to 0.001; below the law's 0.464
+    (the FE ball's COR falls with the collision's reduced mass, a fitted law's does not)."""
+    result = bbcor(name, "baseball", ball_model="fe")
+    assert result.ball["model"] == "fe"
+    assert result.bbcor == pytest.approx(measured, abs=1e-3)
+    assert result.meets_limit
+    assert result.rigid_bbcor == pytest.approx(0.4383, abs=1e-4)  # the FE COR at 136 mph
+    assert result.bbcor >= max(p["bbcor"] for p in result.scan) - 1e-12
+    assert result.energy_balance_error < 1e-3

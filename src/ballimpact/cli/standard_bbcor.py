@@ -61,7 +61,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 def print_bbcor(out: dict[str, Any]) -> None:
     """The BBCOR and the limit, the test's figures, the law, the scan."""
     verdict = "meets it" if out["meets_limit"] else "EXCEEDS it"
-    print(f"{out['designation']} of {out['bat']} with {out['ball']['name']} (model): BBCOR "
+    model = "FE ball" if out["ball"].get("model") == "fe" else "ball law"
+    print(f"{out['designation']} of {out['bat']} with {out['ball']['name']} ({model}): BBCOR "
           f"{out['bbcor']:.4f} (limit {out['limit']:.3f}: {verdict})")
     print(f"  ball {out['speed_m_s']:.4g} m/s ({out['ball_speed_mph']:.0f} mph) at the bat at "
           f"rest, pinned {out['pivot_m']:g} m ({out['pivot_in']:g} in) from the knob; I pivot "
@@ -69,6 +70,6 @@ def print_bbcor(out: dict[str, Any]) -> None:
     print(f"  largest BBCOR at {out['impact_m']:.4f} m from the knob "
           f"({out['from_barrel_end_m']:.4f} m, {out['from_barrel_end_in']:.2f} in from the barrel "
           f"end): e_A {out['collision_efficiency']:.4f}, r {out['r']:.4f}; a rigid bat "
-          f"(the law's COR) {out['rigid_bbcor']:.4f}")
+          f"(the ball's COR on a rigid plane) {out['rigid_bbcor']:.4f}")
     print("  scan, in from the barrel end: "
           + ", ".join(f"{p['from_barrel_end_in']:.1f} {p['bbcor']:.4f}" for p in out["scan"]))

@@ -8,7 +8,7 @@ two agree there."""
 from .options import ImpactCondition, Options3D
 from .rigid_body import rigid_oblique_impact
 from .solver import ObliqueResult, estimate_oblique, simulate_oblique, simulate_oblique_batch
-from ..fe.hex.target import Target, load_target
+from ..fe.hex.target import Backing, Target, load_target
 
-__all__ = ["ImpactCondition", "ObliqueResult", "Options3D", "Target", "estimate_oblique",
+__all__ = ["Backing", "ImpactCondition", "ObliqueResult", "Options3D", "Target", "estimate_oblique",
            "load_target", "rigid_oblique_impact", "simulate_oblique", "simulate_oblique_batch"]
