@@ -229,6 +229,18 @@ def json_safe(value):
     return value
 
 
+def packaged_json_files(folder: str) -> dict[str, Any]:
+    """The JSON files shipped in the package's `folder` (e.g. "data/bats"), by name without
+    ".json", sorted (resources; an empty dict where the folder is missing)."""
+    from importlib import resources
+
+    where = resources.files("ballimpact").joinpath(folder)
+    if not where.is_dir():
+        return {}
+    files = [f for f in where.iterdir() if f.name.endswith(".json")]
+    return {f.name[:-len(".json")]: f for f in sorted(files, key=lambda f: f.name)}
+
+
 def read_spec_file(path: Path, what: str) -> Any:
     """A specification file (`what`: "ball", "bat", ...) as parsed JSON, or TOML for a `.toml`
     suffix; `InputError` naming the file for one that cannot be read or parsed."""

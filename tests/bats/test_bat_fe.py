@@ -110,3 +110,22 @@ def test_bat_command_with_the_fe_ball(capsys):
     fe_ = out["ball"]["fe"]
     assert fe_["modes_in_contact"] == 12 and fe_["bat_run_steps"] > 1000
     assert 0.15 < out["collision_efficiency"] < 0.35  # measured 0.2455
+
+
+def test_a_swung_and_held_bat_balances_its_energy_and_gives_the_hands_history(ball):
+    from ballimpact.bats import Grip
+
+    held = bat_model(WOOD, grip=Grip((0.05, 0.15), 2e4, 20.0))
+    rate = 31.0 / (0.70 - 0.15)  # the swing about 0.15 m, 31 m/s at the impact point
+    result = fe_bat_impact(held, ball, 40.0, 0.70, bat_speed_m_s=rate * (0.70 - 0.15),
+                           pivot_m=0.15)
+    assert result.energy_balance_error < 1e-3
+    assert result.momentum_balance_error is None  # the hands hold the bat: not conserved
+    # the batted-ball speed is the ball's own ground speed: e_A v + (1 + e_A) V
+    assert result.batted_ball_speed_m_s == pytest.approx(
+        result.collision_efficiency * 40.0 + (1 + result.collision_efficiency) * 31.0,
+        rel=1e-12)
+    out = result.summary()
+    assert len(out["hands_force"]["force_n"]) == len(out["hands_force"]["velocity_m_s"])
+    assert max(map(abs, out["hands_force"]["force_n"])) > 0.0
+    assert 0.15 < result.collision_efficiency < 0.35

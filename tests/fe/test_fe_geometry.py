@@ -3,6 +3,7 @@ geometry=Axisymmetric(...) | Hexahedral(...))` runs both geometries through one 
 result type, and the former entry points are thin aliases that give the same bits with a
 `FutureWarning`."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -74,8 +75,11 @@ def test_what_a_geometry_cannot_run_is_refused_by_name():
         {"thickness_m": 0.02, "density_kg_m3": 100.0,
          "material": {"model": "linear_elastic", "youngs_modulus_pa": 1e7,
                       "poissons_ratio": 0.3}}]}, where="target")
-    with pytest.raises(InputError, match="target: the axisymmetric geometry runs on the rigid"):
-        fe.simulate(BALL, SPEED_M_S, geometry=AXI, target=target)
+    with pytest.raises(InputError, match="target = str: expected a PlaneBacking or a Target"):
+        fe.simulate(BALL, SPEED_M_S, geometry=AXI, target="pad.json")
+    with pytest.raises(InputError, match="half_width_m = 0.01 m is less than the ball's radius"):
+        fe.simulate(BALL, SPEED_M_S, geometry=AXI,
+                    target=dataclasses.replace(target, half_width_m=0.01))
     with pytest.raises(InputError, match="normal impacts without spin"):
         fe.simulate(BALL, ImpactCondition(SPEED_M_S, angle_deg=10.0), geometry=AXI)
     with pytest.raises(InputError, match="geometry = .*expected fe.Axisymmetric"):

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from ..fileio import read_spec_file
+from ..fileio import packaged_json_files, read_spec_file
 from ..errors import InputError, InputWarning
 from ..checks import check_allow
 from .checks import check_ball
@@ -241,21 +241,7 @@ class BallModel:
 
 
 # ---- presets ---------------------------------------------------------------------------------
-_PRESET_FOLDER = "data/presets"
-
-
-def _sports_preset_files() -> dict[str, Any]:
-    """The preset ball files shipped in `data/presets/` (name -> resource), by name."""
-    from importlib import resources
-
-    folder = resources.files("ballimpact").joinpath(_PRESET_FOLDER)
-    if not folder.is_dir():
-        return {}
-    files = [f for f in folder.iterdir() if f.name.endswith(".json")]
-    return {f.name[:-len(".json")]: f for f in sorted(files, key=lambda f: f.name)}
-
-
-_SPORTS_FILES = _sports_preset_files()
+_SPORTS_FILES = packaged_json_files("data/presets")
 #: balls of other sports, each a ball file in `data/presets/` (see the module docstring)
 SPORTS_PRESETS: tuple[str, ...] = tuple(_SPORTS_FILES)
 PRESETS: tuple[str, ...] = ("cricket-3layer", "cricket-universal", *SPORTS_PRESETS)

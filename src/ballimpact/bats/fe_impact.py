@@ -13,7 +13,8 @@ beam), damped by its loss factor and a grip's dashpots; modes with no motion at 
 Frames as `bats.impact`: the ground frame, the bat swung at `bat_speed_m_s` at x_i toward the
 ball; e_A = (v_z' - V) / (v + V) with the ball's rebound velocity v_z' along the FE run's z
 (away from the bat). After the separation the bat's free vibration is followed exactly (the
-matrix exponential of its modal equations) for the bending stress and the hands' force.
+matrix exponential of its modal equations) for the bending stress and the hands' force and
+velocity.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from scipy.linalg import expm
 from ..fe.backing import MAX_FREQUENCY_HZ, PlaneBacking
 from .beam import DEFAULT_ELEMENTS
 from .impact import (DEFAULT_MODES, BatImpactResult, _curvatures, _swing, bat_model,
-                     checked_collision, rigid_efficiency)
+                     checked_collision, hands_history, rigid_efficiency)
 from .modes import BatModes
 from .properties import bat_properties
 
@@ -134,12 +135,7 @@ def fe_bat_impact(bat, ball, speed_m_s: float, impact_m: float, *, bat_speed_m_s
     kappa, xs, c = _curvatures(bm)
     sigma = spec.material.youngs_modulus_pa * c[:, None] * (kappa.T @ q_all)
     j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
-    hands = None
-    if bm.grip is not None:
-        g = bm.grip
-        wh = bm.deflection(list(g.positions_m))
-        hands = (g.stiffness_n_m * (wh.T @ q_all).sum(0)
-                 + g.damping_n_s_m * (wh.T @ qd_all).sum(0))
+    hands, hands_v = hands_history(bm, q_all, qd_all)
     props = bat_properties(spec)
     ball_info = {"name": run.ball_name, "mass_kg": run.mass_kg, "model": "fe",
                  "fe": {"relative_speed_m_s": v + V, "rigid_plane_cor": rigid.cor,
@@ -163,4 +159,4 @@ def fe_bat_impact(bat, ball, speed_m_s: float, impact_m: float, *, bat_speed_m_s
         float(modal_energy[:bm.rigid_count].sum()), float(en["backing_damping_j"]), e0,
         float(balance), momentum, float(abs(sigma[j, i])), float(xs[j]), float(times[i]),
         float(run.contact_time_s), float(run.peak_force_n), 1, spec.length_m,
-        t[window], h["contact_force_n"][window], times, hands, rigid)
+        t[window], h["contact_force_n"][window], times, hands, hands_v, rigid)

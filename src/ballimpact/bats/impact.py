@@ -86,6 +86,8 @@ class BatImpactResult:
     contact_force_n: np.ndarray = field(repr=False)
     history_time_s: np.ndarray = field(repr=False)
     hands_force_n: np.ndarray | None = field(repr=False)
+    #: the bat's velocity at the hands (m/s, their mean, along the ball's path), with a grip
+    hands_velocity_m_s: np.ndarray | None = field(default=None, repr=False)
     #: the FE ball's run on the rigid plane at the relative speed (`fe_impact`; None: the law)
     fe_reference: Any = field(default=None, repr=False)
 
@@ -111,12 +113,13 @@ class BatImpactResult:
                                     "force_n": self.contact_force_n.tolist()}
             if self.hands_force_n is not None:
                 out["hands_force"] = {"time_s": self.history_time_s.tolist(),
-                                      "force_n": self.hands_force_n.tolist()}
+                                      "force_n": self.hands_force_n.tolist(),
+                                      "velocity_m_s": self.hands_velocity_m_s.tolist()}
         return out
 
 
 _HISTORIES = ("contact_time_s", "contact_force_n", "history_time_s", "hands_force_n",
-              "fe_reference")
+              "hands_velocity_m_s", "fe_reference")
 
 
 def bat_model(bat, *, support: str = "free", pivot_m: float | None = None, grip=None,
@@ -148,6 +151,19 @@ def _curvatures(bm: BatModes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         on = np.stack([nodes[:-1], nodes[:-1]], axis=1).ravel() >= bat.blade.start_m - 1e-12
         c = np.where(on, np.interp(x, xb, tb) / 2.0, c)
     return kappa, x, c
+
+
+def hands_history(bm: BatModes, q: np.ndarray, qd: np.ndarray):
+    """(force on the hands N, the bat's mean velocity at them m/s) over time from the modal
+    coordinates q, qd (count, times): the grip's springs and dashpots; (None, None) without a
+    grip."""
+    if bm.grip is None:
+        return None, None
+    g = bm.grip
+    wh = bm.deflection(list(g.positions_m))  # (count, hands)
+    velocity = wh.T @ qd
+    force = g.stiffness_n_m * (wh.T @ q).sum(0) + g.damping_n_s_m * velocity.sum(0)
+    return force, velocity.mean(0)
 
 
 def _swing(bm: BatModes, x_i: float, speed: float, pivot_m: float | None) -> np.ndarray:
@@ -304,12 +320,7 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
     kappa, xs, c = _curvatures(bm)
     sigma = spec.material.youngs_modulus_pa * c[:, None] * (kappa.T @ sh[2:2 + n])
     j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
-    hands = None
-    if bm.grip is not None:
-        g = bm.grip
-        wh = bm.deflection(list(g.positions_m))  # (count, hands)
-        hands = (g.stiffness_n_m * (wh.T @ sh[2:2 + n]).sum(0)
-                 + g.damping_n_s_m * (wh.T @ sh[2 + n:2 + 2 * n]).sum(0))
+    hands, hands_v = hands_history(bm, sh[2:2 + n], sh[2 + n:2 + 2 * n])
     q_s, qd_s = y_sep[2:2 + n], y_sep[2 + n:2 + 2 * n]
     modal_energy = 0.5 * (qd_s ** 2 + omega2 * q_s ** 2)
     rigid = 2 if bm.support == "free" else 1  # on a grip's springs too: the rigid modes on them
@@ -325,4 +336,5 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
         float(modal_energy[:rigid].sum()), float(y_sep[-1]), e0,
         float(np.max(np.abs(e_hist - e0)) / e0), momentum, float(abs(sigma[j, i])),
         float(xs[j]), float(th[i]), float(sum(b_ - a for a, b_ in contacts)),
-        float(fc.max()), len(contacts), spec.length_m, tc, fc, th, hands)
+        float(fc.max()), len(contacts), spec.length_m, tc, fc, th, hands,
+        hands_velocity_m_s=hands_v)

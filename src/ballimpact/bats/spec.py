@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from ..checks import check_keys, check_range, is_finite_number, range_text, shown, spec_number
-from ..fileio import read_spec_file
+from ..fileio import packaged_json_files, read_spec_file
 from ..errors import InputError
 
 _TOP_KEYS = {"name", "description", "source", "length_m", "profile", "wall_thickness_m",
@@ -224,20 +224,7 @@ def bat_from_dict(d: Any, where: str = "bat", default_name: str = "bat") -> BatS
 
 
 # ---- presets and files -------------------------------------------------------------------
-_PRESET_FOLDER = "data/bats"
-
-
-def _preset_files() -> dict[str, Any]:
-    from importlib import resources
-
-    folder = resources.files("ballimpact").joinpath(_PRESET_FOLDER)
-    if not folder.is_dir():
-        return {}
-    return {f.name[:-5]: f for f in sorted(folder.iterdir(), key=lambda f: f.name)
-            if f.name.endswith(".json")}
-
-
-_PRESET_FILES = _preset_files()
+_PRESET_FILES = packaged_json_files("data/bats")
 #: the bats shipped in data/bats/ (name -> file name without .json)
 PRESETS: tuple[str, ...] = tuple(_PRESET_FILES)
 

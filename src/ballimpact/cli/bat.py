@@ -215,7 +215,8 @@ def _print(out: dict, single: bool) -> None:
         print(f"  largest bending stress {out['max_bending_stress_pa'] / 1e6:.4g} MPa at "
               f"{out['max_bending_stress_x_m']:.3f} m from the knob"
               + (f"; largest force on the hands {max(map(abs, out['hands_force']['force_n'])):.4g}"
-                 " N" if "hands_force" in out else ""))
+                 f" N, speed {max(map(abs, out['hands_force']['velocity_m_s'])):.3g} m/s"
+                 if "hands_force" in out else ""))
         return
     print(f"{speeds}\n  x (m)  from end (m)  e_A     BBS (m/s)  vibration (J)  stress (MPa)")
     for p in out["points"]:

@@ -2,7 +2,9 @@
 (a half model on the plane of incidence unless told otherwise), oblique impacts with Coulomb
 friction and spin on a rigid plane or a deformable slab (`target.Target`; its base fixed, or
 carried by a free rigid backing, `target.Backing`, whose histories the result gains:
-`kernel.BACKING_HISTORY`).
+`kernel.BACKING_HISTORY`). On a slab the result also gains each layer's internal work and
+compression at the slab's centre (`kernel.target_layer_history`, `target_energies`: the
+axisymmetric geometry's columns and figures).
 
 `Hexahedral(options)` gives the engine what it needs of this geometry: the structure a compiled
 program depends on, the mesh's size before it is built, the kernel and mesh, the per-run
@@ -133,13 +135,48 @@ def build_kernel(ball, target, options: Options3D, half: bool) -> tuple[Kernel, 
     free = np.ones((3, len(mesh.nodes_m)))
     free[1, mesh.symmetry_nodes] = 0.0
     free[:, mesh.fixed_nodes] = 0.0
+    layers = {}
+    if target is not None:
+        layers = {"centre_column": centre_column(mesh, target), "ball_groups": len(ball.layers),
+                  "thicknesses_m": [layer.thickness_m for layer in target.layers]}
     kernel = kernel_module.build(
         geom, [type(m).energy for m in materials], [m.sum_k > 0 for m in materials],
         mesh.contact_nodes, mesh.ball_nodes, free, half, options.integration == "reduced",
         mesh.target, np.dtype(options.precision),
         backing=(mesh.fixed_nodes if target is not None and target.backing is not None
-                 else None))
+                 else None), **layers)
     return kernel, mesh
+
+
+def centre_column(mesh: HexMesh, target) -> np.ndarray:
+    """The slab's node ids at x = y = 0 (the first touch point) at the top of each of its layers
+    and at its base (top down; the slab's node lines hold 0 and every layer's bottom)."""
+    slab = np.flatnonzero(~np.asarray(mesh.ball_nodes))
+    x = np.asarray(mesh.nodes_m)[slab]
+    depths = np.concatenate([[0.0], np.cumsum([layer.thickness_m for layer in target.layers])])
+    ids = []
+    for depth in depths:
+        distance = np.linalg.norm(x - [0.0, 0.0, -depth], axis=1)
+        i = int(np.argmin(distance))
+        if distance[i] > 1e-9 * target.thickness_m:
+            raise ValueError(f"slab mesh: no node at x = y = 0, depth {depth:g} m")
+        ids.append(slab[i])
+    return np.array(ids)
+
+
+def target_energies(history: dict, target) -> dict[str, float]:
+    """A slab's figures at the end of a run, as the axisymmetric geometry's
+    (`fe.axi.geometry.target_energies`, the same keys): each layer's internal work (J) and
+    largest compression at the slab's centre, and the largest force on its base (N) where the
+    base is backed (a fixed base has no `transmitted_force_n` column)."""
+    out = {}
+    for k, layer in enumerate(target.layers):
+        out[f"target_{layer.name}_work_j"] = float(history[f"target_layer_{k}_work_j"][-1])
+        out[f"target_{layer.name}_max_compression"] = float(
+            np.max(history[f"target_layer_{k}_compression"]))
+    if "transmitted_force_n" in history:
+        out["target_max_transmitted_force_n"] = float(np.max(history["transmitted_force_n"]))
+    return out
 
 
 def model_arrays(ball, target, kernel: Kernel, options: Options3D,
@@ -428,9 +465,12 @@ class Hexahedral:
             h["energy_balance_error"] = balance / ke0
             largest = float(np.max(np.abs(balance)))
         h["frictional_dissipation_j"] = -h["tangential_work_j"] - h["stick_energy_j"]
-        energies = {name: float(values[-1]) for name, values in h.items() if name.endswith("_j")}
+        energies = {name: float(values[-1]) for name, values in h.items()
+                    if name.endswith("_j") and not name.startswith("target_layer_")}
         energies["initial_kinetic_energy_j"] = float(ke0)
         energies["peak_hourglass_energy_j"] = float(np.max(h["hourglass_energy_j"]))
+        if kernel.centre_column is not None:
+            energies.update(target_energies(h, target))
         vx_out, vz_out = h["centre_velocity_x_m_s"][-1], h["centre_velocity_z_m_s"][-1]
         vy_out = h["centre_velocity_y_m_s"][-1]
         w_out = h["spin_y_rad_s"][-1]

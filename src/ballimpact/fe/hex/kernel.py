@@ -26,6 +26,16 @@ energy k z^2 / 2 and the damper's dissipation (trapezoidal, as the internal work
 KE + backing energies + internal work - contact work = KE0 is the whole system's balance; the
 separation's velocity is the ball centre's relative to the backing.
 
+A slab's layers (`Kernel.centre_column` set; the same figures and history columns as the
+axisymmetric `fe.axi.target_kernel`): each target layer's internal work (J), the work of the
+internal forces on its elements, accumulated by the trapezoidal rule as the total internal work
+is (from the slab's element corner forces, kept from the last step), and its compression
+(u_z(bottom) - u_z(top)) / thickness on the slab's node column at x = y = 0 (the first touch
+point; > 0 compressed). In an oblique impact the contact slides along x away from that column:
+its compression is still the column's at the slab centre (where the ball first struck), not the
+one under the moving contact. The ball's internal work (its nodes' share of the total) is kept
+in the state (`w_ball`, a check: the ball's and the layers' works add up to the total).
+
 A `Kernel` holds what a compiled program depends on (mesh, models, contact kind, precision);
 constants, masses, stiffnesses, friction and the impact condition are in `params` and the state,
 so `vmap` batches impacts of one mesh.
@@ -66,6 +76,15 @@ HISTORY = ("time_s", "contact_force_n", "tangential_force_x_n", "tangential_forc
            "contact_slip_velocity_m_s", "kinetic_energy_j", "internal_work_j", "contact_work_j",
            "strain_energy_j", "bulk_viscous_dissipation_j", "hourglass_energy_j",
            "tangential_work_j", "stick_energy_j", "slipping_load_fraction")
+
+
+def target_layer_history(layers: int) -> tuple[str, ...]:
+    """The columns of a slab's `layers` layers (the axisymmetric target kernel's names): each
+    one's internal work (J), then each one's compression at the slab's centre."""
+    return (tuple(f"target_layer_{k}_work_j" for k in range(layers))
+            + tuple(f"target_layer_{k}_compression" for k in range(layers)))
+
+
 #: the columns a backed target (`Kernel.backing`) adds: the backing's z displacement, velocity
 #: and acceleration (+z up), the force the slab puts on it (N, > 0 pushing it down), its kinetic
 #: energy M v^2 / 2 (the user's mass M; the base nodes' own is in the nodes' kinetic energy),
@@ -101,6 +120,11 @@ HexState = named_tuple(
     {"backing": "a backed target's (damper dissipation J, damper force N of the last step); "
                 "empty for a fixed base",
      "f_int": "internal nodal forces (N), the last step's",
+     "f_slab": "the slab's element corner forces (N; (3, 8, slab elements)), the last step's; "
+               "empty without a slab's layer figures (`Kernel.centre_column`)",
+     "w_ball": "internal work of the ball's elements (J; 0 without layer figures)",
+     "w_layers": "internal work of each target layer's elements (J; empty without layer "
+                 "figures)",
      "f_tangential": "friction forces on the contact nodes (N)",
      "stick": "friction stick-spring extensions (m)",
      "w_tangential": "work of the friction forces (J)"})
@@ -121,11 +145,28 @@ class Kernel(ChunkedSteps):
     target: dict | None          # deformable slab: "top" node ids (nx+1, ny+1), "x_m", "y_m"
     dtype: Any
     backing: np.ndarray | None = None  # a backed slab's base node ids (None: a fixed base)
+    # a slab's layer figures (None: none kept): its node ids at x = y = 0 (the first touch
+    # point; an oblique impact's contact slides away from it along x, and the compression is
+    # still this column's) at the top of each layer and at the base (target layers + 1,), with
+    # the ball's element groups' count and the layers' thicknesses (m)
+    centre_column: np.ndarray | None = None
+    ball_groups: int = 0
+    thicknesses_m: tuple = ()
 
     @property
     def history_names(self) -> tuple[str, ...]:
-        """The columns of the step's history row."""
-        return HISTORY if self.backing is None else HISTORY + BACKING_HISTORY
+        """The columns of the step's history row: `HISTORY`, a slab's layers' columns
+        (`target_layer_history`) and a backing's (`BACKING_HISTORY`)."""
+        names = HISTORY
+        if self.centre_column is not None:
+            names = names + target_layer_history(len(self.thicknesses_m))
+        return names if self.backing is None else names + BACKING_HISTORY
+
+    @property
+    def slab_start(self) -> int:
+        """The slab's first element (its groups follow the ball's, elements sorted by
+        group)."""
+        return self.geom.group_slices[self.ball_groups][0]
 
     def backing_mask(self) -> np.ndarray:
         """(3, n_nodes) 1 on the z components of a backed slab's base nodes, else 0."""
@@ -160,8 +201,9 @@ class Kernel(ChunkedSteps):
 
     def internal(self, params, u, mats, j_prev, dt):
         """Internal nodal forces (3, n_nodes), new material states, J at the centres, per-element
-        stored and hourglass energies (J), the bulk-viscous stress (Pa) and bounds on C's
-        eigenvalues (per element)."""
+        stored and hourglass energies (J), the bulk-viscous stress (Pa), bounds on C's
+        eigenvalues (per element) and the element corner forces f_e[c][a] (n_el,) (N) they are
+        gathered from."""
         g = self.geom
         # F computed once into memory (`element.materialized`; XLA would recompute it in every
         # consumer it fuses it into). The corner values are gathers, which XLA keeps as they are.
@@ -200,7 +242,7 @@ class Kernel(ChunkedSteps):
                                     Cd[1] + jnp.abs(Cd[3]) + jnp.abs(Cd[4]),
                                     Cd[2] + jnp.abs(Cd[4]) + jnp.abs(Cd[5])]).reshape(-1, n_el),
                          axis=0)
-        return f, new_mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi
+        return f, new_mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi, f_e
 
     def cauchy_stress(self, params, u, mats):
         """Cauchy stress (6, n_el) (Pa; xx, yy, zz, xy, yz, zx; the mean over the points of an
@@ -303,9 +345,13 @@ class Kernel(ChunkedSteps):
         inf = scalar(jnp.inf)
         n_el, n_c = self.geom.n_elements, len(self.contact_nodes)
         backing = self.zeros((0,) if self.backing is None else (2,))
+        layered = self.centre_column is not None
+        slab_elements = n_el - self.slab_start if layered else 0
         return HexState(u=zeros, v=v, a=zeros, t=scalar(0.0), dt=scalar(0.0), dt0=scalar(0.0),
                         x_top=alternating_start(self.frequency_mask(), self.dtype),
                         f_int=zeros, f_contact=zeros, backing=backing,
+                        f_slab=self.zeros((3, 8, slab_elements)), w_ball=scalar(0.0),
+                        w_layers=self.zeros(len(self.thicknesses_m) if layered else 0),
                         f_tangential=self.zeros((2, n_c)), stick=self.zeros((2, n_c)),
                         mat=self.initial_materials(params), j0=jnp.ones(n_el, self.dtype),
                         sigma_bv=self.zeros(n_el),
@@ -347,7 +393,7 @@ class Kernel(ChunkedSteps):
         mass = params.mass_kg
         v_half = state.v + 0.5 * dt * state.a
         u = state.u + dt * v_half
-        f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi = self.internal(
+        f_int, mats, J, stored, e_hg, sigma_bv, lam_lo, lam_hi, f_e = self.internal(
             params, u, state.mat, state.j0, dt)
         forces, stick, where, rel, slipping = self.contact(params, u, v_half, state.stick, dt)
         f_contact = self.nodal_contact(forces, where)
@@ -382,6 +428,10 @@ class Kernel(ChunkedSteps):
         else:
             balance_kinetic, backing = kinetic, state.backing
         w_int = state.w_int + dw_int
+        if self.centre_column is not None:
+            layers = self.layer_step(state, du, f_int, f_e)
+        else:
+            layers = {k: getattr(state, k) for k in ("f_slab", "w_ball", "w_layers")}
         w_contact = state.w_contact + dw_contact
         w_tangential = state.w_tangential + dw_tangential
         d_bv = state.d_bv + dd_bv
@@ -391,7 +441,7 @@ class Kernel(ChunkedSteps):
         new = HexState(u=u, v=v, a=a, t=t, dt=dt, dt0=state.dt0,
                        x_top=state.x_top, f_int=f_int, f_contact=f_contact,
                        f_tangential=forces[:2], stick=stick, mat=mats, j0=J, backing=backing,
-                       sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int,
+                       sigma_bv=sigma_bv, ke0=state.ke0, w_int=w_int, **layers,
                        w_contact=w_contact, w_tangential=w_tangential, d_bv=d_bv,
                        # no shape at the peak: the 3D results keep frames instead
                        **step_events(state, t, f_n, velocity_z, None, balance_kinetic, w_int,
@@ -400,10 +450,35 @@ class Kernel(ChunkedSteps):
         columns = [t, f_n, f_x, f_y, cm[0], cm[2], vcm[0], vcm[1], vcm[2], omega[0], omega[1],
                    omega[2], slip, kinetic, w_int, w_contact, stored, d_bv, e_hg, w_tangential,
                    e_stick, slipping_share]
+        if self.centre_column is not None:
+            # on the slab's centre column (x = y = 0), also in an oblique impact, whose contact
+            # moves along x away from it (`centre_column`)
+            column = u[2, self.centre_column]
+            compression = (column[1:] - column[:-1]) / jnp.asarray(self.thicknesses_m,
+                                                                    self.dtype)
+            columns += [*layers["w_layers"], *compression]
         if self.backing is not None:
             columns += row_backing(v)
         row = jnp.stack(columns)
         return new, row
+
+    def layer_step(self, state, du, f_int, f_e) -> dict:
+        """A slab's layer figures over a step (`Kernel.centre_column`): the slab's corner forces
+        f_e[c][a] (the slab's part kept, (3, 8, slab elements)), the internal work of the
+        ball's elements (its nodes' share of the total, trapezoidal) and of each target layer's
+        (each element's corner forces, the last step's and this one's, on its corners'
+        displacement increments du: the total internal work per element, summed per layer)."""
+        g, start = self.geom, self.slab_start
+        slab = g.elements[start:]
+        f_slab = jnp.stack([jnp.stack([f_e[c][k][start:] for k in range(8)]) for c in range(3)])
+        work_e = 0.5 * sum((state.f_slab[c, k] + f_slab[c, k]) * du[c, slab[:, k]]
+                           for c in range(3) for k in range(8))
+        ball = jnp.asarray(self.ball_nodes, self.dtype)
+        dw_ball = jnp.sum(0.5 * dot3(state.f_int + f_int, du) * ball)
+        dw_layers = jnp.stack([jnp.sum(work_e[a - start:b - start])
+                               for a, b in g.group_slices[self.ball_groups:]])
+        return {"f_slab": f_slab, "w_ball": state.w_ball + dw_ball,
+                "w_layers": state.w_layers + dw_layers}
 
     def backed_step(self, params, state, u, v_half, f_int, a, dt):
         """The backing's rigid-body z motion in a step (`Kernel.backing`): the accelerations `a`
@@ -462,8 +537,11 @@ class Kernel(ChunkedSteps):
 
 
 def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_nodes, free_dof,
-          half: bool, reduced: bool, target, dtype, backing=None) -> Kernel:
-    """The kernel; `backing`: a backed slab's base node ids (None: a fixed base)."""
+          half: bool, reduced: bool, target, dtype, backing=None, centre_column=None,
+          ball_groups: int = 0, thicknesses_m=()) -> Kernel:
+    """The kernel; `backing`: a backed slab's base node ids (None: a fixed base);
+    `centre_column`, `ball_groups`, `thicknesses_m`: a slab's layer figures (`Kernel`; None:
+    none kept)."""
     floats = {f.name: getattr(geom, f.name).astype(dtype) for f in dataclasses.fields(geom)
               if isinstance(getattr(geom, f.name), np.ndarray)
               and np.issubdtype(getattr(geom, f.name).dtype, np.floating)}
@@ -473,4 +551,6 @@ def build(geom: HexGeometry, energies, bulk_relaxation, contact_nodes, ball_node
     return Kernel(dataclasses.replace(geom, **floats), tuple(energies), tuple(bulk_relaxation),
                   np.asarray(contact_nodes), np.asarray(ball_nodes), np.asarray(free_dof, dtype),
                   half, reduced, target, np.dtype(dtype),
-                  None if backing is None else np.asarray(backing))
+                  None if backing is None else np.asarray(backing),
+                  None if centre_column is None else np.asarray(centre_column),
+                  int(ball_groups), tuple(float(t) for t in thicknesses_m))

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from ...errors import InputError
+from ...fileio import packaged_json_files
 from ...constitutive import Material, material_from_dict
 from ...checks import (check_keys, check_range, is_finite_number, range_text, shown,
                        spec_number)
@@ -140,17 +141,7 @@ class Target:
         return out
 
 
-def _preset_files() -> dict[str, Any]:
-    from importlib import resources
-
-    folder = resources.files("ballimpact").joinpath("data/targets")
-    if not folder.is_dir():
-        return {}
-    return {f.name[:-5]: f for f in sorted(folder.iterdir(), key=lambda f: f.name)
-            if f.name.endswith(".json")}
-
-
-_PRESET_FILES = _preset_files()
+_PRESET_FILES = packaged_json_files("data/targets")
 #: the targets shipped in data/targets/ (name -> file name without .json)
 PRESETS: tuple[str, ...] = tuple(_PRESET_FILES)
 
