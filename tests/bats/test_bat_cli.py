@@ -25,7 +25,7 @@ def test_one_point_json(capsys):
         assert key in out, key
     assert set(out["bat_moment_of_inertia_kg_m2"]) == {"knob", "centre_of_mass"}
     assert set(out["contact_force"]) == {"time_s", "force_n"}
-    assert set(out["hands_force"]) == {"time_s", "force_n"}
+    assert set(out["hands_force"]) == {"time_s", "force_n", "velocity_m_s"}
     assert len(out["mode_frequencies_hz"]) == 8
     assert 0.1 < out["collision_efficiency"] < 0.3
 

@@ -65,6 +65,7 @@ def test_a_very_stiff_bat_is_the_ball_on_its_effective_mass(ball, reference):
     assert e < reference.cor
 
 
+@pytest.mark.slow
 def test_energy_momentum_and_the_sweet_spot_of_the_wood_bat(ball, wood, reference):
     length = wood.bat.length_m
     sweep = impact_sweep(wood, ball, SPEED, length - np.arange(0.24, 0.11, -0.02))
@@ -81,6 +82,7 @@ def test_energy_momentum_and_the_sweet_spot_of_the_wood_bat(ball, wood, referenc
     assert 0.15 <= sweep.collision_efficiency.max() <= 0.25  # measured 0.218
 
 
+@pytest.mark.slow
 def test_impact_at_the_first_modes_node_excites_it_least(ball, wood, reference):
     first = wood.rigid_count
     xs = np.linspace(0.6, wood.bat.length_m, 200)
@@ -112,6 +114,7 @@ def test_bat_command_with_the_fe_ball(capsys):
     assert 0.15 < out["collision_efficiency"] < 0.35  # measured 0.2455
 
 
+@pytest.mark.slow
 def test_a_swung_and_held_bat_balances_its_energy_and_gives_the_hands_history(ball):
     from ballimpact.bats import Grip
 

@@ -88,7 +88,7 @@ def test_a_cap_of_large_radius_is_flat_and_the_helmet_is_of_the_published_order(
         assert abs(run.energy_balance_error) < 1e-3
 
 
-def test_the_liner_lowers_the_headform_acceleration_and_the_command_line(ball, capsys):
+def test_the_helmet_on_the_command_line(capsys):
     argv = ["simulate", "--ball", "cricket-men", "--speed-m-s", "19", "--target",
             "cricket-helmet", "--json"]
     assert main(argv) == 0
@@ -101,11 +101,17 @@ def test_the_liner_lowers_the_headform_acceleration_and_the_command_line(ball, c
     assert [layer["name"] for layer in out["target_layers"]] == ["shell", "liner"]
     liner = out["target_layers"][1]
     assert 0.0 < liner["max_compression"] < 1.0 and liner["work_j"] > 0.0
-    # the same 5 kg on a bare 5 mm steel plate: the liner lowers the peak acceleration
-    bare = fe.simulate(ball, SPEED, target=_plate(0.005, {"mass_kg": 5.0}))
-    bare_g = backing_figures(bare, histories=False)["backing_peak_acceleration_g"]
-    assert head["backing_peak_acceleration_g"] < 0.85 * bare_g  # measured 95.4 against 126.5 g
     # the printed lines name the target's layers and the headform's figures
     assert main(argv[:-1]) == 0
     text = capsys.readouterr().out
     assert "on cricket-helmet" in text and "target layer liner" in text and "HIC15" in text
+
+
+@pytest.mark.slow
+def test_the_liner_lowers_the_headform_acceleration(ball):
+    helmet = fe.simulate(ball, SPEED, target=load_target("cricket-helmet"))
+    bare = fe.simulate(ball, SPEED, target=_plate(0.005, {"mass_kg": 5.0}))
+    helmet_g, bare_g = (backing_figures(r, histories=False)["backing_peak_acceleration_g"]
+                        for r in (helmet, bare))
+    # the same 5 kg behind a bare 5 mm steel plate: measured 95.4 against 126.5 g
+    assert helmet_g < 0.85 * bare_g
