@@ -26,8 +26,8 @@ from scipy.linalg import expm
 
 from ..fe.backing import MAX_FREQUENCY_HZ, PlaneBacking
 from .beam import DEFAULT_ELEMENTS
-from .impact import (DEFAULT_MODES, BatImpactResult, _curvatures, _swing, bat_model,
-                     checked_collision, hands_history, rigid_efficiency)
+from .impact import (DEFAULT_MODES, BatImpactResult, _swing, bat_model, checked_collision,
+                     hands_history, largest_bending_stress, modal_momentum, rigid_efficiency)
 from .modes import BatModes
 from .properties import bat_properties
 
@@ -124,17 +124,13 @@ def fe_bat_impact(bat, ball, speed_m_s: float, impact_m: float, *, bat_speed_m_s
     balance = (abs(run.energy_balance_error) * en["initial_kinetic_energy_j"]
                + abs(en["backing_balance_error"]) * en["initial_kinetic_energy_j"]) / e0
     momentum = None
-    if bm.support == "free" and (bm.grip is None or (bm.grip.stiffness_n_m == 0
-                                                     and bm.grip.damping_n_s_m == 0)):
-        p_modes = (np.where(np.arange(bm.beam.dofs) % 2 == 0, 1.0, 0.0) @ bm.beam.mass
-                   @ bm.vectors)
+    p_modes = modal_momentum(bm)
+    if p_modes is not None:
         # along the ball's path (w): the ball's -m v_z, the bat's modal momentum
         p = -run.mass_kg * h["centre_velocity_z_m_s"] + p_modes @ qd
         momentum = float(np.max(np.abs(p - (run.mass_kg * v + p_modes @ qd_all[:, 0])))
                          / (run.mass_kg * (v + V)))
-    kappa, xs, c = _curvatures(bm)
-    sigma = spec.material.youngs_modulus_pa * c[:, None] * (kappa.T @ q_all)
-    j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
+    stress = largest_bending_stress(bm, q_all, times)
     hands, hands_v = hands_history(bm, q_all, qd_all)
     props = bat_properties(spec)
     ball_info = {"name": run.ball_name, "mass_kg": run.mass_kg, "model": "fe",
@@ -157,6 +153,6 @@ def fe_bat_impact(bat, ball, speed_m_s: float, impact_m: float, *, bat_speed_m_s
         {"knob": props.moi_knob_kg_m2, "centre_of_mass": props.moi_cm_kg_m2},
         bm.frequencies_hz.copy(), float(ball_lost), modal_energy[bm.rigid_count:],
         float(modal_energy[:bm.rigid_count].sum()), float(en["backing_damping_j"]), e0,
-        float(balance), momentum, float(abs(sigma[j, i])), float(xs[j]), float(times[i]),
+        float(balance), momentum, *stress,
         float(run.contact_time_s), float(run.peak_force_n), 1, spec.length_m,
         t[window], h["contact_force_n"][window], times, hands, hands_v, rigid)

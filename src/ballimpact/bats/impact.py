@@ -153,6 +153,26 @@ def _curvatures(bm: BatModes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return kappa, x, c
 
 
+def modal_momentum(bm: BatModes) -> np.ndarray | None:
+    """The bat's linear momentum per unit modal velocity (count,): P = p . q' along the ball's
+    path; None where it is not conserved (a pinned bat, or one held by springs or dashpots)."""
+    if bm.support != "free" or (bm.grip is not None and (bm.grip.stiffness_n_m != 0
+                                                         or bm.grip.damping_n_s_m != 0)):
+        return None
+    return (np.where(np.arange(bm.beam.dofs) % 2 == 0, 1.0, 0.0) @ bm.beam.mass
+            @ bm.vectors)
+
+
+def largest_bending_stress(bm: BatModes, q: np.ndarray, times_s: np.ndarray
+                           ) -> tuple[float, float, float]:
+    """(largest |sigma| Pa, where m, when s) of the bending stress E c kappa over the modal
+    coordinates q (count, times) at `times_s`."""
+    kappa, xs, c = _curvatures(bm)
+    sigma = bm.bat.material.youngs_modulus_pa * c[:, None] * (kappa.T @ q)
+    j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
+    return float(abs(sigma[j, i])), float(xs[j]), float(times_s[i])
+
+
 def hands_history(bm: BatModes, q: np.ndarray, qd: np.ndarray):
     """(force on the hands N, the bat's mean velocity at them m/s) over time from the modal
     coordinates q, qd (count, times): the grip's springs and dashpots; (None, None) without a
@@ -311,15 +331,11 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
     e0 = float(e_hist[0])
     props = bat_properties(spec)
     momentum = None
-    if bm.support == "free" and (bm.grip is None or (bm.grip.stiffness_n_m == 0
-                                                     and bm.grip.damping_n_s_m == 0)):
-        p_modes = (np.where(np.arange(bm.beam.dofs) % 2 == 0, 1.0, 0.0) @ bm.beam.mass
-                   @ bm.vectors)
+    p_modes = modal_momentum(bm)
+    if p_modes is not None:
         p_hist = m * sh[1] + p_modes @ sh[2 + n:2 + 2 * n]
         momentum = float(np.max(np.abs(p_hist - p_hist[0])) / (m * (v + V)))
-    kappa, xs, c = _curvatures(bm)
-    sigma = spec.material.youngs_modulus_pa * c[:, None] * (kappa.T @ sh[2:2 + n])
-    j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
+    stress = largest_bending_stress(bm, sh[2:2 + n], th)
     hands, hands_v = hands_history(bm, sh[2:2 + n], sh[2 + n:2 + 2 * n])
     q_s, qd_s = y_sep[2:2 + n], y_sep[2 + n:2 + 2 * n]
     modal_energy = 0.5 * (qd_s ** 2 + omega2 * q_s ** 2)
@@ -334,7 +350,7 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
         {"knob": props.moi_knob_kg_m2, "centre_of_mass": props.moi_cm_kg_m2},
         bm.frequencies_hz.copy(), float(end[-2]), modal_energy[rigid:],
         float(modal_energy[:rigid].sum()), float(y_sep[-1]), e0,
-        float(np.max(np.abs(e_hist - e0)) / e0), momentum, float(abs(sigma[j, i])),
-        float(xs[j]), float(th[i]), float(sum(b_ - a for a, b_ in contacts)),
+        float(np.max(np.abs(e_hist - e0)) / e0), momentum, *stress,
+        float(sum(b_ - a for a, b_ in contacts)),
         float(fc.max()), len(contacts), spec.length_m, tc, fc, th, hands,
         hands_velocity_m_s=hands_v)

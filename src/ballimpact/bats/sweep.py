@@ -16,12 +16,15 @@ from .fe_impact import fe_bat_impact
 from .impact import DEFAULT_MODES, BatImpactResult, bat_impact, bat_model
 
 
-def _vertex(x: np.ndarray, y: np.ndarray, i: int) -> float:
-    """The extremum of the parabola through the 3 points around index i (x[i] at an end)."""
+def extremum_x(x: np.ndarray, y: np.ndarray, i: int, largest: bool = True) -> float:
+    """The x of the largest (or smallest) y: the vertex of the parabola through the 3 points
+    around index i, where it bends that way (x[i] at an end, or where it does not)."""
     if i == 0 or i == x.size - 1:
         return float(x[i])
-    a, b, c = np.polyfit(x[i - 1:i + 2], y[i - 1:i + 2], 2)
-    return float(np.clip(-b / (2 * a), x[i - 1], x[i + 1])) if a != 0 else float(x[i])
+    a, b, _ = np.polyfit(x[i - 1:i + 2], y[i - 1:i + 2], 2)
+    if (a < 0) if largest else (a > 0):
+        return float(np.clip(-b / (2 * a), x[i - 1], x[i + 1]))
+    return float(x[i])
 
 
 @dataclass(frozen=True)
@@ -60,12 +63,12 @@ class ImpactSweep:
     @property
     def max_efficiency_m(self) -> float:
         e = self.collision_efficiency
-        return _vertex(self.points_m, e, int(np.argmax(e)))
+        return extremum_x(self.points_m, e, int(np.argmax(e)))
 
     @property
     def least_vibration_m(self) -> float:
         e = self.vibration_energy_j
-        return _vertex(self.points_m, e, int(np.argmin(e)))
+        return extremum_x(self.points_m, e, int(np.argmin(e)), largest=False)
 
     def summary(self) -> dict[str, Any]:
         first = self.results[0].summary(histories=False)
@@ -93,11 +96,11 @@ def impact_sweep(bat, ball, speed_m_s: float, points_m, *,
                  bat_speed_m_s: float = 0.0, support: str = "free",
                  pivot_m: float | None = None, grip=None, modes: int = DEFAULT_MODES,
                  elements: int = DEFAULT_ELEMENTS, progress=None, options=None,
-                 allow=()) -> ImpactSweep:
+                 reference=None, allow=()) -> ImpactSweep:
     """The collision at each of `points_m` (the bat's modes computed once): `bat_impact` with
     `ball` a `HuntCrossleyBall`, else `fe_impact.fe_bat_impact` with the FE `ball` (a preset,
     file, dict or `fe.BallModel`; `options` its `fe.SolverOptions`; its run on the rigid plane
-    made once). `progress(i, n)` after each point if given."""
+    made once, or given as `reference`). `progress(i, n)` after each point if given."""
     points = np.atleast_1d(np.asarray(points_m, dtype=float))
     if points.size < 1:
         raise InputError("points_m: no impact points")
@@ -111,7 +114,7 @@ def impact_sweep(bat, ball, speed_m_s: float, points_m, *,
         else:
             result = fe_bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
                                    pivot_m=pivot_m, options=options, allow=allow,
-                                   reference=results[0].fe_reference if results else None)
+                                   reference=results[0].fe_reference if results else reference)
         results.append(result)
         if progress is not None:
             progress(i + 1, points.size)

@@ -94,12 +94,21 @@ class PlaneBacking:
                   name: str = "backing") -> PlaneBacking:
         """A rigid mass (kg) behind the plane, free or on a spring (N/m) and dashpot (N s/m) to
         the ground (a neck, an arm)."""
-        m = check_range(f"{name}.mass_kg", mass_kg, 0.0, 1e3, low_open=True, unit="kg",
-                        note="above 1000 it looks like grams")
-        k = check_range(f"{name}.spring_n_m", spring_n_m, 0.0, unit="N/m")
-        c = check_range(f"{name}.damper_n_s_m", damper_n_s_m, 0.0, unit="N s/m")
-        return cls((1.0 / math.sqrt(m),), (math.sqrt(k / m) / (2.0 * math.pi),), ((c / m,),),
-                   labels=(name,), name=name)
+        return cls.rigid_mass(
+            check_range(f"{name}.mass_kg", mass_kg, 0.0, 1e3, low_open=True, unit="kg",
+                        note="above 1000 it looks like grams"),
+            check_range(f"{name}.spring_n_m", spring_n_m, 0.0, unit="N/m"),
+            check_range(f"{name}.damper_n_s_m", damper_n_s_m, 0.0, unit="N s/m"), name)
+
+    @classmethod
+    def rigid_mass(cls, mass_kg: float, spring_n_m: float, damper_n_s_m: float,
+                   name: str) -> PlaneBacking:
+        """`free_mass` without its range checks (a target's backing, checked where it was
+        read; a test's 1e6 kg standing for a fixed base): one mode, phi = 1/sqrt(M),
+        Omega^2 = k/M, C = c/M."""
+        m = float(mass_kg)
+        return cls((1.0 / math.sqrt(m),), (math.sqrt(spring_n_m / m) / (2.0 * math.pi),),
+                   ((damper_n_s_m / m,),), labels=(name,), name=name)
 
     @property
     def count(self) -> int:

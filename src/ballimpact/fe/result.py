@@ -174,3 +174,18 @@ def energy_histories(h: dict[str, np.ndarray], ke0: float) -> float:
     h["viscous_dissipation_j"] = (h["internal_work_j"] - h["strain_energy_j"]
                                   - h["bulk_viscous_dissipation_j"] - h["hourglass_energy_j"])
     return float(np.max(np.abs(balance)))
+
+
+def target_energies(history: dict[str, np.ndarray], target) -> dict[str, float]:
+    """A layered target's figures at the end of a run, either geometry: each layer's internal
+    work (J: what it holds and has dissipated) and largest compression on the axis under the
+    first touch (thickness lost over thickness), and the largest force on its base (N; where
+    the history has it: a backed base, or any base in the axisymmetric geometry)."""
+    out = {}
+    for k, layer in enumerate(target.layers):
+        out[f"target_{layer.name}_work_j"] = float(history[f"target_layer_{k}_work_j"][-1])
+        out[f"target_{layer.name}_max_compression"] = float(
+            np.max(history[f"target_layer_{k}_compression"]))
+    if "transmitted_force_n" in history:
+        out["target_max_transmitted_force_n"] = float(np.max(history["transmitted_force_n"]))
+    return out

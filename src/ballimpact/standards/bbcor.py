@@ -147,14 +147,6 @@ def bbcor_of(collision_efficiency: float, r: float) -> float:
     return collision_efficiency * (1.0 + r) + r
 
 
-def _vertex(x: np.ndarray, y: np.ndarray, i: int) -> float:
-    """The largest value's x, from the parabola through the 3 points around index i."""
-    if i == 0 or i == x.size - 1:
-        return float(x[i])
-    a, b, _ = np.polyfit(x[i - 1:i + 2], y[i - 1:i + 2], 2)
-    return float(np.clip(-b / (2 * a), x[i - 1], x[i + 1])) if a < 0 else float(x[i])
-
-
 def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
           elements: int | None = None, allow=(), ball_model: str = "law",
           progress: Callable[[int, int], None] | None = None) -> BBCORResult:
@@ -170,6 +162,7 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
     from ..bats import ball_law, bat_model, bat_properties, impact_sweep, load_bat
     from ..bats.beam import DEFAULT_ELEMENTS
     from ..bats.impact import DEFAULT_MODES, bat_impact
+    from ..bats.sweep import extremum_x
 
     spec = load_bat(bat)
     method = BBCOR_METHOD
@@ -211,7 +204,7 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
             return fe_bat_impact(bm, collider, v, x_knob, pivot_m=pivot, reference=reference,
                                  allow=allow)
     else:
-        collider = ball_law(ball, v, allow=allow)
+        collider, reference = ball_law(ball, v, allow=allow), None
         mass, rigid_cor = collider.mass_kg, collider.rigid_plane(v).cor
         ball_summary = collider.summary()
 
@@ -232,7 +225,7 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
         new = [float(e) for e in points_from_end if float(e) not in results]
         if new:
             sweep = impact_sweep(bm, collider, v, [length - e for e in new], pivot_m=pivot,
-                                 allow=allow,
+                                 allow=allow, reference=reference,
                                  progress=(None if progress is None else
                                            lambda i, n: progress(len(results) + i,
                                                                  len(results) + n)))
@@ -258,7 +251,7 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
                   "collision_efficiency": results[e].collision_efficiency, "bbcor": float(b)}
                  for e, b in zip(xs, bb))
     i = int(np.argmax(bb))
-    best_end = _vertex(xs, bb, i)
+    best_end = extremum_x(xs, bb, i)
     best = results.get(best_end)
     if best is None:
         best = one(length - best_end)

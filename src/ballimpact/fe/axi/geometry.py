@@ -8,7 +8,6 @@ per-ball parameters and initial values, the cost constants and the result."""
 from __future__ import annotations
 
 import dataclasses
-import math
 import warnings
 from dataclasses import dataclass
 
@@ -19,7 +18,7 @@ from ...constitutive.stability import drucker_warnings
 from ..backing import PlaneBacking, backing_energies
 from ..hex.target import Target, check_target_width
 from ..options import ImpactCondition, SolverOptions
-from ..result import ImpactResult, contact_end_time, energy_histories
+from ..result import ImpactResult, contact_end_time, energy_histories, target_energies
 from .element import geometry as element_geometry
 from .kernel import HISTORY, Kernel, ball_arrays
 from .target_kernel import TargetKernel, target_params
@@ -109,23 +108,8 @@ def backing_of(target, base_kg: float = 0.0) -> PlaneBacking | None:
     b = target.backing
     if b is None:
         return None
-    mass = b.mass_kg + base_kg
-    return PlaneBacking((mass ** -0.5,), (math.sqrt(b.spring_n_m / mass) / (2.0 * math.pi),),
-                        ((b.damper_n_s_m / mass,),), labels=("backing",),
-                        name=f"{target.name}.backing")
-
-
-def target_energies(history: dict, target, kernel) -> dict[str, float]:
-    """A target's figures at the end of a run: each layer's internal work (J: what it holds
-    and has dissipated) and largest compression on the axis (thickness lost over thickness),
-    and the largest force on its base (N)."""
-    out = {}
-    for k, layer in enumerate(target.layers):
-        out[f"target_{layer.name}_work_j"] = float(history[f"target_layer_{k}_work_j"][-1])
-        out[f"target_{layer.name}_max_compression"] = float(
-            np.max(history[f"target_layer_{k}_compression"]))
-    out["target_max_transmitted_force_n"] = float(np.max(history["transmitted_force_n"]))
-    return out
+    return PlaneBacking.rigid_mass(b.mass_kg + base_kg, b.spring_n_m, b.damper_n_s_m,
+                                   f"{target.name}.backing")
 
 
 def normal_impact_speed(condition: ImpactCondition) -> float:
@@ -289,7 +273,7 @@ class Axisymmetric:
                           stacklevel=4)
         energies["initial_kinetic_energy_j"] = ke0
         if isinstance(target, Target):
-            energies.update(target_energies(h, target, kernel))
+            energies.update(target_energies(h, target))
             if target.backing is not None:
                 energies.update(backing_energies(h, energies, backing_of(target)))
         elif target is not None:

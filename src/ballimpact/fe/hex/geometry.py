@@ -28,7 +28,7 @@ import numpy as np
 from ...errors import InputError
 from ..estimates import hertz_series_impact
 from ..options import ImpactCondition, Options3D
-from ..result import ImpactResult, contact_end_time, energy_histories
+from ..result import ImpactResult, contact_end_time, energy_histories, target_energies
 from ..stable_increment import increment_factor
 from . import kernel as kernel_module
 from .contact_grading import grading_for_contact
@@ -162,21 +162,6 @@ def centre_column(mesh: HexMesh, target) -> np.ndarray:
             raise ValueError(f"slab mesh: no node at x = y = 0, depth {depth:g} m")
         ids.append(slab[i])
     return np.array(ids)
-
-
-def target_energies(history: dict, target) -> dict[str, float]:
-    """A slab's figures at the end of a run, as the axisymmetric geometry's
-    (`fe.axi.geometry.target_energies`, the same keys): each layer's internal work (J) and
-    largest compression at the slab's centre, and the largest force on its base (N) where the
-    base is backed (a fixed base has no `transmitted_force_n` column)."""
-    out = {}
-    for k, layer in enumerate(target.layers):
-        out[f"target_{layer.name}_work_j"] = float(history[f"target_layer_{k}_work_j"][-1])
-        out[f"target_{layer.name}_max_compression"] = float(
-            np.max(history[f"target_layer_{k}_compression"]))
-    if "transmitted_force_n" in history:
-        out["target_max_transmitted_force_n"] = float(np.max(history["transmitted_force_n"]))
-    return out
 
 
 def model_arrays(ball, target, kernel: Kernel, options: Options3D,
