@@ -116,6 +116,23 @@ def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
     return check_range(name, value, 0.0, low_open=not allow_zero)
 
 
+def check_metres(name: str, value: Any, high: float, low: float = 0.0) -> float:
+    """A length in (low, high] m; a value up to 1000 times `high` is named as millimetres
+    (`InputError` of one line, "... looks like millimetres: use ...")."""
+    if is_finite_number(value) and high < value <= 1000 * high:
+        raise InputError(range_text(name, value, "allowed range", low, high, low_open=True,
+                                    unit="m") + f"; {shown(value)} looks like millimetres: "
+                         f"use {value / 1000:g}")
+    return check_range(name, value, low, high, low_open=True, unit="m")
+
+
+def spec_metres(d: dict, key: str, where: str, high: float, low: float = 0.0) -> float:
+    """`d[key]` of a specification, a length checked by `check_metres` (millimetres named)."""
+    if key not in d:
+        raise InputError(f"{where}: missing key '{key}'")
+    return check_metres(f"{where}.{key}", d[key], high, low)
+
+
 def spec_number(d: dict, key: str, where: str, low: float = -math.inf, high: float = math.inf,
                 low_open: bool = False, high_open: bool = False) -> float:
     """`d[key]` of a specification (JSON/TOML object at `where`), checked by `check_range`."""

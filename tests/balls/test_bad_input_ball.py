@@ -203,6 +203,24 @@ def test_3d_target_files(bad_input, files, target, fragments):
     bad_input(THREE_D + ["--target", folder / "target.json"], "target.json", *fragments)
 
 
+@pytest.mark.parametrize("target, fragments", [
+    ({**TARGET, "layers": [{**TARGET["layers"][0], "thickness_m": 15}]},
+     ("thickness_m = 15", "looks like millimetres", "use 0.015")),
+    ({**TARGET, "half_width_m": 100}, ("half_width_m = 100", "looks like millimetres")),
+    ({**TARGET, "sphere_radius_m": 116}, ("sphere_radius_m = 116", "looks like millimetres")),
+    ({**TARGET, "sphere_radius_m": 0.05}, ("sphere_radius_m = 0.05", "allowed range")),
+    ({**TARGET, "sphere_radius_m": 0.07, "layers": [{**TARGET["layers"][0], "thickness_m": 0.08}]},
+     ("sphere_radius_m = 0.07", "layers' total thickness")),
+    ({**TARGET, "backing": {"mass_kg": 4500}}, ("backing.mass_kg = 4500", "grams")),
+    ({**TARGET, "backing": {"mass_kg": 5, "spring_n_m": -1}}, ("backing.spring_n_m = -1",)),
+    ({**TARGET, "backing": {"weight": 5}}, ("unknown key 'weight'",)),
+])
+def test_axisymmetric_target_files(bad_input, files, target, fragments):
+    """A target file on the axisymmetric solver: unit slips named, one line, exit 2."""
+    folder = files(target_json=target)
+    bad_input(AXI + ["--target", folder / "target.json"], "target.json", *fragments)
+
+
 def test_3d_target_file_not_text(bad_input, tmp_path):
     (tmp_path / "target.json").write_bytes(b"\xff\xfe\x00{")
     bad_input(THREE_D + ["--target", tmp_path / "target.json"], "target.json", "not valid JSON")

@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_keys, check_range, is_finite_number, range_text, shown, spec_number
+from ..checks import (check_keys, check_metres, check_range, is_finite_number, shown,
+                      spec_number)
 from ..fileio import packaged_json_files, read_spec_file
 from ..errors import InputError
 
@@ -111,15 +112,6 @@ class BatSpec:
         return out
 
 
-def _metres(name: str, value: Any, high: float) -> float:
-    """A length in (0, high] m; a value up to 1000 times more is named as millimetres."""
-    if is_finite_number(value) and high < value <= 1000 * high:
-        raise InputError(range_text(name, value, "allowed range", 0.0, high, low_open=True,
-                                    unit="m") + f"; {shown(value)} looks like millimetres: "
-                         f"use {value / 1000:g}")
-    return check_range(name, value, 0.0, high, low_open=True, unit="m")
-
-
 def _text(d: dict, key: str, where: str, default: str = "") -> str:
     value = d.get(key, default)
     if not isinstance(value, str):
@@ -140,7 +132,7 @@ def _points(raw: Any, where: str, what: str, start: float, end: float, end_name:
         if out and x <= out[-1][0]:
             raise InputError(f"{where}[{i}][0] = {shown(x)}: x must be strictly increasing "
                              f"(the previous point's x is {shown(out[-1][0])} m)")
-        out.append((x, _metres(f"{where}[{i}][1]", point[1], MAX_SECTION_M)))
+        out.append((x, check_metres(f"{where}[{i}][1]", point[1], MAX_SECTION_M)))
     for i, target, label in ((0, start, "start at"), (-1, end, "end at")):
         if abs(out[i][0] - target) > _END_TOL_M:
             index = 0 if i == 0 else len(out) - 1
@@ -170,7 +162,7 @@ def _blade(d: Any, where: str, length: float) -> Blade:
     if "width_m" not in d or "profile_thickness" not in d:
         missing = "width_m" if "width_m" not in d else "profile_thickness"
         raise InputError(f"{where}: missing key '{missing}'")
-    width = _metres(f"{where}.width_m", d["width_m"], MAX_SECTION_M)
+    width = check_metres(f"{where}.width_m", d["width_m"], MAX_SECTION_M)
     raw = d["profile_thickness"]
     start = raw[0][0] if (isinstance(raw, list) and raw and isinstance(raw[0], (list, tuple))
                           and raw[0] and is_finite_number(raw[0][0])) else 0.0
@@ -189,7 +181,7 @@ def bat_from_dict(d: Any, where: str = "bat", default_name: str = "bat") -> BatS
         raise InputError(f"{where}.name = {name!r}: expected a non-empty string")
     if "length_m" not in d:
         raise InputError(f"{where}: missing key 'length_m'")
-    length = _metres(f"{where}.length_m", d["length_m"], MAX_LENGTH_M)
+    length = check_metres(f"{where}.length_m", d["length_m"], MAX_LENGTH_M)
     blade = None
     section = d.get("section", "round")
     if isinstance(section, dict):
@@ -206,7 +198,7 @@ def bat_from_dict(d: Any, where: str = "bat", default_name: str = "bat") -> BatS
     profile = _points(d["profile"], f"{where}.profile", "outer_radius_m", 0.0, end, end_name)
     wall = d.get("wall_thickness_m")
     if wall is not None:
-        wall = _metres(f"{where}.wall_thickness_m", wall, MAX_SECTION_M)
+        wall = check_metres(f"{where}.wall_thickness_m", wall, MAX_SECTION_M)
         i, smallest = min(enumerate(r for _, r in profile), key=lambda item: item[1])
         if wall >= smallest:
             raise InputError(f"{where}.wall_thickness_m = {shown(wall)}: must be less than the "

@@ -30,7 +30,7 @@ from ...errors import InputError
 from ...fileio import packaged_json_files
 from ...constitutive import Material, material_from_dict
 from ...checks import (check_keys, check_range, is_finite_number, range_text, shown,
-                       spec_number)
+                       spec_metres, spec_number)
 
 
 @dataclass(frozen=True)
@@ -100,11 +100,11 @@ class Target:
         check_keys(d, {"name", "half_width_m", "layers", "backing", "sphere_radius_m",
                        "description", "source"}, where)
         name = d.get("name", "target")
-        width = spec_number(d, "half_width_m", where, 0.0, 10.0, low_open=True)
+        width = spec_metres(d, "half_width_m", where, 10.0)
         radius = d.get("sphere_radius_m")
         if radius is not None:
             # the cap's edge at most 90 degrees from its top (half_width_m is an arc length)
-            radius = spec_number(d, "sphere_radius_m", where, 2.0 * width / math.pi, 10.0)
+            radius = spec_metres(d, "sphere_radius_m", where, 10.0, low=2.0 * width / math.pi)
         raw = d.get("layers")
         if not isinstance(raw, list) or not raw:
             raise InputError(f"{where}.layers: expected a non-empty list of layers")
@@ -116,7 +116,7 @@ class Target:
                 raise InputError(f"{w}: missing key 'material'")
             layers.append(TargetLayer(
                 name=str(layer.get("name", f"layer{i}")),
-                thickness_m=spec_number(layer, "thickness_m", w, 0.0, 10.0, low_open=True),
+                thickness_m=spec_metres(layer, "thickness_m", w, 10.0),
                 density_kg_m3=spec_number(layer, "density_kg_m3", w, 0.0, 1e5, low_open=True),
                 material=material_from_dict(layer["material"], f"{w}.material")))
         backing = (Backing.from_dict(d["backing"], f"{where}.backing") if "backing" in d
