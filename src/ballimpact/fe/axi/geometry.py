@@ -232,12 +232,12 @@ class Axisymmetric:
 
     def params(self, ball, target, kernel: Kernel, condition: ImpactCondition):
         if isinstance(target, Target):
-            layers = list(ball.layers) + list(target.layers)
-            params = ball_arrays(ball, kernel.geom, self.options, None, layers)
-            # the base's nodes move with the backing: their mass is the backing's
-            base_kg = float(np.sum(params.mass_kg[kernel.base_nodes]))
-            params = ball_arrays(ball, kernel.geom, self.options, backing_of(target, base_kg),
-                                 layers)
+            params = ball_arrays(ball, kernel.geom, self.options, None,
+                                 list(ball.layers) + list(target.layers))
+            if target.backing is not None:
+                # the base's nodes move with the backing: their mass is the backing's
+                base_kg = float(np.sum(params.mass_kg[kernel.base_nodes]))
+                params = params._replace(**backing_of(target, base_kg).arrays())
             return target_params(params, kernel.ball_nodes)
         params = ball_arrays(ball, kernel.geom, self.options, target)
         if target is not None:
