@@ -4,16 +4,22 @@ Each run twice (the first compiles; the second, "warm", reuses the program), wit
 measured in the same run:
 - the FE `baseball` at 61 m/s: alone on the rigid plane (the reference), on the free
   `baseball-wood-34in` bat at 0.70 m (12 modes coupled in the kernel), a sweep of 9 impact
-  points along the bat, and the ball's contact law on the same bat (`bats.bat_impact`);
+  points along the bat as one batched run (`bats.impact_sweep`) against a loop of single runs
+  of the same points, and the ball's contact law on the same bat (`bats.bat_impact`);
 - the FE `cricket-men` ball at 19 and 45 m/s: alone on the rigid plane (the reference), on the
   `cricket-helmet` preset (a shell and liner on a spherical cap, backed by a 5 kg headform;
   the axisymmetric geometry), with its headform figures.
 
-    python benchmarks/bench_equipment.py
+    python benchmarks/bench_equipment.py [--points N] [--bat-only]
+
+`--points`: the sweep's impact points (default 9, 2 cm apart from 24 cm off the barrel end; more
+are spread over the same span); `--bat-only`: no helmet runs. On an accelerator the sweep's
+points run as one vmapped group (`fe.Axisymmetric.ACCELERATOR_GROUP_SIZE`).
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import platform
@@ -35,7 +41,7 @@ def _twice(fn) -> tuple:
     return out, first, warm
 
 
-def bat_figures() -> dict:
+def bat_figures(points: int = 9) -> dict:
     from ballimpact import fe
     from ballimpact.bats import ball_law, bat_impact, bat_model, impact_sweep
     from ballimpact.bats.fe_impact import fe_bat_impact
@@ -46,8 +52,13 @@ def bat_figures() -> dict:
     alone, alone_first, alone_warm = _twice(lambda: fe.simulate(ball, speed))
     on_bat, bat_first, bat_warm = _twice(
         lambda: fe_bat_impact(wood, ball, speed, x, reference=alone))
-    points = wood.bat.length_m - np.arange(0.24, 0.07, -0.02)
-    sweep, sweep_s = _timed(lambda: impact_sweep(wood, ball, speed, points))
+    points = wood.bat.length_m - np.linspace(0.24, 0.08, points)
+    sweep, sweep_first, sweep_warm = _twice(
+        lambda: impact_sweep(wood, ball, speed, points, reference=alone))
+    loop, loop_s = _timed(lambda: [fe_bat_impact(wood, ball, speed, float(p), reference=alone)
+                                   for p in points])
+    same = max(abs(a.collision_efficiency - b.collision_efficiency)
+               for a, b in zip(sweep.results, loop))
     law = ball_law("baseball", speed)
     by_law, law_first, law_warm = _twice(lambda: bat_impact(wood, law, speed, x))
     return {
@@ -60,8 +71,12 @@ def bat_figures() -> dict:
                            "rigid_collision_efficiency": on_bat.rigid_collision_efficiency,
                            "energy_balance_error": on_bat.energy_balance_error,
                            "warm_over_ball_alone": bat_warm / alone_warm},
-        "fe_sweep": {"points": int(points.size), "wall_s": sweep_s,
-                     "per_point_s": sweep_s / points.size,
+        "fe_sweep": {"points": int(points.size), "batched_first_s": sweep_first,
+                     "batched_warm_s": sweep_warm, "per_point_warm_s": sweep_warm / points.size,
+                     "loop_of_single_runs_warm_s": loop_s,
+                     "loop_over_batched": loop_s / sweep_warm,
+                     "batched_over_ball_alone": sweep_warm / alone_warm,
+                     "largest_efficiency_difference_batched_vs_loop": same,
                      "least_vibration_from_barrel_end_m":
                          wood.bat.length_m - sweep.least_vibration_m,
                      "max_efficiency_from_barrel_end_m":
@@ -95,9 +110,18 @@ def helmet_figures() -> dict:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=9)
+    parser.add_argument("--bat-only", action="store_true")
+    args = parser.parse_args()
+    import jax
+
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
-                       "cpus": os.cpu_count()},
-           "bat": bat_figures(), "helmet": helmet_figures()}
+                       "cpus": os.cpu_count(), "jax_backend": jax.default_backend(),
+                       "devices": [str(d) for d in jax.devices()]},
+           "bat": bat_figures(args.points)}
+    if not args.bat_only:
+        out["helmet"] = helmet_figures()
     print(json.dumps(out, indent=1))
 
 

@@ -105,3 +105,21 @@ def test_modal_form_matches_the_mass_form():
     assert backing.arrays()["backing_damping_1_s"][0, 0] == pytest.approx(20.0 / 4.0)
     assert float(np.asarray(backing.frequencies_hz)[0]) == pytest.approx(
         math.sqrt(1e4 / 4.0) / (2 * math.pi))
+
+
+def test_a_batch_of_backings_is_the_runs_one_by_one(ball):
+    """One vmapped run with a backing per run (`fe.simulate_batch(target=[...])`) gives each
+    run's figures as its own run does; backings of other structures are refused by name."""
+    backings = [PlaneBacking.free_mass(m) for m in (1.0, 5.0, 20.0)]
+    batch = fe.simulate_batch(ball, SPEED, target=backings)
+    assert [r.target for r in batch] == [b.name for b in backings]
+    for run, backing in zip(batch, backings):
+        alone = fe.simulate(ball, SPEED, target=backing)
+        assert run.cor == pytest.approx(alone.cor, rel=1e-9, abs=1e-12)
+        assert _backing_velocity(run) == pytest.approx(_backing_velocity(alone), rel=1e-9)
+    assert batch[0].cor < batch[1].cor < batch[2].cor  # lighter backings take more momentum
+    two_modes = PlaneBacking((1.0, 0.5), (0.0, 100.0), ((0.0, 0.0), (0.0, 0.0)))
+    with pytest.raises(InputError, match="share one structure"):
+        fe.simulate_batch(ball, SPEED, target=[backings[0], two_modes])
+    with pytest.raises(InputError, match="one target or 2"):
+        fe.simulate_batch(ball, [SPEED, 20.0], target=backings)

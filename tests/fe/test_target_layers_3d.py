@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from ballimpact import fe
-from ballimpact.errors import InputWarning
+from ballimpact.errors import InputError, InputWarning
 from ballimpact.fe import load_ball
 from ballimpact.fe.hex.geometry import Hexahedral
 from ballimpact.fe.hex.kernel import BACKING_HISTORY, HISTORY, target_layer_history
@@ -121,3 +121,24 @@ def test_axisymmetric_and_3d_liners_agree():
     assert abs(b[force] - a[force]) <= 0.15 * a[force]
     for key, tolerance in (("target_liner_max_compression", 0.25), ("target_liner_work_j", 0.4)):
         assert (1.0 - tolerance) * a[key] <= b[key] <= a[key], (key, a[key], b[key])
+
+
+def test_slab_cells_through_the_depth():
+    """`Options3D.slab_depth_cell_m` sets the default slab's cells through the depth (a layer of
+    a whole number of them gets that number, at least 2); unset, 4 pole spacings as before
+    (docs/equipment.md: the helmet's 3 mm shell and 22 mm liner get 2 and 2)."""
+    from ballimpact.fe.hex.geometry import slab_layout
+
+    ball = load_ball("cricket-men", impact_speed_m_s=19.0)
+    target = load_target(TARGETS / "helmet-on-headform.json")
+    default = slab_layout(ball, target, fe.Options3D(divisions=4))
+    assert np.allclose(default[2], [0.0, 1.5e-3, 3e-3, 14e-3, 25e-3])
+    for cell, through in ((5.5e-3, (2, 4)), (2.75e-3, (2, 8)), (1e-3, (3, 22))):
+        cells, grading, depths = slab_layout(ball, target, fe.Options3D(
+            divisions=4, slab_depth_cell_m=cell))
+        assert (cells, grading) == default[:2]  # in plane unchanged
+        assert np.count_nonzero(depths <= 3e-3 + 1e-12) - 1 == through[0]
+        assert len(depths) - 1 == sum(through)
+        assert depths[-1] == pytest.approx(25e-3, rel=1e-12)
+    with pytest.raises(InputError, match="not both"):
+        fe.Options3D(slab_depth_cell_m=2e-3, slab_depth_growth=1.2)

@@ -35,13 +35,21 @@ from .properties import bat_properties
 SAMPLES_PER_PERIOD = 16
 
 
-def bat_backing(bm: BatModes, x_i: float, bat_speed_m_s: float, pivot_m: float | None
-                ) -> tuple[PlaneBacking, np.ndarray]:
+def contact_modes(bm: BatModes, points_m) -> np.ndarray:
+    """The indices of the modes that take part in a contact at any of `points_m` (m from the
+    knob): moving there, and at most `fe.backing.MAX_FREQUENCY_HZ`."""
+    w = np.abs(np.stack([bm.deflection(float(x))[:, 0] for x in np.atleast_1d(points_m)]))
+    moving = (w > 1e-9 * w.max(axis=1, keepdims=True)).any(axis=0)
+    return np.flatnonzero(moving & (bm.frequencies_hz <= MAX_FREQUENCY_HZ))
+
+
+def bat_backing(bm: BatModes, x_i: float, bat_speed_m_s: float, pivot_m: float | None,
+                keep: np.ndarray | None = None) -> tuple[PlaneBacking, np.ndarray]:
     """The bat at x_i as a `PlaneBacking` (z = -w: the plane moves down as the bat deflects
-    along the ball's path), and the indices of the modes it keeps."""
+    along the ball's path) of the modes `keep` (default `contact_modes` at x_i), and those
+    modes' indices."""
     w = bm.deflection(x_i)[:, 0]
-    keep = np.flatnonzero((np.abs(w) > 1e-9 * np.abs(w).max())
-                          & (bm.frequencies_hz <= MAX_FREQUENCY_HZ))
+    keep = contact_modes(bm, x_i) if keep is None else keep
     swing = _swing(bm, x_i, bat_speed_m_s, pivot_m)
     damping = bm.modal_damping()[np.ix_(keep, keep)]
     labels = [("rigid " if f < 1e-6 * max(bm.frequencies_hz.max(), 1.0) else "")
@@ -83,22 +91,59 @@ def fe_bat_impact(bat, ball, speed_m_s: float, impact_m: float, *, bat_speed_m_s
     (the rigid bat's e_A, and the cost of the ball alone), unless given that run as
     `reference` (an `fe.ImpactResult`): `ball["fe"]` holds both runs' figures and wall
     times."""
+    return fe_bat_impacts(bat, ball, speed_m_s, [impact_m], bat_speed_m_s=bat_speed_m_s,
+                          support=support, pivot_m=pivot_m, grip=grip, modes=modes,
+                          elements=elements, options=options, after_s=after_s,
+                          reference=reference, allow=allow)[0]
+
+
+def fe_bat_impacts(bat, ball, speed_m_s: float, points_m, *, bat_speed_m_s: float = 0.0,
+                   support: str = "free", pivot_m: float | None = None, grip=None,
+                   modes: int = DEFAULT_MODES, elements: int = DEFAULT_ELEMENTS, options=None,
+                   after_s: float | None = None, reference=None, progress: bool = False,
+                   allow=()) -> list[BatImpactResult]:
+    """`fe_bat_impact` at each of `points_m` (m from the knob end) as one batched FE run
+    (`fe.simulate_batch`, one target per point: the bat's modes at that point, the modes of
+    every point kept so that all share one compiled program), and one rigid-plane run (or
+    `reference`). `progress`: the batched run's progress lines on stderr
+    (`progress.RunProgress`)."""
     from .. import fe
     from ..fe.engine import check_speeds
 
     bm = bat_model(bat, support=support, pivot_m=pivot_m, grip=grip, modes=modes,
                    elements=elements)
-    spec = bm.bat
-    v, V, x_i, pivot_m = checked_collision(bm, speed_m_s, bat_speed_m_s, impact_m, pivot_m)
+    points = np.atleast_1d(np.asarray(points_m, dtype=float))
+    collisions = [checked_collision(bm, speed_m_s, bat_speed_m_s, float(x), pivot_m)
+                  for x in points]
+    v, V, _, pivot_m = collisions[0]
     model = ball if isinstance(ball, fe.BallModel) else fe.load_ball(
         ball, impact_speed_m_s=v + V, allow=allow)
     geometry = fe.Axisymmetric(options or fe.SolverOptions())
     check_speeds([v + V], geometry, allow)  # the ball meets the bat at v + V
-    backing, keep = bat_backing(bm, x_i, V, pivot_m)
+    keep = contact_modes(bm, points)
+    backings = [bat_backing(bm, x_i, V, pivot_m, keep)[0] for _, _, x_i, _ in collisions]
     rigid = reference or fe.simulate(model, v + V, geometry=geometry, allow=allow)
     start = time.perf_counter()
-    run = fe.simulate(model, v, geometry=geometry, target=backing, allow=allow)
-    bat_wall = time.perf_counter() - start
+    lines = None
+    if progress:
+        from ..progress import RunProgress
+
+        cost = fe.estimate(model, [v] * len(backings), geometry=geometry, target=backings)
+        lines = RunProgress(cost.end_time_s, geometry.options.chunk_steps)
+    runs = fe.simulate_batch(model, v, geometry=geometry, target=backings, progress=lines,
+                             allow=allow)
+    bat_wall = (time.perf_counter() - start) / len(runs)
+    return [_collision_result(bm, run, rigid, v, V, x_i, pivot_m, keep, after_s, bat_wall)
+            for run, (_, _, x_i, _) in zip(runs, collisions)]
+
+
+def _collision_result(bm: BatModes, run, rigid, v: float, V: float, x_i: float,
+                      pivot_m: float | None, keep: np.ndarray, after_s: float | None,
+                      bat_wall: float) -> BatImpactResult:
+    """The collision's figures from the FE run of the ball on the bat's modes `keep` at x_i
+    (`run`) and its run on the fixed plane (`rigid`); `bat_wall` the bat run's wall time (s,
+    a batch's share)."""
+    spec = bm.bat
     h, n = run.history, bm.count
     t = h["time_s"]
     q = np.zeros((n, t.size))

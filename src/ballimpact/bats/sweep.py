@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import InputError
 from .ball_law import HuntCrossleyBall
 from .beam import DEFAULT_ELEMENTS
-from .fe_impact import fe_bat_impact
+from .fe_impact import fe_bat_impacts
 from .impact import DEFAULT_MODES, BatImpactResult, bat_impact, bat_model
 
 
@@ -98,24 +98,24 @@ def impact_sweep(bat, ball, speed_m_s: float, points_m, *,
                  elements: int = DEFAULT_ELEMENTS, progress=None, options=None,
                  reference=None, allow=()) -> ImpactSweep:
     """The collision at each of `points_m` (the bat's modes computed once): `bat_impact` with
-    `ball` a `HuntCrossleyBall`, else `fe_impact.fe_bat_impact` with the FE `ball` (a preset,
-    file, dict or `fe.BallModel`; `options` its `fe.SolverOptions`; its run on the rigid plane
-    made once, or given as `reference`). `progress(i, n)` after each point if given."""
+    `ball` a `HuntCrossleyBall` (`progress(i, n)` after each point if given), else
+    `fe_impact.fe_bat_impacts` with the FE `ball` (a preset, file, dict or `fe.BallModel`;
+    `options` its `fe.SolverOptions`): every point in one batched FE run, whose progress lines
+    go to stderr when `progress` is given, and the ball's run on the rigid plane made once, or
+    given as `reference`."""
     points = np.atleast_1d(np.asarray(points_m, dtype=float))
     if points.size < 1:
         raise InputError("points_m: no impact points")
     bm = bat_model(bat, support=support, pivot_m=pivot_m, grip=grip, modes=modes,
                    elements=elements)
+    if not isinstance(ball, HuntCrossleyBall):
+        return ImpactSweep(tuple(fe_bat_impacts(
+            bm, ball, speed_m_s, points, bat_speed_m_s=bat_speed_m_s, pivot_m=pivot_m,
+            options=options, reference=reference, progress=progress is not None, allow=allow)))
     results = []
     for i, x in enumerate(points):
-        if isinstance(ball, HuntCrossleyBall):
-            result = bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
-                                pivot_m=pivot_m)
-        else:
-            result = fe_bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
-                                   pivot_m=pivot_m, options=options, allow=allow,
-                                   reference=results[0].fe_reference if results else reference)
-        results.append(result)
+        results.append(bat_impact(bm, ball, speed_m_s, float(x), bat_speed_m_s=bat_speed_m_s,
+                                  pivot_m=pivot_m))
         if progress is not None:
             progress(i + 1, points.size)
     return ImpactSweep(tuple(results))

@@ -1,7 +1,6 @@
-"""`ballimpact simulate`: an FE impact of a ball model (axisymmetric or 3D), a speed sweep, and
-the solver flags other verbs share (`add_solver_options`, `SolverDefaults`). The runs are the
-library's (`fe.runs`, `sweep`, `oblique.sweep`); the 3D inputs and text are in `simulate_3d`,
-an angle sweep in `angle_sweep`."""
+"""`ballimpact simulate`: an FE impact (axisymmetric or 3D), a speed sweep, and the solver flags
+other verbs share (`add_solver_options`, `SolverDefaults`); runs are the library's (`fe.runs`,
+`sweep`, `oblique.sweep`), the 3D inputs and text in `simulate_3d`, angles in `angle_sweep`."""
 
 from __future__ import annotations
 
@@ -85,16 +84,16 @@ def add_parser(verbs) -> None:
                        help="grade the mesh so that this many elements span the Hertz contact "
                             "radius expected at the (slowest) normal speed; sets the pole "
                             "grading (0.5 to 50; docs/oblique.md, 'Gripping regime')")
-    three.add_argument("--full-model", action="store_true",
-                       help="mesh the whole ball (default: the half on the plane of incidence "
-                            "unless there is out-of-plane spin)")
+    three.add_argument("--full-model", action="store_true", help="mesh the whole ball "
+                       "(default: the half on the plane of incidence, unless spun out of it)")
     three.add_argument("--stick-scale", type=float,
                        help="friction stick-spring stiffness over the normal penalty (default 8)")
     three.add_argument("--slab-depth-growth", type=float,
                        help="match a --target slab's cells to the contact: the ball's pole "
-                            "spacing at the centre of its surface, growing in plane as the ball's "
-                            "cells do and by this a cell through the depth (over 1, up to 2; "
-                            "default: uniform depth cells of 4 pole spacings)")
+                            "spacing at its centre, growing as the ball's cells do in plane and "
+                            "by this a cell through the depth (over 1, up to 2)")
+    three.add_argument("--slab-depth-cell-m", type=float, help="a --target slab's cells "
+                       "through the depth (m; default 4 pole spacings): finer for liners")
     three.add_argument("--vtk", type=Path,
                        help="write a time series for ParaView: FILE.pvd (binary .vtu files "
                             "beside it) or FILE.xdmf; displacement, velocity, stresses, contact "

@@ -17,7 +17,7 @@ from .common import check_output_folder, check_plot_path, use_compilation_cache
 
 #: flags of one solver only (attribute: the flag's name in snake case)
 FLAGS_3D = ("--angle-deg", "--spin-rad-s", "--spin-x-rad-s", "--spin-z-rad-s", "--vtk", "--animate", "--divisions", "--pole-grading", "--contact-elements",
-            "--full-model", "--stick-scale", "--slab-depth-growth")
+            "--full-model", "--stick-scale", "--slab-depth-growth", "--slab-depth-cell-m")
 FLAGS_AXISYMMETRIC = ("--element-size-m", "--pole-element-size-m")
 
 
@@ -102,8 +102,9 @@ def inputs_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
                                 spin_x_rad_s=args.spin_x_rad_s, spin_z_rad_s=args.spin_z_rad_s)
     ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
     target = load_checked_target(args, ball)
-    if args.slab_depth_growth is not None and args.target is None:
-        raise InputError("--slab-depth-growth: grades a target slab's cells; give --target FILE")
+    for flag in ("--slab-depth-growth", "--slab-depth-cell-m"):
+        if getattr(args, flag[2:].replace("-", "_")) is not None and args.target is None:
+            raise InputError(f"{flag}: sets a target slab's cells; give --target FILE")
     frames = args.vtk is not None or args.animate is not None
     given = {"divisions": args.divisions, "pole_grading": args.pole_grading,
              "stick_scale": args.stick_scale}  # None: Options3D's default
@@ -111,7 +112,8 @@ def inputs_3d(args: argparse.Namespace, allow: frozenset[str]) -> tuple:
                         contact_elements=args.contact_elements,
                         half=False if args.full_model else None, integration=args.integration,
                         penalty_scale=args.penalty_scale,
-                        slab_depth_growth=args.slab_depth_growth, precision=args.precision,
+                        slab_depth_growth=args.slab_depth_growth,
+                        slab_depth_cell_m=args.slab_depth_cell_m, precision=args.precision,
                         chunk_steps=50 if frames else 200, frames=1 if frames else 0)
     return ball, condition, target, options
 

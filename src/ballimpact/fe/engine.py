@@ -195,10 +195,21 @@ def _warn_unresolved_contact(geometry: Geometry, balls: list, conditions: list) 
         warnings.warn(note, InputWarning, stacklevel=4)
 
 
+def _targets(target, runs: int) -> list:
+    """One target per run: `target` (None, one target, or a list or tuple of one per run)."""
+    if not isinstance(target, (list, tuple)):
+        return [target] * runs
+    if len(target) != runs:
+        raise InputError(f"target: expected one target or {runs} (one per run), got "
+                         f"{len(target)}")
+    return list(target)
+
+
 def _prepared(balls, conditions, geometry, target, allow, group_size=None, speeds=True):
-    """The runs as (balls, conditions, geometry, group size), checked once: conditions, speeds
-    (unless not `speeds`), structure, the target's width, and the memory of a group before
-    anything is meshed."""
+    """The runs as (balls, conditions, geometry, group size, targets), checked once:
+    conditions, speeds (unless not `speeds`), structure, each run's target (one compiled
+    program for all: the same kernel key), the target's width, and the memory of a group
+    before anything is meshed."""
     geometry = Axisymmetric() if geometry is None else geometry
     if not isinstance(geometry, (Axisymmetric, Hexahedral)):
         raise InputError(f"geometry = {shown(geometry)}: expected fe.Axisymmetric(...) or "
@@ -210,6 +221,8 @@ def _prepared(balls, conditions, geometry, target, allow, group_size=None, speed
     if speeds:  # before the conditions are built: a speed outside is named as such
         check_speeds(conditions, geometry, allow)
     conditions = impact_conditions(conditions)
+    if isinstance(target, (list, tuple)) and len(conditions) == 1 and len(balls) == 1:
+        conditions = conditions * max(len(target), 1)  # one ball, one speed, several targets
     if single_ball:
         balls = balls * len(conditions)
     elif len(conditions) == 1:
@@ -217,12 +230,19 @@ def _prepared(balls, conditions, geometry, target, allow, group_size=None, speed
     if len(conditions) != len(balls):
         raise InputError(f"impact_speeds_m_s: expected one speed or {len(balls)} (one per "
                          f"ball), got {len(conditions)}")
-    geometry = geometry.checked(balls[0], conditions, target)
+    targets = _targets(target, len(balls))
+    for t in {id(t): t for t in targets}.values():  # each distinct target once
+        geometry = geometry.checked(balls[0], conditions, t)
+    target = targets[0]
     if any(geometry.structure(b, target) != geometry.structure(balls[0], target) for b in balls):
         raise InputError("balls: a batch must share layer radii, material models and Prony terms")
+    if any(geometry.kernel_key(balls[0], t) != geometry.kernel_key(balls[0], target)
+           for t in targets):
+        raise InputError("target: a batch's targets must share one structure (a backing's "
+                         "number of modes; a target's layers, materials, width and backing)")
     group_size = group_size or default_group_size(len(balls), geometry)
     check_memory(geometry, balls, conditions, target, allow, group_size)
-    return balls, conditions, geometry, group_size
+    return balls, conditions, geometry, group_size, targets
 
 
 def estimate(ball, conditions, options=None, *, geometry: Geometry | None = None, target=None,
@@ -238,10 +258,10 @@ def estimate(ball, conditions, options=None, *, geometry: Geometry | None = None
     The mesh is built only after the same estimate made from the mesh's counting rules fits in
     the available memory: else the `large-run` check fails (`InputError`, or with "large-run"
     in `allow` an `InputWarning` and the mesh is built). Speeds are not range-checked here."""
-    balls, conditions, geometry, _ = _prepared(ball, conditions, _geometry(geometry, options),
-                                               target, allow, speeds=False)
-    kernel, _ = kernel_for(balls[0], geometry, target)
-    return _kernel_estimate(geometry, kernel, balls, conditions, target)
+    balls, conditions, geometry, _, targets = _prepared(
+        ball, conditions, _geometry(geometry, options), target, allow, speeds=False)
+    kernel, _ = kernel_for(balls[0], geometry, targets[0])
+    return _kernel_estimate(geometry, kernel, balls, conditions, targets[0])
 
 
 def _geometry(geometry, options):
@@ -298,20 +318,22 @@ def simulate_batch(balls, conditions, options=None, progress=None, group_size: i
     `on_failure`: "raise" (a `SimulationError` for the first failed run) or "return" (a failed
     run gets a `FailedRun` with the reason in its place, and the others run on: a design of
     experiments keeps the runs that did not fail and records the reason of those that did).
-    Checks, warnings and `options` as `simulate`'s."""
+    `target`: one for every run, or a list of one per run that share one compiled program
+    (e.g. `PlaneBacking`s of as many modes: a bat at several impact points). Checks, warnings
+    and `options` as `simulate`'s."""
     if on_failure not in ("raise", "return"):
         raise InputError(f"on_failure = {on_failure!r}: allowed 'raise' or 'return'")
     if group_size is not None and not (isinstance(group_size, int) and group_size >= 1):
         raise InputError(f"group_size = {group_size!r}: must be an integer >= 1")
-    balls, conditions, geometry, group_size = _prepared(
+    balls, conditions, geometry, group_size, targets = _prepared(
         balls, conditions, _geometry(geometry, options), target, allow, group_size)
     _warn_unresolved_contact(geometry, balls, conditions)
-    kernel, mesh = kernel_for(balls[0], geometry, target)
-    message = _kernel_estimate(geometry, kernel, balls, conditions, target).warning()
+    kernel, mesh = kernel_for(balls[0], geometry, targets[0])
+    message = _kernel_estimate(geometry, kernel, balls, conditions, targets[0]).warning()
     if message is not None:
         warnings.warn(message, InputWarning, stacklevel=3)
     if len(balls) <= group_size:
-        return _run_group(geometry, balls, conditions, target, kernel, mesh, progress,
+        return _run_group(geometry, balls, conditions, targets, kernel, mesh, progress,
                           on_failure)
     smallest = float(np.min(np.asarray(kernel.geom.characteristic_length_m)))
     order = np.argsort([_expected_steps(b, c, smallest) for b, c in zip(balls, conditions)],
@@ -321,7 +343,7 @@ def simulate_batch(balls, conditions, options=None, progress=None, group_size: i
         members = list(order[start:start + group_size])
         padded = members + [members[-1]] * (group_size - len(members))
         runs = _run_group(geometry, [balls[i] for i in padded], [conditions[i] for i in padded],
-                          target, kernel, mesh, progress, on_failure)
+                          [targets[i] for i in padded], kernel, mesh, progress, on_failure)
         for i, result in zip(members, runs):
             results[i] = result
     return results
@@ -339,17 +361,18 @@ def _stack(trees: list) -> Any:
     return jax.tree_util.tree_map(lambda *xs: np.stack(xs), *trees)
 
 
-def _run_group(geometry: Geometry, balls: list, conditions: list, target, kernel, mesh,
+def _run_group(geometry: Geometry, balls: list, conditions: list, targets: list, kernel, mesh,
                progress, on_failure: str = "raise") -> list:
-    """One vmapped run of balls of one structure (checked by the caller)."""
+    """One vmapped run of balls of one structure, each on its target (checked by the
+    caller)."""
     start = time.perf_counter()
-    per_run = [geometry.params(b, target, kernel, c) for b, c in zip(balls, conditions)]
+    per_run = [geometry.params(b, t, kernel, c) for b, c, t in zip(balls, conditions, targets)]
     batched = len(balls) > 1
     params = _stack(per_run) if batched else per_run[0]
     options = geometry.options
     limits = np.array([options.time_limit_s
-                       or geometry.slack(target) * time_limit_default(b, _normal_speed(c))
-                       for b, c in zip(balls, conditions)])
+                       or geometry.slack(t) * time_limit_default(b, _normal_speed(c))
+                       for b, c, t in zip(balls, conditions, targets)])
     frames: list = []
 
     def keep_frame(chunk: int, params, state) -> None:
@@ -365,7 +388,7 @@ def _run_group(geometry: Geometry, balls: list, conditions: list, target, kernel
     wall = time.perf_counter() - start
     failed = run.failed
     return [FailedRun(ball.name, c.speed_m_s, failed[i]) if i in failed else
-            geometry.result(ball, target, c, run.history[i],
+            geometry.result(ball, t, c, run.history[i],
                             {k: v[i] for k, v in run.final.items()}, per_run[i], run.t_end_s[i],
                             kernel, mesh, wall / len(balls), frames if not batched else [])
-            for i, (ball, c) in enumerate(zip(balls, conditions))]
+            for i, (ball, c, t) in enumerate(zip(balls, conditions, targets))]

@@ -167,6 +167,9 @@ class Options3D(ExplicitOptions):
       centre of its surface, growing in plane as the ball's cells grow from its pole (at least
       1.15 a cell) and by this factor a cell down to at most 4 pole spacings; it resolves a small contact's stresses in the slab (a light
       foam's finer surface cells may chatter against the ball).
+    - `slab_depth_cell_m`: with the default slab layout, its cells' size through the depth (m;
+      None: about 4 pole spacings, at least 2 cells a layer). Finer cells resolve a thick
+      liner's compression under a stiff shell (docs/equipment.md, "Protective equipment").
     - `frames`: keep the displacements every this many chunks for VTK output and animation
       (0: none).
     """
@@ -177,6 +180,7 @@ class Options3D(ExplicitOptions):
     half: bool | None = None
     stick_scale: float = 8.0
     slab_depth_growth: float | None = None
+    slab_depth_cell_m: float | None = None
     frames: int = 0
 
     def __post_init__(self) -> None:
@@ -189,5 +193,10 @@ class Options3D(ExplicitOptions):
         check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)
         if self.slab_depth_growth is not None:
             check_range("slab_depth_growth", self.slab_depth_growth, 1.0, 2.0, low_open=True)
+        if self.slab_depth_cell_m is not None:
+            check_range("slab_depth_cell_m", self.slab_depth_cell_m, 1e-4, 0.1)
+            if self.slab_depth_growth is not None:
+                raise InputError("slab_depth_cell_m: applies to the default slab layout; give "
+                                 "it or slab_depth_growth, not both")
         check_count("frames", self.frames, 0)
         super().__post_init__()

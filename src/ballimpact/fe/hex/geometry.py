@@ -80,8 +80,8 @@ def slab_layout(ball, target, options: Options3D) -> tuple[int, float, np.ndarra
 
     Default: in plane about `slab_cell_m` near the centre (the count is the one the slab's
     documented figures rest on; with its grading capped at 20 the centre cells come out finer
-    than the ball's pole spacing), through the depth uniform cells of about 4 pole spacings (at
-    least 2 a layer). With `slab_depth_growth` the slab is matched to the ball's contact: in
+    than the ball's pole spacing), through the depth uniform cells of about 4 pole spacings or
+    `slab_depth_cell_m` (at least 2 a layer). With `slab_depth_growth` the slab is matched to the ball's contact: in
     plane cells of the pole spacing (`mesh.pole_spacing_m`) at the centre growing outward as
     the ball's cells do from its pole (at least by 1.15 a cell: the ball's nodes then press on
     target nodes of about their own mass, see `_contact_spring_factors`), through the depth
@@ -91,8 +91,13 @@ def slab_layout(ball, target, options: Options3D) -> tuple[int, float, np.ndarra
         pole = slab_cell_m(ball, options)
         cells = max(4, int(math.ceil(math.log(1 + target.half_width_m / pole)
                                      / math.log(SLAB_GROWTH))))
-        return cells, min(20.0, SLAB_GROWTH ** (cells - 1)), uniform_depths_m(
-            thicknesses, [max(2, int(math.ceil(t / (4 * pole)))) for t in thicknesses])
+        if options.slab_depth_cell_m is None:
+            through = [max(2, int(math.ceil(t / (4 * pole)))) for t in thicknesses]
+        else:  # a layer of a whole number of the cells given gets that number
+            through = [max(2, int(math.ceil(t / options.slab_depth_cell_m - 1e-9)))
+                       for t in thicknesses]
+        return cells, min(20.0, SLAB_GROWTH ** (cells - 1)), uniform_depths_m(thicknesses,
+                                                                              through)
     pole = pole_spacing_m(ball.outer_radius_m, options.divisions, options.pole_grading)
     growth = max(SLAB_GROWTH, pole_cell_growth(options.divisions, options.pole_grading))
     # rounded down: the centre cells at least the pole spacing, so never lighter than the ball's
@@ -387,7 +392,8 @@ class Hexahedral:
     def kernel_key(self, ball, target=None) -> tuple:
         o = self.options
         return ("3d", structure(ball, target), o.divisions, o.pole_grading, self.half,
-                o.integration, o.precision, None if target is None else o.slab_depth_growth)
+                o.integration, o.precision,
+                None if target is None else (o.slab_depth_growth, o.slab_depth_cell_m))
 
     def build(self, ball, target=None) -> tuple[Kernel, HexMesh]:
         return build_kernel(ball, target, self.options, self.half)
