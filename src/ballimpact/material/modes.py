@@ -173,8 +173,25 @@ def material_stress(material: Material, deformation: str, x1, x2=None, *,
         * (1.0 - material.sum_g)
 
 
+def confined_stress(material: Material, stretch) -> np.ndarray:
+    """Nominal stress (Pa, along the stretch) of confined compression (uniaxial strain: the
+    lateral stretches held at 1, as in a thin bonded layer), from the instantaneous energy of a
+    compressible material (`COMPRESSIBLE`). For a hyperfoam whose terms all have nu = 0 it is
+    the uniaxial stress as well (no lateral stress arises)."""
+    if material.model not in COMPRESSIBLE:
+        raise InputError(f"model = {material.model!r}: confined compression is computed for "
+                         f"{', '.join(COMPRESSIBLE)}")
+    with jax.enable_x64(True):
+        x = jnp.asarray(stretch, dtype=jnp.float64)
+        constants = material.hyperelastic_constants()
+        one = jnp.ones_like(x)
+        return np.asarray(_sum_grad(lambda l: _point_energy(material.model, constants, one, one,
+                                                            l, True), 0)(x))
+
+
 __all__ = ["COMPRESSIBLE", "DEFORMATIONS", "INCOMPRESSIBLE", "compressible_stress",
-           "deformation_stress", "free_stretch", "incompressible_stress", "material_stress"]
+           "confined_stress", "deformation_stress", "free_stretch", "incompressible_stress",
+           "material_stress"]
 
 
 @partial(jax.jit, static_argnames=("model", "deformation"))
