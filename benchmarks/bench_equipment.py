@@ -5,7 +5,8 @@ measured in the same run:
 - the FE `baseball` at 61 m/s: alone on the rigid plane (the reference), on the free
   `baseball-wood-34in` bat at 0.70 m (12 modes coupled in the kernel), a sweep of 9 impact
   points along the bat as one batched run (`bats.impact_sweep`) against a loop of single runs
-  of the same points, and the ball's contact law on the same bat (`bats.bat_impact`);
+  of the same points, and the ball's contact law on the same bat (`bats.bat_impact`); the
+  barrel's curvature run as a convex cap of the same Hertz equivalent radius (`barrel_figures`);
 - the FE `cricket-men` ball at 19 and 45 m/s: alone on the rigid plane (the reference), on the
   `cricket-helmet` preset (a shell and liner on a spherical cap, backed by a 5 kg headform;
   the axisymmetric geometry), with its headform figures.
@@ -81,9 +82,41 @@ def bat_figures(points: int = 9) -> dict:
                          wood.bat.length_m - sweep.least_vibration_m,
                      "max_efficiency_from_barrel_end_m":
                          wood.bat.length_m - sweep.max_efficiency_m,
-                     "max_collision_efficiency": float(sweep.collision_efficiency.max())},
+                     "max_collision_efficiency": float(sweep.collision_efficiency.max()),
+                     "max_contact_rotation_rad": [r.max_contact_rotation_rad
+                                                  for r in sweep.results]},
         "law_on_bat": {"first_s": law_first, "warm_s": law_warm,
                        "collision_efficiency": by_law.collision_efficiency}}
+
+
+def barrel_figures(speed: float = 61.0, barrel_radius_m: float = 0.033) -> dict:
+    """The barrel's curvature, run: the FE `baseball` on a stiff steel plate, flat and as a
+    convex spherical cap of the same Hertz equivalent radius sqrt(R_x R_y) as the ball on the
+    barrel (R_x = R along the bat, 1/R_y = 1/R + 1/R_b across it), fixed base."""
+    from ballimpact import fe
+    from ballimpact.fe.hex.target import Target
+
+    ball = fe.load_ball("baseball", impact_speed_m_s=speed)
+    r = ball.outer_radius_m
+    equivalent = (r / (1.0 + r / barrel_radius_m)) ** 0.5 * r ** 0.5
+    cap_radius = 1.0 / (1.0 / equivalent - 1.0 / r)
+    steel = {"model": "linear_elastic", "youngs_modulus_pa": 200e9, "poissons_ratio": 0.3}
+
+    def plate(**extra):
+        return Target.from_dict({"name": "plate", "half_width_m": 0.05, **extra, "layers": [
+            {"name": "steel", "thickness_m": 0.01, "density_kg_m3": 7800.0, "material": steel}]})
+
+    flat = fe.simulate(ball, speed, target=plate())
+    cap = fe.simulate(ball, speed, target=plate(sphere_radius_m=cap_radius))
+    return {"speed_m_s": speed, "barrel_radius_m": barrel_radius_m,
+            "equivalent_radius_m": equivalent, "cap_radius_m": cap_radius,
+            "flat": {"peak_force_n": flat.peak_force_n, "contact_time_s": flat.contact_time_s,
+                     "cor": flat.cor},
+            "cap": {"peak_force_n": cap.peak_force_n, "contact_time_s": cap.contact_time_s,
+                    "cor": cap.cor},
+            "peak_force_change": cap.peak_force_n / flat.peak_force_n - 1.0,
+            "contact_time_change": cap.contact_time_s / flat.contact_time_s - 1.0,
+            "cor_change": cap.cor / flat.cor - 1.0}
 
 
 def helmet_figures() -> dict:
@@ -119,7 +152,7 @@ def main() -> None:
     out = {"machine": {"platform": platform.platform(), "processor": platform.processor(),
                        "cpus": os.cpu_count(), "jax_backend": jax.default_backend(),
                        "devices": [str(d) for d in jax.devices()]},
-           "bat": bat_figures(args.points)}
+           "bat": bat_figures(args.points), "barrel_curvature": barrel_figures()}
     if not args.bat_only:
         out["helmet"] = helmet_figures()
     print(json.dumps(out, indent=1))

@@ -27,7 +27,8 @@ from scipy.linalg import expm
 from ..fe.backing import MAX_FREQUENCY_HZ, PlaneBacking
 from .beam import DEFAULT_ELEMENTS
 from .impact import (DEFAULT_MODES, BatImpactResult, _swing, bat_model, checked_collision,
-                     hands_history, largest_bending_stress, modal_momentum, rigid_efficiency)
+                     contact_rotation, hands_history, largest_bending_stress, modal_momentum,
+                     rigid_efficiency)
 from .modes import BatModes
 from .properties import bat_properties
 
@@ -200,4 +201,5 @@ def _collision_result(bm: BatModes, run, rigid, v: float, V: float, x_i: float,
         float(modal_energy[:bm.rigid_count].sum()), float(en["backing_damping_j"]), e0,
         float(balance), momentum, *stress,
         float(run.contact_time_s), float(run.peak_force_n), 1, spec.length_m,
-        t[window], h["contact_force_n"][window], times, hands, hands_v, rigid)
+        t[window], h["contact_force_n"][window], times, hands, hands_v, rigid,
+        contact_rotation(bm, x_i, q, contact))

@@ -90,6 +90,9 @@ class BatImpactResult:
     hands_velocity_m_s: np.ndarray | None = field(default=None, repr=False)
     #: the FE ball's run on the rigid plane at the relative speed (`fe_impact`; None: the law)
     fe_reference: Any = field(default=None, repr=False)
+    #: the largest tilt of the bat's surface at x_i while in contact (rad, |dw/dx|): what the
+    #: contact plane, kept normal to the ball's path, leaves out (`contact_rotation`)
+    max_contact_rotation_rad: float = float("nan")
 
     @property
     def from_barrel_end_m(self) -> float:
@@ -171,6 +174,15 @@ def largest_bending_stress(bm: BatModes, q: np.ndarray, times_s: np.ndarray
     sigma = bm.bat.material.youngs_modulus_pa * c[:, None] * (kappa.T @ q)
     j, i = np.unravel_index(np.argmax(np.abs(sigma)), sigma.shape)
     return float(abs(sigma[j, i])), float(xs[j]), float(times_s[i])
+
+
+def contact_rotation(bm: BatModes, x_i: float, q: np.ndarray, in_contact: np.ndarray) -> float:
+    """The largest |dw/dx| (rad) of the bat at x_i over the samples `in_contact` (a mask) of the
+    modal coordinates q (count, times): the tilt of its surface under the ball, rigid rotation
+    and bending together."""
+    if not np.any(in_contact):
+        return 0.0
+    return float(np.max(np.abs(bm.slope(x_i)[:, 0] @ q[:, in_contact])))
 
 
 def hands_history(bm: BatModes, q: np.ndarray, qd: np.ndarray):
@@ -353,4 +365,5 @@ def bat_impact(bat, law: HuntCrossleyBall, speed_m_s: float, impact_m: float, *,
         float(np.max(np.abs(e_hist - e0)) / e0), momentum, *stress,
         float(sum(b_ - a for a, b_ in contacts)),
         float(fc.max()), len(contacts), spec.length_m, tc, fc, th, hands,
-        hands_velocity_m_s=hands_v)
+        hands_velocity_m_s=hands_v, max_contact_rotation_rad=contact_rotation(
+            bm, x_i, sh[2:2 + n], np.any([(th >= a) & (th <= b_) for a, b_ in contacts], axis=0)))
