@@ -28,6 +28,7 @@ def test_one_point_json(capsys):
     assert set(out["hands_force"]) == {"time_s", "force_n", "velocity_m_s"}
     assert len(out["mode_frequencies_hz"]) == 8
     assert 0.1 < out["collision_efficiency"] < 0.3
+    assert 0.0 < out["max_contact_rotation_rad"] < 0.1
 
 
 def test_sweep_json_plot_and_printed_lines(capsys, tmp_path):

@@ -64,6 +64,14 @@ def test_a_very_stiff_bat_gives_the_rigid_body_collision_efficiency(law, support
     expected = (e - ratio) / (1.0 + ratio)
     assert r.collision_efficiency == pytest.approx(expected, rel=0.01)  # measured ~1e-5
     assert r.rigid_collision_efficiency == pytest.approx(expected, rel=1e-9)
+    # the surface's largest tilt in contact: the rigid rotation at the separation,
+    # (b / I) times the double integral of the force (I about the centre of mass or the pivot)
+    b, moi = ((x - p.centre_of_mass_m, p.moi_cm_kg_m2) if support == "free"
+              else (x - pivot, p.moi_about_kg_m2(pivot)))
+    t, f = r.contact_time_s, r.contact_force_n
+    momentum = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
+    angle = b / moi * np.sum(0.5 * (momentum[1:] + momentum[:-1]) * np.diff(t))
+    assert r.max_contact_rotation_rad == pytest.approx(angle, rel=0.01)  # measured 6e-5, 1e-5
 
 
 def test_energy_and_momentum_balance_of_a_free_bat(law, wood):

@@ -78,7 +78,8 @@ class ImpactSweep:
         keys = ("impact_m", "from_barrel_end_m", "collision_efficiency",
                 "batted_ball_speed_m_s", "rigid_collision_efficiency",
                 "bat_vibration_energy_total_j", "ball_energy_lost_j", "max_bending_stress_pa",
-                "max_bending_stress_x_m", "peak_force_n", "contact_duration_s", "contacts",
+                "max_bending_stress_x_m", "max_contact_rotation_rad", "peak_force_n",
+                "contact_duration_s", "contacts",
                 "energy_balance_error")
         points = [{k: r.summary(histories=False)[k] for k in keys} for r in self.results]
         length = self.bat_length_m

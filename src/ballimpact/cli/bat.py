@@ -213,7 +213,8 @@ def _print(out: dict, single: bool) -> None:
               f"{out['bat_rigid_energy_j']:.4g} J (energy balance error "
               f"{out['energy_balance_error']:.1e})")
         print(f"  largest bending stress {out['max_bending_stress_pa'] / 1e6:.4g} MPa at "
-              f"{out['max_bending_stress_x_m']:.3f} m from the knob"
+              f"{out['max_bending_stress_x_m']:.3f} m from the knob; the surface under the "
+              f"ball tilts up to {out['max_contact_rotation_rad']:.3g} rad in contact"
               + (f"; largest force on the hands {max(map(abs, out['hands_force']['force_n'])):.4g}"
                  f" N, speed {max(map(abs, out['hands_force']['velocity_m_s'])):.3g} m/s"
                  if "hands_force" in out else ""))
