@@ -123,3 +123,15 @@ def test_a_batch_of_backings_is_the_runs_one_by_one(ball):
         fe.simulate_batch(ball, SPEED, target=[backings[0], two_modes])
     with pytest.raises(InputError, match="one target or 2"):
         fe.simulate_batch(ball, [SPEED, 20.0], target=backings)
+
+
+def test_the_estimate_counts_the_backings_history(ball):
+    """`fe.estimate`'s history memory counts a backing's columns (`Kernel.history_names`)."""
+    from ballimpact.fe.axi.kernel import BACKING_HISTORY, HISTORY
+
+    plain = fe.estimate(ball, SPEED)
+    backed = fe.estimate(ball, SPEED, target=PlaneBacking.free_mass(5.0))
+    columns = len(HISTORY) + len(BACKING_HISTORY) + 2  # and the one mode's q and q'
+    per_column = plain.memory_bytes / len(HISTORY)
+    assert backed.memory_bytes / backed.steps == pytest.approx(
+        per_column / plain.steps * columns, rel=1e-12)

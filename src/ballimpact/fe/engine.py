@@ -112,12 +112,14 @@ def _normal_speed(condition: ImpactCondition) -> float:
 
 
 def run_estimate(geometry: Geometry, balls: list, conditions: list, target, elements: int,
-                 smallest_m: float, held: int, nodes: int | None = None) -> RunEstimate:
+                 smallest_m: float, held: int, nodes: int | None = None,
+                 columns: int | None = None) -> RunEstimate:
     """The cost of runs of `balls` under `conditions` on a mesh of `elements` (and `nodes`,
     default about as many) whose smallest element is `smallest_m` long, `held` runs in memory
     at once: steps to a Hertz contact time at the normal speed (the ball's softest long-term
     modulus; a slab's geometry slack on it) plus the end margin, at an increment from the
-    smallest element and the fastest wave."""
+    smallest element and the fastest wave. `columns`: the history's (default the geometry's
+    plain `HISTORY`; a built kernel's `history_names` count a target's and a backing's)."""
     options = geometry.options
     layers = list(getattr(target, "layers", ()))  # a slab's layers; a backing has none
     steps, end = 0, 0.0
@@ -132,7 +134,7 @@ def run_estimate(geometry: Geometry, balls: list, conditions: list, target, elem
               * smallest_m / c_d)
         steps, end = max(steps, math.ceil(end_s / dt)), max(end, end_s)
     runs = len(balls)
-    memory = (8.0 * steps * len(geometry.HISTORY) * runs
+    memory = (8.0 * steps * (columns or len(geometry.HISTORY)) * runs
               + geometry.frames_bytes(steps, elements, elements if nodes is None else nodes, runs))
     per_element = geometry.MEMORY_PER_ELEMENT_BYTES * (2.0 if options.integration == "full"
                                                        else 1.0)
@@ -163,7 +165,7 @@ def _kernel_estimate(geometry: Geometry, kernel, balls: list, conditions: list,
     geom = kernel.geom
     return run_estimate(geometry, balls, conditions, target, int(geom.n_elements),
                         float(np.min(np.asarray(geom.characteristic_length_m))), len(balls),
-                        len(geom.nodes_m))
+                        len(geom.nodes_m), len(kernel.history_names))
 
 
 def contact_resolution_note(ball, speed_m_s: float, pole_element_m: float,
