@@ -20,6 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import cumulative_trapezoid
 
 from ..checks import check_positive
 from ..closedform import hertz_impact, hertz_stiffness
@@ -66,8 +67,8 @@ def liner_impact(ball_radius_m: float, ball_mass_kg: float, ball_modulus_pa: flo
     strain = np.concatenate([[0.0], np.geomspace(1e-9, MAX_COMPRESSION, POINTS)])
     stress = -confined_stress(layer.material, 1.0 - strain)  # compression positive
     d = strain * h
-    force = 2.0 * math.pi * radius * _cumulative(stress, d)
-    work = _cumulative(force, d)
+    force = 2.0 * math.pi * radius * cumulative_trapezoid(stress, d, initial=0.0)
+    work = cumulative_trapezoid(force, d, initial=0.0)
     stiffness = float(hertz_stiffness(ball_modulus_pa, 0.0, radius))
     ball_work = 0.4 * force * (force / stiffness) ** (2.0 / 3.0)
     total = work + ball_work
@@ -81,7 +82,3 @@ def liner_impact(ball_radius_m: float, ball_mass_kg: float, ball_modulus_pa: flo
             hertz_impact(ball_modulus_pa, 0.0, radius, mu, speed_m_s)[1])
     return LinerImpact(peak, bare, peak / bare, peak_d / h, math.sqrt(2.0 * radius * peak_d))
 
-
-def _cumulative(y: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """The trapezoid rule's running integral of y over x, from 0."""
-    return np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
