@@ -81,4 +81,3 @@ def liner_impact(ball_radius_m: float, ball_mass_kg: float, ball_modulus_pa: flo
     bare = (math.inf if math.isinf(ball_modulus_pa) else
             hertz_impact(ball_modulus_pa, 0.0, radius, mu, speed_m_s)[1])
     return LinerImpact(peak, bare, peak / bare, peak_d / h, math.sqrt(2.0 * radius * peak_d))
-
