@@ -174,6 +174,8 @@ THREE_D = ["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed
     (["--slab-depth-cell-m", "0.003"], ("--slab-depth-cell-m", "--target")),
     (["--slab-depth-cell-m", "3", "--target", "{repo}/examples/targets/stiff-slab.json"],
      ("slab_depth_cell_m = 3", "0.1")),
+    (["--slab-depth-cell-m", "2.75", "--target", "{repo}/examples/targets/stiff-slab.json"],
+     ("slab_depth_cell_m = 2.75", "looks like millimetres", "use 0.00275")),
     (["--slab-depth-cell-m", "0.003", "--slab-depth-growth", "1.2", "--target",
       "{repo}/examples/targets/stiff-slab.json"], ("slab_depth_cell_m", "not both")),
     (["--spin-rad-s", "1e6"], ("spin_rad_s = 1e+06",)),

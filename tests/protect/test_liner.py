@@ -114,3 +114,18 @@ def test_the_fe_liner_lowers_the_acceleration_by_the_factor_its_stiffness_implie
     assert lined.energies_j["target_liner_max_compression"] == pytest.approx(
         est.max_compression, rel=0.03)
     assert abs(lined.energy_balance_error) < 1e-4
+
+
+@pytest.mark.parametrize("args, fragments", [
+    ((36.0, M_BALL, E_STAR, BACKING, 1.0), ("2 x ball_radius_m = 72", "millimetres")),
+    ((R, 160.0, E_STAR, BACKING, 1.0), ("ball_mass_kg = 160.0", "grams")),
+    ((R, M_BALL, 2000.0, BACKING, 1.0), ("ball_modulus_pa = 2000.0", "MPa")),
+    ((R, M_BALL, E_STAR, 5000.0, 1.0), ("backing_mass_kg = 5000", "grams")),
+    ((R, M_BALL, E_STAR, BACKING, -1.0), ("speed_m_s = -1",)),
+])
+def test_unit_slips_are_named(args, fragments):
+    radius, mass, modulus, backing, speed = args
+    with pytest.raises(InputError) as err:
+        liner_impact(radius, mass, modulus, _liner(*FOAM).layers[0], backing, speed)
+    message = str(err.value)
+    assert "\n" not in message and all(f in message for f in fragments), message

@@ -6,7 +6,7 @@ import math
 import warnings
 from dataclasses import dataclass
 
-from ..checks import check_range, shown
+from ..checks import check_metres, check_range, shown
 from ..errors import InputError, InputWarning
 from .hex.mesh import GRADING_RANGE
 
@@ -194,7 +194,7 @@ class Options3D(ExplicitOptions):
         if self.slab_depth_growth is not None:
             check_range("slab_depth_growth", self.slab_depth_growth, 1.0, 2.0, low_open=True)
         if self.slab_depth_cell_m is not None:
-            check_range("slab_depth_cell_m", self.slab_depth_cell_m, 1e-4, 0.1)
+            check_metres("slab_depth_cell_m", self.slab_depth_cell_m, 0.1, low=1e-4)
             if self.slab_depth_growth is not None:
                 raise InputError("slab_depth_cell_m: applies to the default slab layout; give "
                                  "it or slab_depth_growth, not both")

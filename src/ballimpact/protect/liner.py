@@ -22,9 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 
-from ..checks import check_positive
+from ..checks import check_positive, check_range
 from ..closedform import hertz_impact, hertz_stiffness
 from ..errors import InputError
+from ..fe.hex.target import MAX_BACKING_KG
 
 #: the deepest compression (of the thickness) the columns are followed to
 MAX_COMPRESSION = 0.98
@@ -55,11 +56,17 @@ def liner_impact(ball_radius_m: float, ball_mass_kg: float, ball_modulus_pa: flo
     bottoms out (the energy is not taken within `MAX_COMPRESSION` of its thickness)."""
     from ..material.modes import confined_stress
 
-    for name, value in (("ball_radius_m", ball_radius_m), ("ball_mass_kg", ball_mass_kg),
-                        ("backing_mass_kg", backing_mass_kg), ("speed_m_s", speed_m_s)):
-        check_positive(name, value)
-    if not ball_modulus_pa > 0:  # math.inf: a rigid ball
-        raise InputError(f"ball_modulus_pa = {ball_modulus_pa!r}: must be > 0 Pa (inf: rigid)")
+    from ..balls.checks import check_ball_diameter, check_ball_mass
+
+    # unit slips named: a radius in mm, masses in g, a modulus in MPa
+    check_ball_diameter(2.0 * ball_radius_m, "2 x ball_radius_m")
+    check_ball_mass(ball_mass_kg, "ball_mass_kg")
+    check_range("backing_mass_kg", backing_mass_kg, 0.0, MAX_BACKING_KG, low_open=True,
+                unit="kg", note=f"above {MAX_BACKING_KG:g} it looks like grams")
+    check_positive("speed_m_s", speed_m_s)
+    if not ball_modulus_pa >= 1e4:  # math.inf: a rigid ball
+        raise InputError(f"ball_modulus_pa = {ball_modulus_pa!r}: must be >= 1e4 Pa (inf: "
+                         "rigid); below it looks like MPa given as Pa")
     h, radius = float(layer.thickness_m), float(ball_radius_m)
     mu = ball_mass_kg * backing_mass_kg / (ball_mass_kg + backing_mass_kg)
     energy = 0.5 * mu * speed_m_s ** 2
