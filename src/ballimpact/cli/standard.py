@@ -1,7 +1,8 @@
 """`ballimpact standard METHOD`: a published ball test method (ASTM F1887 COR, F2845 dynamic
 stiffness, F1888 compression) on a lab's records (per ball mean, SD, count; over the balls) or on
 a ball model (`--ball`: the quantities and the model's cost). docs/standards.md. `standard bbcor
---bat BAT --ball BALL`, a bat's certification, is `standard_bbcor`'s (docs/equipment.md)."""
+--bat BAT --ball BALL`, a bat's certification, is `standard_bbcor`'s (docs/equipment.md); `standard
+ball`, a ball file calibrated to a specification's COR and compression, `standard_ball`'s."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from ..checks import check_allow
 from ..standards import (METHODS, describe_methods, from_records, get_method, on_model,
                          stats_text, write_result_table)
 from .common import add_json, add_filtering, check_output_folder, use_compilation_cache
+from . import standard_ball
 from .simulate import SolverDefaults
 
 
@@ -30,10 +32,13 @@ def add_parser(verbs) -> None:
                     "the last '_' or '-' (ballA_01.csv -> ballA) unless --ball-id-pattern says "
                     "otherwise (docs/standards.md). 'standard bbcor --bat BAT --ball BALL': the "
                     "BBCOR certification of a baseball bat (ASTM F2219 / NCAA BBCOR) on the "
-                    "bat's model (docs/equipment.md, 'BBCOR').")
+                    "bat's model (docs/equipment.md, 'BBCOR'). 'standard ball --diameter-m D "
+                    "--mass-kg M --cor E --compression-n F --out FILE': a ball file calibrated "
+                    "by FE runs to a specification's COR and compression (docs/balls.md).")
     standard.add_argument("method", nargs="?", metavar="METHOD",
                           help=f"one of {', '.join(METHODS)} (or the designation, e.g. F1887), "
-                               "or bbcor (a bat: --bat, --ball)")
+                               "or bbcor (a bat: --bat, --ball), or ball (a ball file from a "
+                               "specification)")
     standard.add_argument("paths", nargs="*", type=Path, metavar="FILES_OR_DIRS",
                           help="a lab's records: impact records (CSV/WAV with JSON side files) "
                                "or compression curves (CSV), or folders of them")
@@ -66,6 +71,7 @@ def add_parser(verbs) -> None:
                           help="write a CSV: a row per shot, per ball and over all balls")
     add_json(standard)
     add_filtering(standard)
+    standard_ball.add_arguments(standard)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
@@ -78,9 +84,17 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                 print(f"{entry['method']:<18} {entry['designation']:<11} {entry['description']}")
         return {"methods": methods}
     if args.method is None:
-        raise InputError(f"METHOD: missing; one of {', '.join(METHODS)}, bbcor (or --list)")
+        raise InputError(f"METHOD: missing; one of {', '.join(METHODS)}, bbcor, ball (or "
+                         "--list)")
     from . import standard_bbcor
 
+    if standard_ball.is_ball(args.method):
+        return standard_ball.run(args)
+    for attribute in ("diameter_m", "cor", "compression_n", "deflection_m", "tau1_s", "name",
+                      "out"):
+        if getattr(args, attribute) is not None:
+            raise InputError(f"--{attribute.replace('_', '-')}: only `standard ball` takes it, "
+                             f"not {args.method}")
     if standard_bbcor.is_bbcor(args.method):
         return standard_bbcor.run(args)
     if args.bat is not None:
@@ -88,7 +102,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     try:
         method = get_method(args.method)
     except InputError as error:
-        raise InputError(f"{error}; or bbcor (a bat's BBCOR: --bat, --ball)") from None
+        raise InputError(f"{error}; or bbcor (a bat's BBCOR: --bat, --ball), or ball (a ball "
+                         "file from a specification)") from None
     if args.paths and args.ball is not None:
         raise InputError("give either FILES_OR_DIRS (a lab's records) or --ball (a model), not "
                          "both")
