@@ -15,12 +15,14 @@ Presets (usable wherever a ball file is; `describe_presets()` lists them):
   25 m/s) interpolated linearly in impact speed. Outside 5.5-25 m/s the end row is held and an
   `InputWarning` is emitted. The thesis does not say whether its constants are long-term or
   instantaneous; `long_term` is the default here (`BallModel.with_moduli` switches).
-- Balls of other sports (`SPORTS_PRESETS`: `baseball`, `softball-12in`, `field-hockey`,
-  `lacrosse`, `cricket-men`, `cricket-women`, `cricket-junior`): ball files in
-  `data/presets/`, written once by `examples/make_sports_presets.py`. Each is a homogeneous
-  universal ball at the middle of its rule's size and mass limits (`data/sports_balls.json`),
-  its constants identified by the universal model from a stated COR and dynamic stiffness at
-  26.8 m/s (`universal.targets.constants_for`; stated values, not measured here); the file's
+- Balls of other sports (`SPORTS_PRESETS`: `baseball`, `softball-44-375`, `softball-47-375`,
+  `softball-52-300`, `field-hockey`, `lacrosse`, `cricket-men`, `cricket-women`,
+  `cricket-junior`): ball files in `data/presets/`, written once by
+  `examples/make_sports_presets.py`. Each is a homogeneous universal ball at the middle of its
+  rule's size and mass limits (`data/sports_balls.json`); its constants are calibrated by FE runs
+  to a published COR and compression (`standards.specification`: the baseball and the softball
+  classes), or identified by the universal model from a stated COR and dynamic stiffness at
+  26.8 m/s (`universal.targets.constants_for`); stated values, not measured here. The file's
   `description` and `source` say which, and what the FE check of the written ball gave.
 """
 
