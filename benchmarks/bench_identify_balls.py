@@ -53,7 +53,11 @@ def main() -> None:
            "backend": jax.default_backend(), "balls": {}}
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        names = ["cricket-reference", *sports_balls()]
+        # one ball a size: the softball classes share the 12-inch ball's
+        sizes = {}
+        for name, rule in sports_balls().items():
+            sizes.setdefault((tuple(rule["diameter_m"]), tuple(rule["mass_kg"])), name)
+        names = ["cricket-reference", *sizes.values()]
         for name in names:
             size = nominal_size(name) if name in sports_balls() else None
             radius, mass = (size.radius_m, size.mass_kg) if size else (R0, M0)

@@ -9,7 +9,9 @@
 - `RunProgress`: the `progress(t_s)` callback of an explicit FE run (simulated time reached,
   steps per second, time left; `format_progress`);
 - `CountProgress`: the `progress(done, total)` callback of a run of counted steps (compression
-  increments; `format_count`).
+  increments; `format_count`);
+- `Waiting`: a wait that reports nothing itself (a compilation): quiet for its first seconds,
+  then one line redrawn every second with the time spent and what is left of the expected wait.
 
 All times are seconds (s); `clock`s return seconds.
 """
@@ -22,8 +24,20 @@ import time
 from collections.abc import Callable
 from typing import TextIO
 
-#: whether the last `redraw_line` is unfinished (no newline yet): stderr is one terminal
-_open = {"line": False}
+#: whether the last `redraw_line` is unfinished (no newline yet): stderr is one terminal; and
+#: whether waits are announced without a progress callback (`announce_waits`)
+_open = {"line": False, "waits": False}
+
+
+def announce_waits(on: bool = True) -> None:
+    """Announce every long silent wait (`Waiting`: the compilation of a new program) on stderr,
+    not only those of runs given a progress callback: the command line's process sets it; the
+    library alone stays quiet."""
+    _open["waits"] = bool(on)
+
+
+def waits_announced() -> bool:
+    return _open["waits"]
 
 
 def line_open() -> bool:
@@ -182,3 +196,56 @@ class CountProgress:
             return
         self.lines += 1
         progress_line(format_count(done, total, now - self.start_s, self.what), self.stream)
+
+
+def format_wait(text: str, elapsed_s: float, expected_s: float | None) -> str:
+    """'{text}: 4 s, about 3 s left' (or '..., longer than the expected 6 s', or just the time
+    spent when nothing is expected)."""
+    line = f"{text}: {elapsed_s:.0f} s"
+    if expected_s is None:
+        return line
+    if elapsed_s <= expected_s:
+        return line + f", about {duration(expected_s - elapsed_s)} left"
+    return line + f", longer than the expected {duration(expected_s)}"
+
+
+class Waiting:
+    """`with Waiting(text, expected_s):` around a call that reports nothing while it runs (the
+    compilation of a new program): after `quiet_s` (s) a line `format_wait` is redrawn on stderr
+    every `interval_s` (s) by a background thread, and finished when the call returns; a call
+    that ends sooner prints nothing. `expected_s`: how long such a wait took before (s; None:
+    unknown)."""
+
+    def __init__(self, text: str, expected_s: float | None = None, *, quiet_s: float = 2.0,
+                 interval_s: float = 1.0) -> None:
+        self.text, self.expected_s = text, expected_s
+        self.quiet_s, self.interval_s = quiet_s, interval_s
+        self.lines = 0
+        self._stop = None
+        self._thread = None
+
+    def __enter__(self) -> Waiting:
+        import threading
+
+        self._stop = threading.Event()
+        started = time.perf_counter()
+
+        def tick() -> None:
+            if self._stop.wait(self.quiet_s):
+                return
+            while True:
+                self.lines += 1
+                redraw_line(format_wait(self.text, time.perf_counter() - started,
+                                        self.expected_s) + "   ")
+                if self._stop.wait(self.interval_s):
+                    return
+
+        self._thread = threading.Thread(target=tick, daemon=True)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stop.set()
+        self._thread.join()
+        if self.lines:
+            end_line()

@@ -115,7 +115,7 @@ if _is_program():  # as early as this package allows: the imports below take a w
 from .. import __version__  # noqa: E402
 from ..errors import CheckFailed, InputError, SimulationError  # noqa: E402
 from ..fileio import json_safe  # noqa: E402
-from ..progress import line_open  # noqa: E402
+from ..progress import announce_waits, line_open  # noqa: E402
 from .common import Parser  # noqa: E402
 from .simulate import SolverDefaults  # noqa: E402
 
@@ -155,6 +155,7 @@ def main(argv: list[str] | None = None) -> int:
     process is the program: Ctrl-C ends it with `os._exit(130)` (module docstring)."""
     program = argv is None
     if program:
+        announce_waits()  # a compilation's silent seconds get a line (`progress.Waiting`)
         _set_sigint(_interrupt_at_once)
         sys.unraisablehook = _unraisable(sys.unraisablehook)
     try:

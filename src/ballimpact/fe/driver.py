@@ -14,6 +14,7 @@ happen inside the chunk (the kernels'); the results are each geometry's own.
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from functools import partial
 from typing import Callable, Sequence
@@ -23,8 +24,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import SimulationError
+from ..progress import waits_announced
 from .steps import cast
-from .programs import compiled_run
+from .programs import CompileWait, compiled_run, is_compiled
 
 #: the state's scalars the loop reads between chunks
 FLAGS = ("t", "t_bad", "t_energy", "t_start", "t_separation")
@@ -98,9 +100,15 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
     state)` after the n-th chunk (1, 2, ...). `on_failure`: "raise" (a `SimulationError` for the
     first failed member, as soon as one fails) or "return" (failed members keep stepping with
     the group and come back in `failed`)."""
+    # a new program's first call compiles it, silently: say so when the run reports progress or
+    # the command line asks (`progress.announce_waits`)
+    wait = contextlib.ExitStack()
+    if ((progress is not None or waits_announced())
+            and not is_compiled(kernel, options.chunk_steps, batched)):
+        wait.enter_context(CompileWait(kernel, batched, len(labels)))
     chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     n = len(labels)
-    with jax.enable_x64(True), np.errstate(invalid="ignore"):
+    with wait, jax.enable_x64(True), np.errstate(invalid="ignore"):
         # device_put, not jnp.asarray: the latter compiles (or loads) a small program per array
         # kind, a tenth of a second of a single run's process
         params = jax.device_put(cast(params, kernel.dtype))
@@ -110,6 +118,8 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
         while True:
             state, chunk_rows = chunk_fn(params, state)
             chunks += 1
+            if chunks == 1:
+                wait.close()
             rows.append(np.asarray(chunk_rows, dtype=np.float64))
             if on_chunk is not None:
                 on_chunk(chunks, params, state)

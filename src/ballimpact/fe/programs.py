@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -34,6 +35,75 @@ def use_folder(folder: str | os.PathLike | None) -> None:
     """Keep traced programs in `folder` (created when needed), or nowhere (None)."""
     global _FOLDER
     _FOLDER = None if folder is None else Path(folder)
+
+
+def is_compiled(kernel, n_steps: int, batched: bool) -> bool:
+    """Whether `compiled_run(kernel, n_steps, batched)` has run in this process already: its
+    first call then waits for no compilation."""
+    return (id(kernel), n_steps, batched) in _COMPILED
+
+
+#: What a first compilation is expected to take (s) when none was timed on this machine yet:
+#: measured on 2 CPU cores (a new two-layer ball, `ballimpact simulate`, empty caches).
+DEFAULT_COMPILE_S = {"axisymmetric": 8.0, "3D": 15.0}
+#: A first call shorter than this (s) found its program in JAX's cache: not a compilation.
+COMPILE_MIN_S = 2.0
+
+
+def kernel_kind(kernel) -> str:
+    """"3D" for the hexahedral kernels (`fe.hex`), "axisymmetric" for the others."""
+    return "3D" if ".hex." in type(kernel).__module__ else "axisymmetric"
+
+
+class CompileWait:
+    """The first call of a new program: a `progress.Waiting` line ("compiling the axisymmetric
+    kernel for 2,318 elements (once per ball layout): 4 s, about 4 s left"), the expected time the last such compilation took on this machine (kept beside the
+    traced programs, `use_folder`; else `DEFAULT_COMPILE_S`), and this one's time kept for the
+    next."""
+
+    def __init__(self, kernel, batched: bool, members: int) -> None:
+        from ..progress import Waiting
+
+        self.key = f"{kernel_kind(kernel)}{' batched' if batched else ''}"
+        elements = getattr(getattr(kernel, "geom", None), "n_elements", None)
+        size = f" for {elements:,} elements" if elements else ""
+        batch = f", a batch of {members}" if batched else ""
+        self.waiting = Waiting(f"compiling the {kernel_kind(kernel)} kernel{size}{batch} (once "
+                               "per ball layout)",
+                               _compile_times().get(self.key, DEFAULT_COMPILE_S[
+                                   kernel_kind(kernel)]))
+
+    def __enter__(self) -> CompileWait:
+        import time
+
+        self.started = time.perf_counter()
+        self.waiting.__enter__()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        import time
+
+        self.waiting.__exit__(*exc)
+        seconds = time.perf_counter() - self.started
+        if exc[0] is None and seconds >= COMPILE_MIN_S and _FOLDER is not None:
+            times = _compile_times()
+            times[self.key] = round(seconds, 2)
+            try:
+                _write_bytes(_FOLDER / "compile_seconds.json", json.dumps(times).encode())
+            except OSError:  # a cache: nothing lost when it cannot be written
+                pass
+
+
+def _compile_times() -> dict[str, float]:
+    """The last first-call times (s) kept in the folder of `use_folder` ({} when none)."""
+    if _FOLDER is None:
+        return {}
+    try:
+        times = json.loads((_FOLDER / "compile_seconds.json").read_text())
+    except (OSError, ValueError):
+        return {}
+    return {k: float(v) for k, v in times.items()
+            if isinstance(v, (int, float)) and 0 < v < 3600} if isinstance(times, dict) else {}
 
 
 def compiled_run(kernel, n_steps: int, batched: bool) -> tuple[Callable, Callable]:
