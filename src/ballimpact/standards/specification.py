@@ -1,7 +1,7 @@
 """A ball model from a specification's two numbers: its COR off a rigid wall (ASTM F1887) and its
 quasi-static compression force at a platen displacement (ASTM F1888), with its size and mass.
 
-The model is a homogeneous universal ball (one Mooney-Rivlin layer, K = 20 mu0, one Prony term:
+The model is a homogeneous universal ball (one Mooney-Rivlin layer, D1 = 0, one Prony term:
 `balls.ball.universal_spec`) meshed as `standard --ball` meshes it (`on_model`), so that
 `standard cor` and `standard compression` on the ball file give its two numbers back. The two
 numbers decouple:
@@ -44,7 +44,7 @@ TAU1_REFERENCE_S = math.sqrt(1e-5 * 1e-4)
 #: The g1 grid of the bracketing batch (g1 = 0: elastic; 0.95: the instantaneous modulus 20
 #: times the long-term one).
 G1_GRID = tuple(np.linspace(0.0, 0.95, 8))
-#: The COR is matched to this (the FE run's own COR is converged to about 1e-3 on this mesh).
+#: The COR is matched to this (the presets quote it to 3-4 decimals).
 COR_TOLERANCE = 5e-4
 #: Secant steps after the bracket, at most.
 MAX_SECANT_STEPS = 4
