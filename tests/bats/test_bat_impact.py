@@ -18,7 +18,7 @@ from ballimpact.plotting import save_and_close, subplots
 SPEED = 61.0  # m/s: ASTM F2219's ball speed at a bat at rest (136 mph)
 #: the FE `baseball` preset on a rigid plane at 61 m/s (measured by the FE test below):
 #: mass, COR, contact time
-FE_MASS, FE_COR, FE_CONTACT_S = 0.145188, 0.43781, 0.90565e-3
+FE_MASS, FE_COR, FE_CONTACT_S = 0.145188, 0.43921, 0.88674e-3
 WOOD = "baseball-wood-34in"
 
 
@@ -71,13 +71,13 @@ def test_a_very_stiff_bat_gives_the_rigid_body_collision_efficiency(law, support
     t, f = r.contact_time_s, r.contact_force_n
     momentum = np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
     angle = b / moi * np.sum(0.5 * (momentum[1:] + momentum[:-1]) * np.diff(t))
-    assert r.max_contact_rotation_rad == pytest.approx(angle, rel=0.01)  # measured 6e-5, 1e-5
+    assert r.max_contact_rotation_rad == pytest.approx(angle, rel=0.01)  # measured 7e-5, 1e-5
 
 
 def test_energy_and_momentum_balance_of_a_free_bat(law, wood):
     r = bat_impact(wood, law, SPEED, 0.62)  # off the sweet spot: much vibration
-    assert r.energy_balance_error < 1e-4    # measured ~1e-11
-    assert r.momentum_balance_error < 1e-6  # measured ~1e-15
+    assert r.energy_balance_error < 1e-4    # measured ~6e-12
+    assert r.momentum_balance_error < 1e-6  # measured ~4e-16
     ball_ke = 0.5 * law.mass_kg * (r.collision_efficiency * SPEED) ** 2
     parts = (ball_ke + r.ball_energy_lost_j + r.bat_vibration_energy_j.sum()
              + r.bat_rigid_energy_j + r.bat_damping_loss_j)
@@ -119,12 +119,12 @@ def test_the_wood_bats_sweet_spot_and_collision_efficiency(law, wood, tmp_path):
     sweep = impact_sweep(wood, law, SPEED, length - np.arange(0.25, 0.08, -0.02))
     # least vibration: Nathan 2000 / Cross 1999 put the sweet spot 5-7 in from the barrel end
     least = length - sweep.least_vibration_m
-    assert 0.127 <= least <= 0.178                        # measured 0.131 m
+    assert 0.127 <= least <= 0.178                        # measured 0.130 m
     # largest e_A of a bat at rest: nearer the centre of mass, just beyond 7 in (reported)
-    assert 0.17 <= length - sweep.max_efficiency_m <= 0.23  # measured 0.198 m
+    assert 0.17 <= length - sweep.max_efficiency_m <= 0.23  # measured 0.197 m
     # Nathan 2003: q ~ 0.2 for wood bats; here at both sweet spots, within 0.15-0.25
     i = int(np.argmin(sweep.vibration_energy_j))
-    assert 0.15 <= sweep.collision_efficiency[i] <= 0.25  # measured 0.17
+    assert 0.15 <= sweep.collision_efficiency[i] <= 0.25  # measured 0.172
     assert 0.15 <= sweep.collision_efficiency.max() <= 0.25  # measured 0.233
     # a swung bat (ball 40 m/s, bat turning about 0.15 m at 31 m/s at 0.70 m): the largest
     # batted-ball speed lies 5-7 in from the end (measured: largest at 0.70 m, 0.164 m)

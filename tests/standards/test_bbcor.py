@@ -11,7 +11,9 @@ from ballimpact.bats import HuntCrossleyBall, bat_impact, bat_model, bat_propert
 from ballimpact.cli import main
 from ballimpact.standards import BBCOR_METHOD, METHODS, bbcor, bbcor_of
 
-#: the FE `baseball` preset's law at 61 m/s (tests/bats), close to the method's 60.8 m/s
+#: the FE `baseball` preset's law at 61 m/s, close to the method's 60.8 m/s, as fitted before
+#: the preset's recalibration (now about k 2.114e7, c 0.019646: tests/bats); any such law
+#: serves these tests
 LAW = HuntCrossleyBall(0.145188, 2.009e7, 0.019749, name="baseball-law")
 BALL = "hc:0.145188:2.009e7:0.019749"
 WOOD, ALUMINIUM = "baseball-wood-34in", "baseball-aluminium-bbcor-34in"
@@ -140,15 +142,15 @@ def test_a_bat_over_the_limit_exits_3_with_its_result(capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name, measured", [(WOOD, 0.4465), (ALUMINIUM, 0.4472)])
+@pytest.mark.parametrize("name, measured", [(WOOD, 0.4481), (ALUMINIUM, 0.4484)])
 def test_presets_with_the_fe_ball_itself(name, measured):
     """The FE `baseball` itself on the pinned bat's modes (`ball_model="fe"`, the command
-    line's default): the figures docs/equipment.md quotes, to 0.001; below the law's 0.464
+    line's default): the figures docs/equipment.md quotes, to 0.001; below the law's 0.466
     (the FE ball's COR falls with the collision's reduced mass, a fitted law's does not)."""
     result = bbcor(name, "baseball", ball_model="fe")
     assert result.ball["model"] == "fe"
     assert result.bbcor == pytest.approx(measured, abs=1e-3)
     assert result.meets_limit
-    assert result.rigid_bbcor == pytest.approx(0.4383, abs=1e-4)  # the FE COR at 136 mph
+    assert result.rigid_bbcor == pytest.approx(0.4397, abs=1e-4)  # the FE COR at 136 mph
     assert result.bbcor >= max(p["bbcor"] for p in result.scan) - 1e-12
     assert result.energy_balance_error < 1e-3
