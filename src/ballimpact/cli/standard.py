@@ -55,7 +55,8 @@ def add_parser(verbs) -> None:
                           help="bbcor: the FE ball itself on the bat's modes (default) or its "
                                "contact law (faster)")
     standard.add_argument("--mass-kg", type=float,
-                          help="ball mass (kg) of every impact record, over its side file's")
+                          help="ball mass (kg) of every impact record, over its side file's; "
+                               "with ball, the ball's")
     standard.add_argument("--ball-id-pattern", metavar="REGEX",
                           help="regular expression searched in each file name (without suffix): "
                                "its group 'ball', else its first group, else the match is the "
