@@ -50,9 +50,15 @@ def preset(name: str, rule: dict, found: dict) -> dict:
         "model's range (log axis) scaled to the ball.")
     spec["source"] = (f"size and mass: {rule['source']}. COR: {t['cor_source']}. DS: "
                       f"{t['dynamic_stiffness_source']}.")
+    return finished(spec, size["mass_kg"])
+
+
+def finished(spec: dict, mass_kg: float) -> dict:
+    """`spec` with the figures `balls --json` adds (outer radius, mass), checked as a preset will
+    be."""
     spec["outer_radius_m"] = spec["layers"][0]["outer_radius_m"]
-    spec["mass_kg"] = size["mass_kg"]
-    load_ball(spec)  # checked as a preset will be
+    spec["mass_kg"] = mass_kg
+    load_ball(spec)
     return spec
 
 
@@ -77,9 +83,7 @@ def specified(name: str, rule: dict, size) -> dict:
         "universal model's range (log axis) scaled to the ball.")
     ball["source"] = (f"size and mass: {rule['source']}. COR: {t['cor_source']}. Compression: "
                       f"{t['compression_source']}.")
-    ball["outer_radius_m"] = ball["layers"][0]["outer_radius_m"]
-    ball["mass_kg"] = size.mass_kg
-    load_ball(ball)  # checked as a preset will be
+    finished(ball, size.mass_kg)
     print(f"{name:<15}{2e3 * size.radius_m:7.2f}{size.mass_kg * 1e3:8.2f}{t['cor']:7.3f}"
           f"{t['compression_force_n']:9.4g} N | {p['c10_pa'] / 1e6:8.3f}{p['g1']:7.4f}"
           f"{p['tau1_s'] * 1e6:8.2f} | {fe['cor']:7.4f}{fe['compression_force_n']:9.4g} N "
