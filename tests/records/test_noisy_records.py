@@ -211,3 +211,15 @@ def test_the_90_percent_intervals_cover_the_exact_values():
                                 <= 1.645 * features.uncertainty[key])
     for key, hits in covered.items():
         assert 0.75 <= np.mean(hits) <= 1.0, (key, np.mean(hits))
+
+
+def test_a_given_value_gets_no_uncertainty():
+    """The impact speed P15 is an input, not read from the record: the bootstrap's draws all give
+    it back, and no model-error floor is added to it (`reconstruct.uncertainty_model`)."""
+    pulse, duration, rebound = pulses.hunt_crossley_pulse(0.6, SPEED, MASS)
+    record = pulses.load_cell_record(pulse, duration, 100e3, noise=0.01,
+                                     rng=np.random.default_rng(5), mass_kg=MASS,
+                                     impact_speed_m_s=SPEED, rebound_speed_m_s=rebound)
+    u = quiet_process(record).features.uncertainty
+    assert u["P15"] == 0.0 and u["P16"] == 0.0 and u["P17"] == 0.0  # measured speeds
+    assert u["P1"] > 0.0 and u["P6"] > 0.0

@@ -218,11 +218,12 @@ def bootstrap_uncertainty(record: ImpactRecord, curve, window: ContactWindow, va
 
 
 def uncertainty_model(key: str) -> tuple[float, float]:
-    """`UNCERTAINTY_MODEL[key]`, or for a value not calibrated the largest scale and floor."""
+    """`UNCERTAINTY_MODEL[key]`, or for a value not calibrated the largest scale and no floor (the
+    impact speed P15 is given, not measured from the record: its spread and so its uncertainty
+    stay 0)."""
     if key in UNCERTAINTY_MODEL:
         return UNCERTAINTY_MODEL[key]
-    return (max(a for a, _ in UNCERTAINTY_MODEL.values()),
-            max(b for _, b in UNCERTAINTY_MODEL.values()))
+    return max(a for a, _ in UNCERTAINTY_MODEL.values()), 0.0
 
 
 def stated_uncertainty(key: str, spread: float, value: float) -> float:
