@@ -61,7 +61,7 @@ def test_compile_wait_names_the_kernel_and_keeps_a_real_compilation_time(folder,
     with programs.CompileWait(_Kernel(), batched=False, members=1):
         time.sleep(0.1)  # "compiles" for 0.1 s: kept
     kept = json.loads((folder / "compile_seconds.json").read_text())
-    assert kept["axisymmetric"] == pytest.approx(0.1, abs=0.05)
+    assert kept["axisymmetric"] == pytest.approx(0.1, abs=0.05)  # a kernel without layers
     assert programs.CompileWait(_Kernel(), False, 1).waiting.expected_s == kept["axisymmetric"]
     with programs.CompileWait(_Kernel(), batched=False, members=1):
         pass  # found in JAX's cache: not a compilation, the time kept stays

@@ -57,14 +57,18 @@ def kernel_kind(kernel) -> str:
 
 class CompileWait:
     """The first call of a new program: a `progress.Waiting` line ("compiling the axisymmetric
-    kernel for 2,318 elements (once per ball layout): 4 s, about 4 s left"), the expected time the last such compilation took on this machine (kept beside the
-    traced programs, `use_folder`; else `DEFAULT_COMPILE_S`), and this one's time kept for the
-    next."""
+    kernel for 2,318 elements (once per ball layout): 4 s, about 4 s left"), the expected time
+    the last such compilation (same geometry, batching and number of layers) took on this
+    machine (kept beside the traced programs, `use_folder`; else `DEFAULT_COMPILE_S`), and this
+    one's time kept for the next."""
 
     def __init__(self, kernel, batched: bool, members: int) -> None:
         from ..progress import Waiting
 
-        self.key = f"{kernel_kind(kernel)}{' batched' if batched else ''}"
+        # the program grows with the layers (a material law each): keyed by their count too
+        layers = len(getattr(kernel, "energies", ()) or ())
+        self.key = (f"{kernel_kind(kernel)}{' batched' if batched else ''}"
+                    f"{f' {layers} layers' if layers else ''}")
         elements = getattr(getattr(kernel, "geom", None), "n_elements", None)
         size = f" for {elements:,} elements" if elements else ""
         batch = f", a batch of {members}" if batched else ""
