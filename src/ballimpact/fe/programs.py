@@ -21,6 +21,7 @@ import hashlib
 import json
 import os
 import tempfile
+import time
 from pathlib import Path
 from typing import Any, Callable
 
@@ -65,28 +66,22 @@ class CompileWait:
     def __init__(self, kernel, batched: bool, members: int) -> None:
         from ..progress import Waiting
 
+        kind = kernel_kind(kernel)
         # the program grows with the layers (a material law each): keyed by their count too
         layers = len(getattr(kernel, "energies", ()) or ())
-        self.key = (f"{kernel_kind(kernel)}{' batched' if batched else ''}"
-                    f"{f' {layers} layers' if layers else ''}")
+        self.key = f"{kind}{' batched' if batched else ''}{f' {layers} layers' if layers else ''}"
         elements = getattr(getattr(kernel, "geom", None), "n_elements", None)
         size = f" for {elements:,} elements" if elements else ""
         batch = f", a batch of {members}" if batched else ""
-        self.waiting = Waiting(f"compiling the {kernel_kind(kernel)} kernel{size}{batch} (once "
-                               "per ball layout)",
-                               _compile_times().get(self.key, DEFAULT_COMPILE_S[
-                                   kernel_kind(kernel)]))
+        self.waiting = Waiting(f"compiling the {kind} kernel{size}{batch} (once per ball layout)",
+                               _compile_times().get(self.key, DEFAULT_COMPILE_S[kind]))
 
     def __enter__(self) -> CompileWait:
-        import time
-
         self.started = time.perf_counter()
         self.waiting.__enter__()
         return self
 
     def __exit__(self, *exc) -> None:
-        import time
-
         self.waiting.__exit__(*exc)
         seconds = time.perf_counter() - self.started
         if exc[0] is None and seconds >= COMPILE_MIN_S and _FOLDER is not None:
