@@ -13,8 +13,9 @@ from ballimpact.fe import compress, load_ball
 from ballimpact.balls.ball import universal_spec
 from ballimpact.records.loaders import LBF_N
 from ballimpact.standards import INCH_M, on_model
+from ballimpact.standards.model import method_options
 from ballimpact.standards.specification import (Specification, ball_for_specification,
-                                                specification_options)
+                                                check_tau1)
 
 RULES = json.loads(resources.files("ballimpact").joinpath("data/sports_balls.json")
                    .read_text())["balls"]
@@ -29,6 +30,8 @@ SOFTBALL = dict(diameter_m=0.097, mass_kg=0.188, cor=0.44, compression_force_n=3
     ({"compression_force_n": 0.5}, r"compression_force_n \(--compression-n\) = 0\.5.*N"),
     ({"compression_deflection_m": 6.35}, r"compression_deflection_m.*looks like millimetres"),
     ({"impact_speed_m_s": 60.0}, r"looks like mph"),
+    ({"compression_force_n": 1.668}, r"compression_force_n \(--compression-n\) = 1\.668 N at "
+                                     r"6\.35 mm implies a shear modulus .*looks like kN: use 1668 N"),
 ])
 def test_bad_specifications_are_named(change, words):
     with pytest.raises(InputError, match=words):
@@ -49,6 +52,53 @@ def test_bad_specifications_are_named(change, words):
 def test_standard_ball_bad_input_one_line(bad_input, tmp_path, argv, fragments):
     argv = [str(tmp_path / a) if a.endswith((".json", ".csv")) else a for a in argv]
     bad_input(["standard", "ball", *argv], *fragments)
+
+
+@pytest.mark.parametrize("value, words", [(42.6, r"42\.6 s: .*looks like us: use 4\.26e-05"),
+                                          (5.0, r"looks like ms: use 0\.005"),
+                                          (1e-9, r"allowed range")])
+def test_a_relaxation_time_in_us_or_ms_is_named(value, words):
+    with pytest.raises(InputError, match=words):
+        check_tau1(value)
+    assert check_tau1(4.26e-5) == 4.26e-5
+
+
+def test_standard_ball_tau1_and_force_slips_one_line(bad_input, tmp_path):
+    base = ["standard", "ball", "--diameter-m", "0.097", "--mass-kg", "0.188", "--cor", "0.44",
+            "--out", tmp_path / "b.json"]
+    bad_input([*base, "--compression-n", "1.668"], "--compression-n", "looks like kN")
+    bad_input([*base, "--compression-n", "1668", "--tau1-s", "42.6"], "--tau1-s", "looks like us")
+
+
+def test_a_calibration_that_does_not_close_exits_3_and_writes_nothing(monkeypatch, tmp_path,
+                                                                      capsys):
+    """The command writes the ball only when its FE check holds; a miss (here a calibration
+    stubbed to miss its COR) exits 3 with the result printed and one error line."""
+    import ballimpact.standards.specification as specification
+    from ballimpact.cli import main
+
+    def missed(spec, name, **kwargs):
+        check = {"cor": 0.47, "cor_error": 0.03, "compression_force_n": 1668.0,
+                 "compression_relative_error": 0.0, "dynamic_stiffness_n_m": 1e6,
+                 "peak_force_n": 1e4, "contact_time_s": 1e-3,
+                 "missed": ["COR 0.4700 against 0.44"]}
+        return {"ball": {"name": name}, "params": {"c10_pa": 3e6, "c01_pa": 0.0, "g1": 0.8,
+                                                   "tau1_s": 4e-5},
+                "specification": {"diameter_m": spec.diameter_m, "mass_kg": spec.mass_kg,
+                                  "cor": spec.cor, "compression_force_n": 1668.0,
+                                  "compression_deflection_m": 0.00635,
+                                  "impact_speed_m_s": 26.8224},
+                "check": check, "runs": {"impacts": 13, "compressions": 3},
+                "element_size_m": 0.002, "wall_time_s": 1.0}
+
+    monkeypatch.setattr(specification, "ball_for_specification", missed)
+    out = tmp_path / "b.json"
+    code = main(["standard", "ball", "--diameter-m", "0.097", "--mass-kg", "0.188", "--cor",
+                 "0.44", "--compression-n", "1668", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 3 and not out.exists()
+    errors = [line for line in err.splitlines() if line.startswith("error:")]
+    assert len(errors) == 1 and "COR 0.4700 against 0.44" in errors[0] and "not written" in errors[0]
 
 
 def test_the_other_methods_refuse_the_ball_options(bad_input):
@@ -72,7 +122,7 @@ def test_a_specified_preset_gives_back_its_two_numbers(name):
         force = on_model("compression", name)["result"]["force_at_6_35_mm_n"]
     else:
         ball = load_ball(name)
-        force = compress(ball, deflection, options=specification_options(ball.outer_radius_m)
+        force = compress(ball, deflection, options=method_options(ball.outer_radius_m)
                          ).force_at(deflection)
     assert force == pytest.approx(t["compression_force_n"], rel=1e-3)
 
@@ -83,7 +133,7 @@ def test_the_compression_is_linear_in_the_moduli():
     deflection is proportional to C10 (the FE problem is homogeneous of degree one in the
     moduli; the contact penalty follows them)."""
     radius, density = 0.0485, 393.0
-    options = specification_options(radius)
+    options = method_options(radius)
 
     def force(c10):
         ball = load_ball(universal_spec({"c10_pa": c10, "c01_pa": 0.0, "g1": 0.6,

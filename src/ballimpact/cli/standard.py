@@ -91,8 +91,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
     if standard_ball.is_ball(args.method):
         return standard_ball.run(args)
-    for attribute in ("diameter_m", "cor", "compression_n", "deflection_m", "tau1_s", "name",
-                      "out"):
+    for attribute in standard_ball.OWN_OPTIONS:
         if getattr(args, attribute) is not None:
             raise InputError(f"--{attribute.replace('_', '-')}: only `standard ball` takes it, "
                              f"not {args.method}")

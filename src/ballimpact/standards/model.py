@@ -12,6 +12,16 @@ from .methods import COMPRESSION_STEPS, Method, SIXTY_MPH_M_S, checked_speed, ge
 from .lab import compression_quantities, impact_quantities
 
 
+def method_options(radius_m: float):
+    """The solver options the methods run a ball of `radius_m` (m) on: the universal study's
+    mesh scaled to the ball (element size x R / 36 mm)."""
+    from ..fe import SolverOptions
+    from ..balls.ball import UNIVERSAL_RADIUS_M
+
+    return SolverOptions(element_size_m=SolverOptions().element_size_m * radius_m
+                         / UNIVERSAL_RADIUS_M)
+
+
 def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: float | None = None,
              steps: int = COMPRESSION_STEPS, allow=(),
              element_size_m: float | None = None) -> dict[str, Any]:
@@ -28,7 +38,6 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
     model's study and its identifications use (`universal.identify.scaled_options`);
     `element_size_m` (m), when given without `options`: the solver's with that element size."""
     from ..fe import SolverOptions, compress, load_ball, simulate
-    from ..balls.ball import UNIVERSAL_RADIUS_M
 
     if options is None and element_size_m is not None:  # checked before the ball is loaded
         options = SolverOptions(element_size_m=element_size_m)
@@ -39,8 +48,7 @@ def on_model(method: str | Method, ball_spec: Any, *, options=None, nominal: flo
     speed = SIXTY_MPH_M_S if nominal is None else checked_speed(nominal)
     ball = load_ball(ball_spec, impact_speed_m_s=speed, allow=allow)
     if options is None:
-        options = SolverOptions(element_size_m=SolverOptions().element_size_m
-                                * ball.outer_radius_m / UNIVERSAL_RADIUS_M)
+        options = method_options(ball.outer_radius_m)
     out = method.to_dict()
     out["source"] = "model"
     out["ball"] = ball.name

@@ -32,11 +32,13 @@ from typing import Any
 import numpy as np
 
 from ..balls.ball import UNIVERSAL_RADIUS_M, universal_spec
-from ..balls.checks import check_ball_diameter, check_ball_mass, check_ball_values
+from ..balls.checks import (BALL_RANGES, check_ball_diameter, check_ball_mass,
+                            check_ball_values)
 from ..checks import check_metres, check_range
 from ..errors import InputError
 from ..records.features import dynamic_stiffness
 from .methods import QUARTER_INCH_M, SIXTY_MPH_M_S, checked_speed
+from .model import method_options
 
 #: The tau1 (s) of a specification ball on the 72 mm reference ball: the geometric middle of the
 #: universal model's range (thesis table 6-2, 10-100 us); scaled by R / 36 mm to the ball.
@@ -58,6 +60,11 @@ G1_GUESS = 0.5
 TRIAL_C10_PA = 2.0e6
 #: Compression forces accepted (N): 1 N to 100 kN, a ball's force at a few mm.
 FORCE_RANGE_N = (1.0, 1.0e5)
+#: The ball found must give the specification back within these (COR, compression relative):
+#: the calibration closes to `COR_TOLERANCE` and `FORCE_TOLERANCE`, so a miss means it did not
+#: converge.
+CHECK_COR = 0.005
+CHECK_COMPRESSION = 0.01
 
 
 @dataclass(frozen=True)
@@ -81,23 +88,49 @@ class Specification:
         radius = 0.5 * diameter
         check_ball_values(f"ball of diameter {diameter:g} m and mass {mass:g} kg",
                           {"density": mass / (4.0 / 3.0 * math.pi * radius ** 3)})
+        force = check_range("compression_force_n (--compression-n)", self.compression_force_n,
+                            *FORCE_RANGE_N, unit="N")
+        deflection = check_metres("compression_deflection_m (--deflection-m)",
+                                  self.compression_deflection_m, 0.5 * radius, 1e-4)
+        check_force_units(force, deflection, radius)
         return Specification(
             diameter, mass,
             check_range("cor (--cor)", self.cor, 0.0, 1.0, low_open=True, high_open=True),
-            check_range("compression_force_n (--compression-n)", self.compression_force_n,
-                        *FORCE_RANGE_N, unit="N"),
-            check_metres("compression_deflection_m (--deflection-m)",
-                         self.compression_deflection_m, 0.5 * radius, 1e-4),
-            checked_speed(self.impact_speed_m_s))
+            force, deflection, checked_speed(self.impact_speed_m_s))
 
 
-def specification_options(radius_m: float):
-    """The solver options of `standard --ball` for a ball of `radius_m`: the universal study's
-    mesh scaled to the ball (element size x R / 36 mm)."""
-    from ..fe import SolverOptions
+def check_force_units(force_n: float, deflection_m: float, radius_m: float) -> None:
+    """A compression force whose sphere would be no sports ball's is a unit slip (kN typed for N):
+    the shear modulus it implies by Hertz between two platens (each approaching D / 2, F = 4/3 E*
+    sqrt(R) (D/2)^1.5, nearly incompressible: mu = E* / 4) must lie in `BALL_RANGES`' shear
+    moduli. `InputError` naming the force and the slip."""
+    e_star = 0.75 * force_n / (math.sqrt(radius_m) * (0.5 * deflection_m) ** 1.5)
+    low, high, _ = BALL_RANGES["shear modulus"]
+    mu = 0.25 * e_star
+    if low <= mu <= high:
+        return
+    factor = next((f for f in (1e3, 1e-3) if low <= mu * f <= high), None)
+    hint = ("" if factor is None else
+            f"; looks like {'kN' if factor > 1 else 'mN'}: use {force_n * factor:g} N")
+    raise InputError(f"compression_force_n (--compression-n) = {force_n:g} N at "
+                     f"{deflection_m * 1e3:.3g} mm implies a shear modulus of about {mu:.3g} Pa "
+                     f"(Hertz), outside the {low:g}..{high:g} Pa of sports balls{hint}")
 
-    return SolverOptions(element_size_m=SolverOptions().element_size_m * radius_m
-                         / UNIVERSAL_RADIUS_M)
+
+#: Relaxation times accepted (s).
+TAU1_RANGE_S = (1e-7, 1e-2)
+
+
+def check_tau1(tau1_s: float) -> float:
+    """A Prony relaxation time (s) in `TAU1_RANGE_S`; one in microseconds or milliseconds is
+    named as such."""
+    low, high = TAU1_RANGE_S
+    if isinstance(tau1_s, (int, float)) and high < tau1_s <= 1e6 * high:
+        unit, factor = ("ms", 1e-3) if tau1_s <= 1e3 * high else ("us", 1e-6)
+        if low <= tau1_s * factor <= high:
+            raise InputError(f"tau1_s (--tau1-s) = {tau1_s:g} s: allowed range "
+                             f"[{low:g}, {high:g}] s; looks like {unit}: use {tau1_s * factor:g}")
+    return check_range("tau1_s (--tau1-s)", tau1_s, low, high, unit="s")
 
 
 def ball_for_specification(spec: Specification, name: str = "specification-ball", *,
@@ -108,7 +141,8 @@ def ball_for_specification(spec: Specification, name: str = "specification-ball"
     `progress(text)` hears each stage. Returns {"ball": the ball specification (JSON form),
     "params": c10_pa, c01_pa, g1, tau1_s, "specification": `spec` as a dict, "check": the FE
     figures of the ball found (cor, compression_force_n, dynamic_stiffness_n_m, peak_force_n,
-    contact_time_s, and the misses cor_error and compression_relative_error), "runs": FE
+    contact_time_s, the misses cor_error and compression_relative_error, and "missed": what
+    misses `CHECK_COR` or `CHECK_COMPRESSION`, named), "runs": FE
     impacts and compressions made, "wall_time_s"}. `InputError` when no g1 in `G1_GRID`'s span
     reaches the COR."""
     from ..fe import compress, load_ball, simulate_batch
@@ -116,9 +150,9 @@ def ball_for_specification(spec: Specification, name: str = "specification-ball"
     spec = spec.checked()
     radius = 0.5 * spec.diameter_m
     density = spec.mass_kg / (4.0 / 3.0 * math.pi * radius ** 3)
-    tau1 = (TAU1_REFERENCE_S * radius / UNIVERSAL_RADIUS_M if tau1_s is None
-            else check_range("tau1_s (--tau1-s)", tau1_s, 1e-7, 1e-2, unit="s"))
-    options = specification_options(radius) if options is None else options
+    tau1 = TAU1_REFERENCE_S * radius / UNIVERSAL_RADIUS_M if tau1_s is None else \
+        check_tau1(tau1_s)
+    options = method_options(radius) if options is None else options
     say = progress or (lambda text: None)
     started = time.perf_counter()
 
@@ -192,6 +226,10 @@ def ball_for_specification(spec: Specification, name: str = "specification-ball"
                                                         spec.impact_speed_m_s),
              "peak_force_n": float(run.peak_force_n),
              "contact_time_s": float(run.contact_time_s)}
+    check["missed"] = [text for text, miss in (
+        (f"COR {check['cor']:.4f} against {spec.cor:g}", abs(check["cor_error"]) > CHECK_COR),
+        (f"compression {check_force:.4g} N against {spec.compression_force_n:.4g} N",
+         abs(check["compression_relative_error"]) > CHECK_COMPRESSION)) if miss]
     return {"ball": universal_spec(params, radius, density, name=name), "params": params,
             "specification": asdict(spec), "check": check,
             "runs": counts,
