@@ -53,17 +53,18 @@ def folder(tmp_path):
 
 
 def test_compile_wait_names_the_kernel_and_keeps_a_real_compilation_time(folder, monkeypatch):
-    wait = programs.CompileWait(_Kernel(), batched=True, members=8)
+    wait = programs.CompileWait.of_kernel(_Kernel(), batched=True, members=8)
     assert wait.waiting.text == ("compiling the axisymmetric kernel for 2,318 elements, a batch of "
                                  "8 (once per ball layout)")
     assert wait.waiting.expected_s == programs.DEFAULT_COMPILE_S["axisymmetric"]
     monkeypatch.setattr(programs, "COMPILE_MIN_S", 0.05)
-    with programs.CompileWait(_Kernel(), batched=False, members=1):
+    with programs.CompileWait.of_kernel(_Kernel(), batched=False, members=1):
         time.sleep(0.1)  # "compiles" for 0.1 s: kept
     kept = json.loads((folder / "compile_seconds.json").read_text())
     assert kept["axisymmetric"] == pytest.approx(0.1, abs=0.05)  # a kernel without layers
-    assert programs.CompileWait(_Kernel(), False, 1).waiting.expected_s == kept["axisymmetric"]
-    with programs.CompileWait(_Kernel(), batched=False, members=1):
+    kept_s = programs.CompileWait.of_kernel(_Kernel(), False, 1).waiting.expected_s
+    assert kept_s == kept["axisymmetric"]
+    with programs.CompileWait.of_kernel(_Kernel(), batched=False, members=1):
         pass  # found in JAX's cache: not a compilation, the time kept stays
     assert json.loads((folder / "compile_seconds.json").read_text()) == kept
 

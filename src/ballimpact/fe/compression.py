@@ -41,7 +41,8 @@ from .axi.kernel import Kernel, ball_arrays
 from .steps import cast
 from ..constitutive.stability import drucker_warnings
 from ..checks import shown
-from ..progress import Waiting, waits_announced
+from ..progress import waits_announced
+from .programs import CompileWait
 from .options import SolverOptions
 
 __all__ = ["CompressionResult", "compress", "check_compression_input"]
@@ -50,9 +51,6 @@ __all__ = ["CompressionResult", "compress", "check_compression_input"]
 RELAXED_DT_S = 1e30
 #: Newton: most iterations per increment, halvings of the line search, increment cuts
 MAX_NEWTON_ITERATIONS = 25
-#: What the solver's first compilation takes (s), for its wait line: 3.75 s measured on 2 CPU
-#: cores (`ballimpact compress --ball cricket-men`, empty caches).
-COMPRESSION_COMPILE_S = 4.0
 MAX_LINE_SEARCH_HALVINGS = 10
 MAX_INCREMENT_CUTS = 6
 #: converged when the largest residual nodal force is below RESIDUAL_RELATIVE x the platen force
@@ -218,8 +216,8 @@ def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps:
         solver = _Solver(kernel, system, params, np.asarray(arrays.penalty_n_m), force_scale)
         mats = kernel.initial_materials(params)
         compile_start = time.perf_counter()
-        with (Waiting(f"compiling the compression solver for {kernel.geom.n_elements:,} "
-                      "elements", COMPRESSION_COMPILE_S)
+        with (CompileWait(f"compiling the compression solver for {kernel.geom.n_elements:,} "
+                          "elements", f"compression {len(ball.layers)} layers")
               if progress is not None or waits_announced() else contextlib.nullcontext()):
             solver.warm_up(mats)
         compile_time = time.perf_counter() - compile_start

@@ -105,7 +105,7 @@ def run_chunks(kernel, params, initial: Sequence[np.ndarray], options, *, batche
     wait = contextlib.ExitStack()
     if ((progress is not None or waits_announced())
             and not is_compiled(kernel, options.chunk_steps, batched)):
-        wait.enter_context(CompileWait(kernel, batched, len(labels)))
+        wait.enter_context(CompileWait.of_kernel(kernel, batched, len(labels)))
     chunk_fn, init_fn = compiled_run(kernel, options.chunk_steps, batched)
     n = len(labels)
     with wait, jax.enable_x64(True), np.errstate(invalid="ignore"):

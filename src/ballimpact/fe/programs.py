@@ -45,8 +45,9 @@ def is_compiled(kernel, n_steps: int, batched: bool) -> bool:
 
 
 #: What a first compilation is expected to take (s) when none was timed on this machine yet:
-#: measured on 2 CPU cores (a new two-layer ball, `ballimpact simulate`, empty caches).
-DEFAULT_COMPILE_S = {"axisymmetric": 8.0, "3D": 15.0}
+#: measured on 2 CPU cores (a new two-layer ball, `ballimpact simulate`; `ballimpact compress
+#: --ball cricket-men`, 3.75 s; empty caches).
+DEFAULT_COMPILE_S = {"axisymmetric": 8.0, "3D": 15.0, "compression": 4.0}
 #: A first call shorter than this (s) found its program in JAX's cache: not a compilation.
 COMPILE_MIN_S = 2.0
 
@@ -57,24 +58,30 @@ def kernel_kind(kernel) -> str:
 
 
 class CompileWait:
-    """The first call of a new program: a `progress.Waiting` line ("compiling the axisymmetric
-    kernel for 2,318 elements (once per ball layout): 4 s, about 4 s left"), the expected time
-    the last such compilation (same geometry, batching and number of layers) took on this
-    machine (kept beside the traced programs, `use_folder`; else `DEFAULT_COMPILE_S`), and this
-    one's time kept for the next."""
+    """A first call that compiles: a `progress.Waiting` line ("compiling the axisymmetric kernel
+    for 2,318 elements (once per ball layout): 4 s, about 4 s left") whose expected time is what
+    the last such compilation (the same `key`) took on this machine (kept beside the traced
+    programs, `use_folder`; else `DEFAULT_COMPILE_S` of the key's first word), and this one's
+    time kept for the next."""
 
-    def __init__(self, kernel, batched: bool, members: int) -> None:
+    def __init__(self, text: str, key: str) -> None:
         from ..progress import Waiting
 
+        self.key = key
+        self.waiting = Waiting(text, _compile_times().get(
+            key, DEFAULT_COMPILE_S[key.split()[0]]))
+
+    @classmethod
+    def of_kernel(cls, kernel, batched: bool, members: int) -> CompileWait:
+        """The wait of an explicit kernel's first chunk, keyed by its geometry, batching and
+        number of layers (the program grows with them: a material law each)."""
         kind = kernel_kind(kernel)
-        # the program grows with the layers (a material law each): keyed by their count too
         layers = len(getattr(kernel, "energies", ()) or ())
-        self.key = f"{kind}{' batched' if batched else ''}{f' {layers} layers' if layers else ''}"
         elements = getattr(getattr(kernel, "geom", None), "n_elements", None)
         size = f" for {elements:,} elements" if elements else ""
         batch = f", a batch of {members}" if batched else ""
-        self.waiting = Waiting(f"compiling the {kind} kernel{size}{batch} (once per ball layout)",
-                               _compile_times().get(self.key, DEFAULT_COMPILE_S[kind]))
+        return cls(f"compiling the {kind} kernel{size}{batch} (once per ball layout)",
+                   f"{kind}{' batched' if batched else ''}{f' {layers} layers' if layers else ''}")
 
     def __enter__(self) -> CompileWait:
         self.started = time.perf_counter()
