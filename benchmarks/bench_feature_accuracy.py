@@ -141,14 +141,20 @@ def summary(rows: list[dict]) -> dict:
                            else abs(r["value"][key] / r["exact"][key] - 1) for r in rows])
         entry = {"median_error": float(np.median(errors)),
                  "p90_error": float(np.percentile(errors, 90))}
-        # a value without uncertainty (a COR from measured speeds: exact in these records)
-        # would count as covered by an interval of width 0
-        covered = [abs(r["value"][key] - r["exact"][key]) <= Z90 * r["u"][key]
-                   for r in rows if r["u"].get(key, 0) > 0]
-        if covered:
-            entry["coverage_90pct_interval"] = float(np.mean(covered))
+        coverage = coverage_of(rows, key)
+        if coverage is not None:
+            entry["coverage_90pct_interval"] = coverage
         out[name] = entry
     return out
+
+
+def coverage_of(rows: list[dict], key: str) -> float | None:
+    """The share of `rows` whose 90% interval of `key` holds the exact value, over the rows
+    where it has an uncertainty (a value without one, a COR from measured speeds, exact in these
+    records, would count as covered by an interval of width 0); None when none has."""
+    covered = [abs(r["value"][key] - r["exact"][key]) <= Z90 * r["u"][key]
+               for r in rows if r["u"].get(key, 0) > 0 and key in r["exact"]]
+    return float(np.mean(covered)) if covered else None
 
 
 def coverage_of_every_value(rows: list[dict]) -> dict[str, float]:
@@ -156,10 +162,9 @@ def coverage_of_every_value(rows: list[dict]) -> dict[str, float]:
     ones), and the lowest and highest of them."""
     out = {}
     for key in sorted({k for r in rows for k in r["u"]}):
-        covered = [abs(r["value"][key] - r["exact"][key]) <= Z90 * r["u"][key]
-                   for r in rows if r["u"].get(key, 0) > 0 and key in r["exact"]]
-        if covered:
-            out[key] = float(np.mean(covered))
+        coverage = coverage_of(rows, key)
+        if coverage is not None:
+            out[key] = coverage
     if out:
         out["lowest"], out["highest"] = min(out.values()), max(out.values())
     return out
