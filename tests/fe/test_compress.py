@@ -61,6 +61,57 @@ def test_small_deflection_follows_hertz(nu):
     assert np.all(np.diff(result.force_n) > 0)
 
 
+def test_default_mesh_from_the_contact():
+    """`compression_options`: both poles refined to 5-7 elements across the Hertz contact radius
+    sqrt(R D / 2), pole sizes on a ladder (nearby deflections share a mesh), the stiff platen
+    penalty; a contact wider than 5 coarse elements needs no refinement."""
+    from ballimpact.fe.compression import CONTACT_ELEMENTS, PENALTY_SCALE, compression_options
+
+    ball = neo_hookean(0.3)
+    d = 0.01 * 2 * R_M
+    radius = math.sqrt(R_M * d / 2)
+    options = compression_options(ball, d)
+    assert options.both_poles and options.penalty_scale == PENALTY_SCALE
+    assert radius / CONTACT_ELEMENTS / math.sqrt(2) < options.pole_element_size_m \
+        <= radius / CONTACT_ELEMENTS
+    assert compression_options(ball, 1.05 * d) == options
+    wide = compression_options(ball, 0.05 * 2 * R_M)
+    assert wide.pole_element_size_m is None and wide.element_size_m == SolverOptions().element_size_m
+
+
+def test_user_mesh_that_leaves_the_contact_unresolved_is_warned():
+    from ballimpact.errors import InputWarning
+
+    with pytest.warns(InputWarning, match="contact not resolved.*spans 0.63 elements of 3 mm"):
+        compress(neo_hookean(0.3), 0.0002, steps=1, options=SolverOptions(element_size_m=3e-3))
+
+
+#: the reference: 20 elements across the contact radius at both poles, penalty 100 (10 elements
+#: and penalty 30 move it by at most 0.3%, benchmarks/bench_compress_hertz.py)
+def reference_options(deflection_m):
+    radius = math.sqrt(R_M * deflection_m / 2)
+    return SolverOptions(pole_element_size_m=radius / 20, both_poles=True, penalty_scale=100.0,
+                         pole_zone_deg=max(math.degrees(2.5 * radius / R_M), 5.0))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("nu", [0.3, 0.49])
+def test_default_compression_resolves_the_contact(nu):
+    """With no options, `compress` reads an elastic sphere within 1.5% of a converged reference
+    at D / 2R = 1 and 2% (each a run of its own, as a user runs it; measured -1.3% to +0.5%),
+    and within 2.5% of Hertz at 0.25%, where the sphere's finite size (which makes the
+    converged solution stiffer than Hertz's half-space by about 0.4 sqrt(D / 2R)) is small
+    (measured +2.0%)."""
+    ball = neo_hookean(nu)
+    for fraction in (0.01, 0.02):
+        d = fraction * 2 * R_M
+        default = compress(ball, d, steps=4).force_n[-1]
+        reference = compress(ball, d, steps=4, options=reference_options(d)).force_n[-1]
+        assert default == pytest.approx(reference, rel=0.015), fraction
+    d = 0.0025 * 2 * R_M
+    assert compress(ball, d, steps=4).force_n[-1] == pytest.approx(hertz_force_n(d, nu), rel=0.025)
+
+
 #: a 1.5 mm mesh (1482 elements): at 0.5 m/s the contact radius is 6.3 mm (4.2 elements)
 IMPACT_OPTIONS = SolverOptions(element_size_m=1.5e-3, bulk_viscosity_linear=0.0,
                                bulk_viscosity_quadratic=0.0)

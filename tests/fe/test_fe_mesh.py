@@ -314,3 +314,26 @@ def test_estimate_mesh_of_a_millimetre_ball_is_instant():
     assert 1e9 < estimate.elements < 2e9
     with pytest.raises(InputError, match="element_size_m must be in"):
         estimate_mesh((0.036,), 0.1)
+
+
+def test_both_poles_refined_alike():
+    """`both_poles` (the two platens of `fe.compress`): the north pole refined as the south one,
+    the mesh mirror-symmetric about the equator, well shaped, and counted by `estimate_mesh`."""
+    from ballimpact.fe.axi.mesh import estimate_mesh
+
+    mesh = layered_sphere_mesh(SINGLE, 1.5e-3, 4e-4, 30.0, both_poles=True)
+    surface = mesh.nodes_m[mesh.surface_nodes]
+    np.testing.assert_allclose(surface[::-1, 0], surface[:, 0], atol=1e-9 * SINGLE[0])
+    np.testing.assert_allclose(surface[::-1, 1], -surface[:, 1], atol=1e-9 * SINGLE[0])
+    segment = np.linalg.norm(np.diff(surface, axis=0), axis=1)
+    assert segment[0] == pytest.approx(4e-4, rel=0.05)
+    assert segment[-1] == pytest.approx(segment[0], rel=1e-6)
+    assert segment.max() == pytest.approx(1.5e-3, rel=0.1)
+    # every node has its mirror image: the radial grading is the same under both poles
+    distance, _ = cKDTree(mesh.nodes_m).query(mesh.nodes_m * [1.0, -1.0])
+    assert distance.max() < 1e-9 * SINGLE[0]
+    assert quad_quality(mesh)["min_jacobian_ratio"] > 0.5
+    assert estimate_mesh(SINGLE, 1.5e-3, 4e-4, 30.0, both_poles=True).elements == \
+        pytest.approx(mesh.n_elements, rel=0.05)
+    single = layered_sphere_mesh(SINGLE, 1.5e-3, 4e-4, 30.0)
+    assert mesh.n_elements > single.n_elements

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -11,6 +12,7 @@ from ..errors import InputError
 from ..checks import check_allow
 from ..progress import CountProgress
 from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from ..fe.compression import PENALTY_SCALE
 from .simulate import SolverDefaults
 
 #: print progress lines only for curves that take longer than this (s)
@@ -39,14 +41,16 @@ def add_parser(verbs) -> None:
                           help="for balls whose constants depend on the impact speed "
                                "(cricket-universal): the speed to take them at (m/s)")
     compress.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
-                          help=f"element length on the outer surface (m; default "
-                               f"{SolverDefaults.element_size_m:g})")
+                          help=f"element length on the outer surface away from the platens "
+                               f"(m; default {SolverDefaults.element_size_m:g}); both poles are "
+                               "refined to resolve the platens' contact at the deflection")
     compress.add_argument("--integration", choices=("reduced", "full"),
                           default=SolverDefaults.integration,
                           help="reduced: one point with hourglass control (default); full: 2x2 "
                                "points with F-bar")
-    compress.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
-                          help="platen contact penalty scale (default 1)")
+    compress.add_argument("--penalty-scale", type=float, default=PENALTY_SCALE,
+                          help=f"platen contact penalty over the impact solver's (default "
+                               f"{PENALTY_SCALE:g})")
     compress.add_argument("--moduli", choices=("long_term", "instantaneous"),
                           help="override the ball's moduli convention")
     add_allow(compress)
@@ -56,7 +60,8 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import SolverOptions, compress
+    from ..fe import compress
+    from ..fe.compression import compression_options
     from ..fe.output import plot_curve, write_curve
     from ..fe.runs import load_model
 
@@ -66,8 +71,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         raise InputError(f"--csv: {args.csv} must be a .csv file")
     allow = check_allow(args.allow)
     ball = load_model(args.ball, args.impact_speed_m_s, moduli=args.moduli, allow=allow)
-    options = SolverOptions(element_size_m=args.element_size_m, integration=args.integration,
-                            penalty_scale=args.penalty_scale)
+    options = replace(compression_options(ball, args.deflection_m, args.element_size_m),
+                      integration=args.integration, penalty_scale=args.penalty_scale)
     use_compilation_cache()
     progress = CountProgress("increment", quiet_s=PROGRESS_AFTER_S)
     result = compress(ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,

@@ -45,7 +45,7 @@ from ..progress import waits_announced
 from .programs import CompileWait
 from .options import SolverOptions
 
-__all__ = ["CompressionResult", "compress", "check_compression_input"]
+__all__ = ["CompressionResult", "compress", "check_compression_input", "compression_options"]
 
 #: Prony increment (s) that stands for "fully relaxed" (exp(-dt/tau) is 0 for any tau)
 RELAXED_DT_S = 1e30
@@ -57,6 +57,24 @@ MAX_INCREMENT_CUTS = 6
 #: or RESIDUAL_ABSOLUTE x mu R^2 (the ball's force scale: mu its smallest long-term shear modulus)
 RESIDUAL_RELATIVE = 1e-7
 RESIDUAL_ABSOLUTE = 1e-11
+
+#: The compression's own mesh (`compression_options`): both poles refined so that about this many
+#: elements span the Hertz contact radius sqrt(R D / 2) at the full deflection D (5-7: the pole
+#: size is taken on a ladder, below). Against a reference of 20 elements and a 100x penalty the
+#: force is then within 1.3% on elastic spheres (nu 0.3, 0.49; D / 2R = 0.25-5%;
+#: benchmarks/bench_compress_hertz.py, docs/materials.md).
+CONTACT_ELEMENTS = 5
+#: Pole element sizes are the element size divided by powers of this ratio, so that nearby
+#: deflections share a mesh and its compiled programs.
+POLE_SIZE_RATIO = math.sqrt(2.0)
+#: The refined zone spans this many contact radii of arc from each pole.
+ZONE_CONTACT_RADII = 2.5
+#: The platens' penalty springs are this much stiffer than the impact solver's: a static solve
+#: has no stability limit, and the impact's springs let a compressible ball (nu 0.3) sink into
+#: the platens by enough to read 4% soft at D / 2R = 2% (a 100x penalty moves it 0.3% further).
+PENALTY_SCALE = 30.0
+#: Fewer elements than this across the contact radius at the full deflection get a warning.
+RESOLVED_CONTACT_ELEMENTS = 3.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,20 +195,67 @@ def _mm_hint(d: float, radius_m: float) -> str:
     return ""
 
 
+def hertz_platen_radius_m(ball, deflection_m: float) -> float:
+    """The Hertz contact radius (m) of each platen at the deflection `deflection_m` (m): each
+    contact approaches D / 2, so a = sqrt(R D / 2), whatever the materials."""
+    return math.sqrt(ball.outer_radius_m * 0.5 * float(deflection_m))
+
+
+def compression_options(ball, deflection_m: float,
+                        element_size_m: float = SolverOptions.element_size_m) -> SolverOptions:
+    """The mesh and contact `compress` uses by default: elements of `element_size_m` (m) away
+    from the poles, both poles refined to about `CONTACT_ELEMENTS` elements across the contact
+    radius at `deflection_m` (m), and the platens' `PENALTY_SCALE`."""
+    radius = hertz_platen_radius_m(ball, deflection_m)
+    pole = element_size_m
+    while pole > radius / CONTACT_ELEMENTS:
+        pole /= POLE_SIZE_RATIO
+    if pole >= element_size_m:
+        return SolverOptions(element_size_m=element_size_m, penalty_scale=PENALTY_SCALE)
+    zone = math.degrees(ZONE_CONTACT_RADII * CONTACT_ELEMENTS * pole / ball.outer_radius_m)
+    return SolverOptions(element_size_m=element_size_m, pole_element_size_m=pole,
+                         pole_zone_deg=min(max(zone, 5.0), 45.0), both_poles=True,
+                         penalty_scale=PENALTY_SCALE)
+
+
+def unresolved_contact_note(ball, deflection_m: float, options: SolverOptions) -> str | None:
+    """A note when the contact radius at `deflection_m` (m) spans fewer than
+    `RESOLVED_CONTACT_ELEMENTS` elements at a platen on the mesh of `options`; None otherwise."""
+    radius = hertz_platen_radius_m(ball, deflection_m)
+    # the top platen's pole is refined only with both_poles
+    size = (options.pole_element_size_m or options.element_size_m) if options.both_poles \
+        else options.element_size_m
+    if radius >= RESOLVED_CONTACT_ELEMENTS * size:
+        return None
+    return (f"contact not resolved: at a deflection of {deflection_m:g} m the platens' contact "
+            f"radius (Hertz, about {radius * 1e3:.3g} mm) spans {radius / size:.2g} elements of "
+            f"{size * 1e3:.3g} mm, fewer than {RESOLVED_CONTACT_ELEMENTS:g}: the force reads "
+            "low (an elastic sphere of nu 0.3 on a uniform 1.5 mm mesh by 12-16% at 0.25-1% of its "
+            "diameter, docs/materials.md); leave the mesh to compress (options=None)")
+
+
 def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps: int = 20,
-             options: SolverOptions = SolverOptions(), progress=None) -> CompressionResult:
+             options: SolverOptions | None = None, progress=None) -> CompressionResult:
     """The force-deflection curve of `ball` squeezed between two rigid frictionless platens to
     `deflection_m` (m, the platens' approach) in `steps` equal increments.
 
     `rate_m_s`: platen speed (m/s) for viscoelastic layers (each increment lasts dD / rate);
     None: the long-term (fully relaxed) curve. `options`: the mesh, integration and contact
-    penalty of the impact solver; the solve is always in float64 (Newton needs it) and without
-    bulk viscosity (no motion). `progress(done, total)` is called after each increment.
+    penalty (`SolverOptions`); None: `compression_options`, a mesh that resolves the platens'
+    contact at this deflection; options that leave it unresolved get an `InputWarning`. The
+    solve is always in float64 (Newton needs it) and without bulk viscosity (no motion). `progress(done, total)` is called after each increment.
     Raises `InputError` on bad input, `SimulationError` when an increment does not converge
     after `MAX_INCREMENT_CUTS` halvings.
     """
     check_compression_input(ball, deflection_m, rate_m_s, steps)
     from .engine import Axisymmetric, kernel_for
+
+    if options is None:
+        options = compression_options(ball, deflection_m)
+    else:
+        note = unresolved_contact_note(ball, deflection_m, options)
+        if note is not None:
+            warnings.warn(note, InputWarning, stacklevel=2)
 
     started = time.perf_counter()
     # float64 (Newton), no bulk viscosity (no motion)

@@ -134,13 +134,15 @@ class SolverOptions(ExplicitOptions):
     - `element_size_m`: the outer surface's element length (the mean element side is ~1.2 mm
       at the default 1.5 mm).
     - `pole_element_size_m`, `pole_zone_deg`: a finer element size toward the contact pole,
-      within this angle of it.
+      within this angle of it; `both_poles`: at the north pole too (a ball between two
+      platens, `fe.compress`).
     - `mesh_radii_m`: extra node circles (e.g. to mesh like another ball).
     """
 
     element_size_m: float = 1.5e-3
     pole_element_size_m: float | None = None
     pole_zone_deg: float = 30.0
+    both_poles: bool = False
     mesh_radii_m: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:

@@ -56,7 +56,8 @@ def _ball_mesh(ball, options: SolverOptions):
     radii = np.asarray(ball.layer_radii_m)
     circles = mesh_radii(ball, options)
     mesh = layered_sphere_mesh(tuple(circles), options.element_size_m,
-                               options.pole_element_size_m, options.pole_zone_deg)
+                               options.pole_element_size_m, options.pole_zone_deg,
+                               options.both_poles)
     # mesh rings -> ball layers: a ring belongs to the first layer that reaches its radius
     ring_layer = np.searchsorted(radii, circles - 1e-12 * radii[-1])
     return dataclasses.replace(mesh, element_layer=ring_layer[mesh.element_layer],
@@ -188,7 +189,8 @@ class Axisymmetric:
     def kernel_key(self, ball, target=None) -> tuple:
         o = self.options
         key = ("axisymmetric", structure(ball), o.element_size_m, o.pole_element_size_m,
-               o.pole_zone_deg, tuple(o.mesh_radii_m), o.integration, o.precision)
+               o.pole_zone_deg, o.both_poles, tuple(o.mesh_radii_m), o.integration,
+               o.precision)
         if isinstance(target, Target):
             return key + ("target", target_structure(target))
         return key + (0 if target is None else target.count,)
@@ -203,7 +205,7 @@ class Axisymmetric:
         target's cells counted as meshed)."""
         o = self.options
         mesh = estimate_mesh(mesh_radii(ball, o), o.element_size_m, o.pole_element_size_m,
-                             o.pole_zone_deg)
+                             o.pole_zone_deg, o.both_poles)
         if not isinstance(target, Target):
             return mesh.elements, mesh.smallest_length_m
         tm = target_mesh([layer.thickness_m for layer in target.layers], target.half_width_m,

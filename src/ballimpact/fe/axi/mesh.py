@@ -131,6 +131,7 @@ def layered_sphere_mesh(
     element_size_m: float,
     pole_element_size_m: float | None = None,
     pole_zone_deg: float = 30.0,
+    both_poles: bool = False,
 ) -> AxisymmetricMesh:
     """Mesh a layered solid sphere's meridian half-disc with 4-node quadrilaterals (an O-grid).
 
@@ -153,6 +154,8 @@ def layered_sphere_mesh(
         Polar angle from the south pole (degrees, in (0, 90]) beyond which the surface elements
         have `element_size_m`. The zone stretches where that would need neighbouring surface
         elements to grow by more than `GROWTH_RATIO`.
+    both_poles : bool
+        Refine the north pole as the south one (a ball between two platens, `fe.compress`).
 
     Returns
     -------
@@ -172,7 +175,7 @@ def layered_sphere_mesh(
     refine = h_pole < h
     zone_rad = math.radians(zone_deg)
 
-    theta = _arc_angles(outer, h, h_pole, zone_rad, refine)
+    theta = _arc_angles(outer, h, h_pole, zone_rad, refine, both_poles)
     n_arc = len(theta) - 1
     n = n_arc // 4
     if theta[3 * n] < MIN_TOP_CORNER_RAD:
@@ -185,7 +188,8 @@ def layered_sphere_mesh(
             "(or element_size_m) or narrow pole_zone_deg")
     direction = np.stack([np.sin(theta), -np.cos(theta)], axis=1)
     direction[[0, -1], 0] = 0.0  # sin(pi) is 1e-16, not 0: keep the poles exactly on the axis
-    surface_size = _surface_size_m(theta, outer, h, h_pole, zone_rad) if refine else None
+    surface_size = (_surface_size_m(theta, outer, h, h_pole, zone_rad, both_poles) if refine
+                    else None)
 
     block_xy = _block_nodes(theta, BLOCK_HALF_SIDE_FRACTION * math.sqrt(2.0) * radii[0])
     block_ids = np.arange(block_xy.shape[0] * block_xy.shape[1]).reshape(block_xy.shape[:2])
@@ -213,7 +217,7 @@ def layered_sphere_mesh(
         if k == n_layers - 1 and refine:
             fractions = _graded_fractions(float(length[0]), n_uniform, h_pole,
                                           float(np.linalg.norm(inner_xy[0])), outer,
-                                          surface_size, outer * theta)
+                                          surface_size, outer * theta, both_poles)
         else:
             fractions = np.broadcast_to(np.linspace(0.0, 1.0, n_uniform + 1), (n_arc + 1,
                                                                                 n_uniform + 1))
@@ -279,19 +283,23 @@ def quad_quality(mesh: AxisymmetricMesh) -> dict[str, float]:
 
 
 def _surface_size_m(theta: np.ndarray, outer: float, h: float, h_pole: float,
-                    zone_rad: float) -> np.ndarray:
-    """Target surface element length (m) at polar angle `theta` (rad, from the south pole).
+                    zone_rad: float, both_poles: bool = False) -> np.ndarray:
+    """Target surface element length (m) at polar angle `theta` (rad, from the south pole; from
+    the nearer pole with `both_poles`).
 
     A C1 ramp of log(size) from `h_pole` at the pole to `h` at the zone's edge (for a large size
     ratio a linear ramp would keep near-`h_pole` elements over much of the zone), capped by a
     linear growth of `GROWTH_RATIO` - 1 per unit arc length: neighbouring elements then differ by
     at most about that ratio, which stretches the zone when a steep size ratio would not fit in it.
     """
+    if both_poles:
+        theta = np.minimum(theta, math.pi - theta)
     ramp = h_pole * (h / h_pole) ** _smoothstep(theta / zone_rad)
     return np.minimum(ramp, h_pole + (GROWTH_RATIO - 1.0) * outer * theta)
 
 
-def _arc_angles(outer: float, h: float, h_pole: float, zone_rad: float, refine: bool) -> np.ndarray:
+def _arc_angles(outer: float, h: float, h_pole: float, zone_rad: float, refine: bool,
+                both_poles: bool = False) -> np.ndarray:
     """Polar angles theta_p (rad, from the south pole) of the 4n + 1 nodes of every circle.
 
     The count comes from the outer surface: the integral of arc length over the target element
@@ -300,17 +308,19 @@ def _arc_angles(outer: float, h: float, h_pole: float, zone_rad: float, refine: 
     """
     if not refine:
         return np.linspace(0.0, math.pi, 4 * _quarters(math.pi * outer / h) + 1)
-    grid, count = _arc_integral(outer, h, h_pole, zone_rad)
+    grid, count = _arc_integral(outer, h, h_pole, zone_rad, both_poles)
     theta = np.interp(np.linspace(0.0, count[-1], 4 * _quarters(count[-1]) + 1), count, grid)
     theta[0], theta[-1] = 0.0, math.pi
     return theta
 
 
-def _arc_integral(outer: float, h: float, h_pole: float, zone_rad: float):
+def _arc_integral(outer: float, h: float, h_pole: float, zone_rad: float,
+                  both_poles: bool = False):
     """(polar angles, surface segments from the pole to each) of a refined surface."""
-    # samples crowd quadratically toward the pole, where the segments can be very short
-    grid = math.pi * np.linspace(0.0, 1.0, _ARC_SAMPLES) ** 2
-    density = outer / _surface_size_m(grid, outer, h, h_pole, zone_rad)  # segments per radian
+    # samples crowd quadratically toward the refined pole(s), where segments can be very short
+    u = np.linspace(0.0, 1.0, _ARC_SAMPLES)
+    grid = math.pi * (0.5 - 0.5 * np.cos(math.pi * u) if both_poles else u**2)
+    density = outer / _surface_size_m(grid, outer, h, h_pole, zone_rad, both_poles)
     return grid, np.concatenate([[0.0], np.cumsum(0.5 * (density[1:] + density[:-1])
                                                   * np.diff(grid))])
 
@@ -320,11 +330,12 @@ def _quarters(segments: float) -> int:
     return max(1, math.floor(segments / 4.0 + 0.5))
 
 
-def _quarter_count(outer: float, h: float, h_pole: float, zone_rad: float) -> int:
+def _quarter_count(outer: float, h: float, h_pole: float, zone_rad: float,
+                   both_poles: bool = False) -> int:
     """n: the surface has 4n segments (without building them: a mis-scaled ball can ask for
     billions)."""
     return _quarters(math.pi * outer / h if h_pole >= h
-                     else float(_arc_integral(outer, h, h_pole, zone_rad)[1][-1]))
+                     else float(_arc_integral(outer, h, h_pole, zone_rad, both_poles)[1][-1]))
 
 
 @dataclass(frozen=True)
@@ -336,7 +347,7 @@ class MeshEstimate:
 
 
 def estimate_mesh(layer_radii_m, element_size_m: float, pole_element_size_m: float | None = None,
-                  pole_zone_deg: float = 30.0) -> MeshEstimate:
+                  pole_zone_deg: float = 30.0, both_poles: bool = False) -> MeshEstimate:
     """The element count and smallest element length of `layered_sphere_mesh` with these
     arguments, from its counting rules alone (no node is built, so a ball given in millimetres
     as metres costs nothing here): within 10% of the count on the presets, the refined meshes
@@ -344,7 +355,7 @@ def estimate_mesh(layer_radii_m, element_size_m: float, pole_element_size_m: flo
     radii, h, h_pole, zone_deg = _validated_sizes(layer_radii_m, element_size_m,
                                                   pole_element_size_m, pole_zone_deg)
     outer, inner = float(radii[-1]), float(radii[0])
-    n = _quarter_count(outer, h, h_pole, math.radians(zone_deg))
+    n = _quarter_count(outer, h, h_pole, math.radians(zone_deg), both_poles)
     n_arc = 4 * n
     # block n x 2n; the transition ring spans ~0.35 r0 (block boundary at 1.15 half-sides on
     # average) in segments sized on its two curves' mean spacing, as `layered_sphere_mesh`
@@ -416,7 +427,7 @@ def _axis_distance(corner_angle: float, corner_radius: float) -> float:
 
 def _graded_fractions(pole_length: float, n_uniform: int, first: float, inner_radius: float,
                       outer_radius: float, surface_size: np.ndarray,
-                      arc_length: np.ndarray) -> np.ndarray:
+                      arc_length: np.ndarray, both_poles: bool = False) -> np.ndarray:
     """Radial node fractions (0 inner curve, 1 surface) of each column of the outermost ring.
 
     At the pole the spacing grows geometrically inward from `first` (ratio at most
@@ -440,6 +451,8 @@ def _graded_fractions(pole_length: float, n_uniform: int, first: float, inner_ra
     surface_size, arc_length : ndarray, shape (n_columns,)
         Target surface element size (m) and surface arc length from the south pole (m) of each
         column.
+    both_poles : bool
+        The north pole's column is graded as the south one's.
 
     Returns
     -------
@@ -480,8 +493,13 @@ def _graded_fractions(pole_length: float, n_uniform: int, first: float, inner_ra
     width_scale = (inner_radius + uniform * (outer_radius - inner_radius)) / outer_radius
     slope = MAX_COLUMN_SHEAR * float(np.min(width_scale[moved] / offset[moved]))  # per m of arc
     # the smallest slope-limited weight not below the target: a running maximum from the pole
-    weight = np.clip(np.maximum.accumulate(weight + slope * arc_length) - slope * arc_length,
-                     0.0, 1.0)
+    # (from each pole, the larger of the two, with `both_poles`)
+    limited = np.maximum.accumulate(weight + slope * arc_length) - slope * arc_length
+    if both_poles:
+        back = arc_length[-1] - arc_length[::-1]
+        limited = np.maximum(limited, (np.maximum.accumulate(weight[::-1] + slope * back)
+                                       - slope * back)[::-1])
+    weight = np.clip(limited, 0.0, 1.0)
     # a convex blend of two increasing sequences is increasing: every column stays valid
     return weight[:, None] * graded[None, :] + (1.0 - weight[:, None]) * uniform[None, :]
 
