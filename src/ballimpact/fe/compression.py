@@ -206,9 +206,10 @@ def compression_options(ball, deflection_m: float,
     """The mesh and contact `compress` uses by default: elements of `element_size_m` (m) away
     from the poles, both poles refined to about `CONTACT_ELEMENTS` elements across the contact
     radius at `deflection_m` (m), and the platens' `PENALTY_SCALE`."""
+    check_compression_input(ball, deflection_m)
     radius = hertz_platen_radius_m(ball, deflection_m)
     pole = element_size_m
-    while pole > radius / CONTACT_ELEMENTS:
+    while pole > radius / CONTACT_ELEMENTS and pole > 1e-3 * element_size_m:
         pole /= POLE_SIZE_RATIO
     if pole >= element_size_m:
         return SolverOptions(element_size_m=element_size_m, penalty_scale=PENALTY_SCALE)
