@@ -25,6 +25,7 @@ import platform
 import time
 import warnings
 
+from ballimpact.closedform import hertz_stiffness
 from ballimpact.fe import SolverOptions, compress, load_ball
 
 R_M, MU_PA = 0.036, 2.0e6
@@ -39,8 +40,8 @@ def sphere(nu: float):
 
 
 def hertz_n(deflection_m: float, nu: float) -> float:
-    e_star = 2.0 * MU_PA * (1.0 + nu) / (1.0 - nu * nu)
-    return 4.0 / 3.0 * e_star * math.sqrt(R_M) * (0.5 * deflection_m) ** 1.5
+    """Each platen's contact approaches D / 2."""
+    return hertz_stiffness(2.0 * MU_PA * (1.0 + nu), nu, R_M) * (0.5 * deflection_m) ** 1.5
 
 
 def reference_options(deflection_m: float) -> SolverOptions:

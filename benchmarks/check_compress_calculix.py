@@ -22,6 +22,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from ballimpact.closedform import hertz_stiffness
 from ballimpact.fe.axi.mesh import layered_sphere_mesh
 
 R_M, MU_PA, ELEMENTS_ACROSS = 0.036, 2.0e6, 25
@@ -31,7 +32,7 @@ def pole_approach(nu: float, fraction: float, folder: Path) -> dict:
     e = 2 * MU_PA * (1 + nu)
     delta = fraction * R_M  # each pole's approach, D / 2
     a = math.sqrt(R_M * delta)
-    force = 4 / 3 * e / (1 - nu**2) * math.sqrt(R_M) * delta**1.5
+    force = hertz_stiffness(e, nu, R_M) * delta**1.5
     p0 = 3 * force / (2 * math.pi * a * a)
     mesh = layered_sphere_mesh((R_M,), 1.5e-3, a / ELEMENTS_ACROSS,
                                min(max(math.degrees(2.5 * a / R_M), 5.0), 45.0), both_poles=True)

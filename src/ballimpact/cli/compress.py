@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..checks import check_allow
 from ..progress import CountProgress
 from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
-from ..fe.compression import PENALTY_SCALE
+from ..fe.options import COMPRESSION_PENALTY_SCALE as PENALTY_SCALE
 from .simulate import SolverDefaults
 
 #: print progress lines only for curves that take longer than this (s)

@@ -43,7 +43,7 @@ from ..constitutive.stability import drucker_warnings
 from ..checks import shown
 from ..progress import waits_announced
 from .programs import CompileWait
-from .options import SolverOptions
+from .options import COMPRESSION_PENALTY_SCALE, SolverOptions
 
 __all__ = ["CompressionResult", "compress", "check_compression_input", "compression_options"]
 
@@ -72,7 +72,7 @@ ZONE_CONTACT_RADII = 2.5
 #: The platens' penalty springs are this much stiffer than the impact solver's: a static solve
 #: has no stability limit, and the impact's springs let a compressible ball (nu 0.3) sink into
 #: the platens by enough to read 4% soft at D / 2R = 2% (a 100x penalty moves it 0.3% further).
-PENALTY_SCALE = 30.0
+PENALTY_SCALE = COMPRESSION_PENALTY_SCALE
 #: Fewer elements than this across the contact radius at the full deflection get a warning.
 RESOLVED_CONTACT_ELEMENTS = 3.0
 

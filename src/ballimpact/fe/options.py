@@ -126,6 +126,11 @@ def check_count(name: str, value, low: int) -> None:
         raise InputError(f"{name} = {shown(value)}: must be an integer >= {low}")
 
 
+#: `fe.compress`'s platen penalty over the impact solver's (`fe.compression`: a static solve has no
+#: stability limit); here, not there, so that the command line's help needs no JAX import.
+COMPRESSION_PENALTY_SCALE = 30.0
+
+
 @dataclass(frozen=True)
 class SolverOptions(ExplicitOptions):
     """Settings of the axisymmetric engine (SI): the shared ones (`ExplicitOptions`) and its
