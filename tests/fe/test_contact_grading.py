@@ -5,14 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from ballimpact.errors import InputError
+from ballimpact.errors import InputError, InputWarning
 from ballimpact.balls.ball import BallModel, Layer
 from ballimpact.constitutive import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.fe.hex.contact_grading import grading_for_contact
-from ballimpact.fe.hex.mesh import pole_spacing_m
-from ballimpact.fe.hex.mesh import ball_mesh
-from ballimpact.fe import Hexahedral, estimate
+from ballimpact.fe.estimates import hertz_contact_radius_m
+from ballimpact.fe.hex.mesh import GRADING_RANGE, ball_mesh, pole_spacing_m
+from ballimpact.fe import Hexahedral, estimate, load_ball
 
 BALL = BallModel("sphere", (Layer("sphere", 0.036, 800.0, material_from_dict(
     {"model": "linear_elastic", "youngs_modulus_pa": 1e8, "poissons_ratio": 0.23})),))
@@ -62,3 +62,48 @@ def test_cli_contact_elements_bad_input(bad_input, tmp_path):
     bad_input(["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
                "--divisions", "8", "--contact-elements", "40"], "contact_elements = 40",
               "use divisions >=")
+
+
+def _chosen(options, speed_m_s, angle_deg=0.0, ball=BALL):
+    geometry = Hexahedral(options).checked(ball, [ImpactCondition(speed_m_s, angle_deg)], None)
+    return geometry.options
+
+
+def test_default_mesh_and_penalty_come_from_the_contact():
+    """Options3D's defaults (issue 43): a small contact (0.25 m/s on the 100 MPa sphere, a / R
+    0.07, one element of the default grading across it) gets the grading that puts 3 elements
+    across the Hertz radius and 3 times the penalty; a ball impact's wide contact (a cricket
+    ball at 20 m/s, 7.6 elements) keeps grading 2 and penalty 1; what the user gives is kept.
+    The normal speed decides: 0.5 m/s at 60 degrees is 0.25 m/s normal."""
+    small = _chosen(Options3D(), 0.25)
+    grading, a = grading_for_contact(BALL, 0.25, 16, 3.0)
+    assert small.pole_grading == pytest.approx(grading, rel=1e-12) and grading > 2.0
+    assert a / pole_spacing_m(0.036, 16, small.pole_grading) == pytest.approx(3.0, rel=1e-9)
+    assert small.penalty_scale == 3.0 and small.contact_elements is None
+    assert _chosen(Options3D(), 0.5, 60.0) == small
+    cricket = load_ball("cricket-universal", impact_speed_m_s=20.0)
+    wide = _chosen(Options3D(), 20.0, ball=cricket)
+    assert (wide.pole_grading, wide.penalty_scale) == (2.0, 1.0)
+    given = _chosen(Options3D(pole_grading=1.5, penalty_scale=2.0), 0.25)
+    assert (given.pole_grading, given.penalty_scale) == (1.5, 2.0)
+    # a contact spanned by 3 to 4 elements of grading 2: the mesh kept, the penalty raised
+    mid = _chosen(Options3D(), 3.0, ball=cricket)
+    across = hertz_contact_radius_m(cricket, 3.0) / pole_spacing_m(cricket.outer_radius_m, 16, 2.0)
+    assert 3.0 < across < 4.0 and (mid.pole_grading, mid.penalty_scale) == (2.0, 3.0)
+
+
+def test_a_contact_the_divisions_cannot_resolve_takes_the_finest_pole_and_is_warned():
+    """4 divisions cannot put 3 elements across the 0.002 m/s contact (0.37 mm; 0.69 mm at the
+    pole at the largest grading): that grading, and the run's 'contact not resolved' note
+    (checked before anything is compiled)."""
+    chosen = _chosen(Options3D(divisions=4), 0.002)
+    assert chosen.pole_grading == GRADING_RANGE[1] and chosen.penalty_scale == 3.0
+    with pytest.warns(InputWarning, match="^contact not resolved"):
+        estimate(BALL, [ImpactCondition(0.002)], geometry=Hexahedral(Options3D(divisions=4)))
+
+
+def test_export_keeps_the_default_grading():
+    """A deck's mesh has no impact to grade for: grading 2 (`DEFAULT_POLE_GRADING`)."""
+    from ballimpact.export.geometry import estimate_elements
+
+    assert estimate_elements(BALL, "3d") == estimate_elements(BALL, "3d", pole_grading=2.0)

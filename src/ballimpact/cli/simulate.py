@@ -79,7 +79,8 @@ def add_parser(verbs) -> None:
                        help="hexahedra along each 90 degrees of arc (even, 4 to 64; default 16)")
     three.add_argument("--pole-grading", type=float,
                        help="arc spacing at the equator over that at the contact pole "
-                            "(1 to 40; default 2)")
+                            "(1 to 40; default 2, or finer until 3 elements span the expected "
+                            "contact)")
     three.add_argument("--contact-elements", type=float,
                        help="grade the mesh so that this many elements span the Hertz contact "
                             "radius expected at the (slowest) normal speed; sets the pole "
@@ -128,8 +129,9 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--precision", choices=("float64", "float32"),
                         default=SolverDefaults.precision,
                         help="arithmetic of the explicit steps (default float64)")
-    parser.add_argument("--penalty-scale", type=float, default=SolverDefaults.penalty_scale,
-                        help="contact penalty scale (default 1)")
+    parser.add_argument("--penalty-scale", type=float,
+                        help="contact penalty scale (default 1; 3d: 3 where fewer than 4 "
+                             "elements span the expected contact, else 1)")
 
 
 def speed_list(text: str) -> float | tuple[float, ...]:
@@ -167,7 +169,8 @@ def solver_options(args: argparse.Namespace):
     size = SolverDefaults.element_size_m if args.element_size_m is None else args.element_size_m
     return SolverOptions(element_size_m=size,
                          pole_element_size_m=args.pole_element_size_m,
-                         penalty_scale=args.penalty_scale, integration=args.integration,
+                         penalty_scale=(SolverDefaults.penalty_scale if args.penalty_scale is None
+                                        else args.penalty_scale), integration=args.integration,
                          precision=args.precision)
 
 

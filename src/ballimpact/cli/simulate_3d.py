@@ -141,6 +141,8 @@ def print_3d(result, out: dict[str, Any]) -> None:
           f"{e['viscous_dissipation_j']:.4g} J, friction {e['frictional_dissipation_j']:.4g} J,"
           f" bulk viscous {e['bulk_viscous_dissipation_j']:.4g} J of "
           f"{e['initial_kinetic_energy_j']:.4g} J")
-    print(f"  {result.elements} hexahedra ({'half' if result.half_model else 'full'} model), "
+    print(f"  {result.elements} hexahedra ({'half' if result.half_model else 'full'} model, "
+          f"pole grading {result.pole_grading:.3g}, {result.pole_spacing_m * 1e3:.3g} mm at the "
+          f"pole, penalty scale {result.penalty_scale:g}),\n  "
           f"{result.steps} steps of {result.stable_time_increment_s:.3g} s, "
           f"{result.wall_time_s:.2f} s wall")

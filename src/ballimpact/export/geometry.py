@@ -19,10 +19,10 @@ import numpy as np
 from ..errors import InputError
 from ..balls.ball import BallModel
 from ..fe.axi.mesh import estimate_mesh, layered_sphere_mesh
-from ..fe.options import SolverOptions
+from ..fe.hex.contact_grading import without_contact
 from ..fe.hex.element import geometry
 from ..fe.hex.mesh import ball_mesh, estimate_ball_mesh
-from ..fe.options import Options3D
+from ..fe.options import Options3D, SolverOptions
 
 SOLVERS = ("axisymmetric", "3d")
 
@@ -76,10 +76,8 @@ def _mesh_options(solver: str, element_size_m: float | None, divisions: int | No
         SolverOptions(element_size_m=size)  # validates
         return size
     if solver == "3d":
-        defaults = Options3D()
-        return Options3D(divisions=defaults.divisions if divisions is None else divisions,
-                         pole_grading=(defaults.pole_grading if pole_grading is None
-                                       else pole_grading))
+        given = {} if divisions is None else {"divisions": divisions}
+        return without_contact(Options3D(**given, pole_grading=pole_grading))
     raise InputError(f"solver = {solver!r}: allowed {', '.join(SOLVERS)}")
 
 
@@ -101,7 +99,8 @@ def ball_geometry(ball: BallModel, solver: str = "axisymmetric", *,
                   pole_grading: float | None = None, half: bool = False) -> BallGeometry:
     """Mesh `ball` for a deck: axisymmetric quadrilaterals of `element_size_m` (default the
     solver's, `fe.SolverOptions`), or 3D hexahedra with `divisions` and `pole_grading`
-    (defaults `oblique.Options3D`), the whole ball or, with `half`, the half y >= 0."""
+    (defaults `oblique.Options3D`'s divisions, grading 2: `without_contact`), the whole ball
+    or, with `half`, the half y >= 0."""
     options = _mesh_options(solver, element_size_m, divisions, pole_grading)
     if solver == "axisymmetric":
         mesh = layered_sphere_mesh(ball.layer_radii_m, options)

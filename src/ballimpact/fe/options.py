@@ -96,6 +96,8 @@ class ExplicitOptions:
     end_margin: float = 0.25          # simulated after separation, as a fraction of contact time
     time_limit_s: float | None = None  # default: 6 times a Hertz estimate of the contact time
     chunk_steps: int = 200
+    #: settings a geometry may leave None, to be chosen from the expected contact
+    CHOSEN_FROM_CONTACT = ()
 
     def __post_init__(self) -> None:
         for name, high, zero_ok in (("hourglass_scale", 1.0, False),
@@ -106,6 +108,8 @@ class ExplicitOptions:
                                     ("time_step_scale", 2.0, False),
                                     ("energy_error_limit", 1.0, False),
                                     ("end_margin", 10.0, True)):
+            if getattr(self, name) is None and name in self.CHOSEN_FROM_CONTACT:
+                continue
             check_range(name, getattr(self, name), 0.0, high, low_open=not zero_ok)
         for name, value, allowed in (("integration", self.integration, INTEGRATIONS),
                                      ("precision", self.precision, PRECISIONS)):
@@ -161,7 +165,12 @@ class Options3D(ExplicitOptions):
     mesh's, friction's, targets' and output's.
 
     - `divisions`: elements along each edge of the O-grid's cube (90 degrees of arc); even.
-    - `pole_grading`: largest over smallest arc spacing (finer toward the contact pole).
+    - `pole_grading`: largest over smallest arc spacing (finer toward the contact pole). None
+      (default): chosen from the Hertz contact radius a expected at the smallest normal speed
+      of a run, 2 or finer until 3 elements span a (`fe.hex.contact_grading.contact_settings`).
+    - `penalty_scale` (the shared setting): None (default) chooses 3 where fewer than 4
+      elements of the mesh span a (a small contact: the gripping regime's balance,
+      docs/oblique.md), 1 otherwise (ball impacts).
     - `half`: a half model on the plane of incidence (symmetric: no out-of-plane spin). None:
       half when every condition allows it, the full model otherwise.
     - `contact_elements`: when set, the pole grading is chosen for the impact so that this many
@@ -182,19 +191,22 @@ class Options3D(ExplicitOptions):
     """
 
     divisions: int = 16
-    pole_grading: float = 2.0
+    pole_grading: float | None = None
     contact_elements: float | None = None
     half: bool | None = None
     stick_scale: float = 8.0
     slab_depth_growth: float | None = None
     slab_depth_cell_m: float | None = None
     frames: int = 0
+    penalty_scale: float | None = None
+    CHOSEN_FROM_CONTACT = ("penalty_scale",)
 
     def __post_init__(self) -> None:
         if not (isinstance(self.divisions, int) and self.divisions >= 4
                 and self.divisions % 2 == 0 and self.divisions <= 64):
             raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
-        check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
+        if self.pole_grading is not None:
+            check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
         if self.contact_elements is not None:
             check_range("contact_elements", self.contact_elements, 0.5, 50.0)
         check_range("stick_scale", self.stick_scale, 0.0, 100.0, low_open=True)

@@ -45,7 +45,8 @@ class ImpactResult(RunFigures):
     moduli: tuple[str, ...] = ()
     integration: str = "reduced"
     precision: str = "float64"
-    pole_grading: float = NAN                # 3D: the mesh's (set by `contact_elements` if given)
+    pole_grading: float = NAN                # 3D: the mesh's (chosen from the contact unless given)
+    penalty_scale: float = NAN               # 3D: the contact penalty's (the same)
     pole_spacing_m: float = NAN              # 3D: arc spacing of the elements at the contact pole
     nodes_m: np.ndarray | None = field(default=None, repr=False)
     elements_connectivity: np.ndarray | None = field(default=None, repr=False)
@@ -114,7 +115,7 @@ class ImpactResult(RunFigures):
                 "energies_j": dict(self.energies_j), "mass_kg": self.mass_kg,
                 "elements": self.elements, "nodes": self.nodes, "steps": self.steps,
                 "half_model": self.half_model, "pole_grading": self.pole_grading,
-                "pole_spacing_m": self.pole_spacing_m,
+                "pole_spacing_m": self.pole_spacing_m, "penalty_scale": self.penalty_scale,
                 "stable_time_increment_s": self.stable_time_increment_s,
                 "final_time_increment_s": self.final_time_increment_s,
                 "principal_stretch_bounds": list(self.stretch_range),  # Gershgorin bounds

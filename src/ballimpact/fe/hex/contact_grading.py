@@ -1,5 +1,6 @@
 """Mesh grading to the contact: the pole grading that puts a given number of elements across the
-Hertz contact radius expected for an impact.
+Hertz contact radius expected for an impact, and the 3D engine's defaults chosen from it
+(`contact_settings`: `Options3D` with `pole_grading` and `penalty_scale` left None).
 
 The contact radius is `fe.estimates.hertz_contact_radius_m`'s: Hertz's on a rigid plane at the
 impact's normal speed, with the softest layer's long-term plane-strain modulus (exact for a
@@ -9,9 +10,24 @@ widens it further, so the mesh is then at least as fine as asked).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from ...errors import InputError
 from ..estimates import hertz_contact_radius_m
 from .mesh import GRADING_RANGE, pole_spacing_m
+
+#: The default mesh's pole grading, kept where the contact spans enough elements with it ...
+DEFAULT_POLE_GRADING = 2.0
+#: ... else the grading that puts this many elements across the Hertz radius (docs/oblique.md,
+#: "The gripping regime": 2 elements let the contact point reverse too little, 2.9 to 4.3 agree).
+DEFAULT_CONTACT_ELEMENTS = 3.0
+#: A contact spanned by fewer elements than this gets the penalty `SMALL_CONTACT_PENALTY_SCALE`
+#: times the default (the balance of the penalty's softness and the coarse mesh's stiff stick
+#: measured at 2.9 elements across); a ball impact's wider contact (4 to 10 elements at 5-40 m/s
+#: on the default mesh) keeps the default penalty, with which the 3D engine was checked against
+#: the axisymmetric one, Hertz and the rigid-body limits.
+SMALL_CONTACT_ELEMENTS = 4.0
+SMALL_CONTACT_PENALTY_SCALE = 3.0
 
 
 def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
@@ -39,3 +55,44 @@ def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
         mid = 0.5 * (low + high)
         low, high = (mid, high) if pole_spacing_m(radius, divisions, mid) > wanted else (low, mid)
     return high, a
+
+
+def contact_settings(ball, normal_speed_m_s: float, options):
+    """`options` (`Options3D`) with the settings it leaves to the contact made numbers, for the
+    Hertz radius a at `normal_speed_m_s` (m/s; a batch's slowest):
+
+    - `contact_elements` given: the grading that puts that many elements across a;
+    - `pole_grading` None: `DEFAULT_POLE_GRADING`, or finer until `DEFAULT_CONTACT_ELEMENTS`
+      elements span a (at most the largest grading: a contact the divisions cannot resolve is
+      warned about by the engine, `fe.engine.contact_resolution_note`);
+    - `penalty_scale` None: `SMALL_CONTACT_PENALTY_SCALE` when fewer than
+      `SMALL_CONTACT_ELEMENTS` elements of the mesh so chosen span a, 1 otherwise."""
+    grading = options.pole_grading
+    if options.contact_elements is not None:
+        grading, _ = grading_for_contact(ball, normal_speed_m_s, options.divisions,
+                                         options.contact_elements)
+    elif grading is None:
+        grading = DEFAULT_POLE_GRADING
+        try:
+            grading = max(grading, grading_for_contact(ball, normal_speed_m_s, options.divisions,
+                                                       DEFAULT_CONTACT_ELEMENTS)[0])
+        except InputError:  # the divisions cannot reach it: the finest pole they can
+            grading = GRADING_RANGE[1]
+    penalty = options.penalty_scale
+    if penalty is None:
+        across = (hertz_contact_radius_m(ball, normal_speed_m_s)
+                  / pole_spacing_m(ball.outer_radius_m, options.divisions, grading))
+        penalty = SMALL_CONTACT_PENALTY_SCALE if across < SMALL_CONTACT_ELEMENTS else 1.0
+    return replace(options, pole_grading=grading, penalty_scale=penalty, contact_elements=None)
+
+
+def without_contact(options):
+    """`options` (`Options3D`) with what `contact_settings` leaves to the contact set where no
+    impact is known (a mesh built or estimated on its own, an exported deck): grading
+    `DEFAULT_POLE_GRADING`, penalty 1. Settings already chosen are kept."""
+    if options.pole_grading is not None and options.penalty_scale is not None:
+        return options
+    return replace(options, penalty_scale=1.0 if options.penalty_scale is None
+                   else options.penalty_scale,
+                   pole_grading=DEFAULT_POLE_GRADING if options.pole_grading is None
+                   else options.pole_grading)

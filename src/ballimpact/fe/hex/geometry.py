@@ -31,7 +31,7 @@ from ..options import ImpactCondition, Options3D
 from ..result import ImpactResult, contact_end_time, energy_histories, target_energies
 from ..stable_increment import increment_factor
 from . import kernel as kernel_module
-from .contact_grading import grading_for_contact
+from .contact_grading import contact_settings, without_contact
 from .element import geometry as element_geometry
 from .kernel import HISTORY, HexParams, Kernel
 from .mesh import (
@@ -71,6 +71,7 @@ def slab_cell_m(ball, options: Options3D) -> float:
     """The target slab's cell size near the contact (m): about the ball mesh's arc spacing at
     the pole (the exact spacing is `mesh.pole_spacing_m`; this estimate is kept because the
     slab's documented figures rest on it)."""
+    options = without_contact(options)
     return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
             / options.pole_grading ** 0.5)
 
@@ -86,6 +87,7 @@ def slab_layout(ball, target, options: Options3D) -> tuple[int, float, np.ndarra
     the ball's cells do from its pole (at least by 1.15 a cell: the ball's nodes then press on
     target nodes of about their own mass, see `_contact_spring_factors`), through the depth
     the pole spacing at the surface growing by that factor to 4 pole spacings."""
+    options = without_contact(options)
     thicknesses = [layer.thickness_m for layer in target.layers]
     if options.slab_depth_growth is None:
         pole = slab_cell_m(ball, options)
@@ -109,6 +111,7 @@ def slab_layout(ball, target, options: Options3D) -> tuple[int, float, np.ndarra
 
 def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
     """The mesh of a ball (and target), ball layers then target layers as groups."""
+    options = without_contact(options)
     mesh = ball_mesh(ball.layer_radii_m, options.divisions, options.pole_grading, half=half)
     if target is None:
         return mesh
@@ -120,6 +123,7 @@ def mesh_for(ball, target, options: Options3D, half: bool) -> HexMesh:
 
 def mesh_size(ball, target, options: Options3D, half: bool) -> tuple[int, float]:
     """(elements, about the smallest element's length m) of `mesh_for`, without building it."""
+    options = without_contact(options)
     elements, smallest = estimate_ball_mesh(ball.layer_radii_m, options.divisions,
                                             options.pole_grading, half)
     if target is not None:
@@ -172,6 +176,7 @@ def centre_column(mesh: HexMesh, target) -> np.ndarray:
 def model_arrays(ball, target, kernel: Kernel, options: Options3D,
                  condition: ImpactCondition) -> HexParams:
     """Per-run parameters (NumPy float64)."""
+    options = without_contact(options)
     geom = kernel.geom
     layers = list(ball.layers) + (list(target.layers) if target is not None else [])
     rho = np.array([layer.density_kg_m3 for layer in layers])
@@ -281,6 +286,7 @@ def _contact_reach(ball, target, kernel: Kernel, mass: np.ndarray, condition: Im
     `REACH_MARGIN` on its radius and time: the contact's half angle plus the rotation over the
     contact at the initial spin plus the most friction can add, plus two pole spacings; the
     travel is the tangential speed and that rotation over the contact, plus a pole spacing."""
+    options = without_contact(options)
     theta = math.radians(condition.angle_deg)
     v_n, v_t = condition.speed_m_s * math.cos(theta), abs(condition.speed_m_s * math.sin(theta))
     materials = [layer.material for layer in target.layers]
@@ -361,8 +367,9 @@ class Hexahedral:
 
     def checked(self, ball, conditions: list, target) -> "Hexahedral":
         """The geometry for these runs of `ball`: the half model when every condition is
-        symmetric (or as `options.half` says), the pole grading chosen for `contact_elements`
-        (when given); a target narrower than the ball refused (`target.check_target_width`)."""
+        symmetric (or as `options.half` says), the pole grading and penalty the options leave
+        to the contact chosen for it (`contact_grading.contact_settings`); a target narrower
+        than the ball refused (`target.check_target_width`)."""
         symmetric = all(c.symmetric for c in conditions)
         half = symmetric if self.options.half is None else bool(self.options.half)
         if half and not symmetric:
@@ -378,32 +385,33 @@ class Hexahedral:
                                  "runs on the axisymmetric geometry (normal impacts); the 3D "
                                  "geometry meshes flat slabs")
             check_target_width(target, ball)
-        options = self.options
-        if options.contact_elements is not None:
-            slowest = min(c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions)
-            grading, _ = grading_for_contact(ball, slowest, options.divisions,
-                                             options.contact_elements)
-            options = replace(options, pole_grading=grading, contact_elements=None)
-        return replace(self, options=options, half=half)
+        slowest = min(c.speed_m_s * math.cos(math.radians(c.angle_deg)) for c in conditions)
+        return replace(self, options=contact_settings(ball, slowest, self.options), half=half)
 
     def structure(self, ball, target=None) -> tuple:
         return structure(ball, target)
 
+    @property
+    def settings(self) -> Options3D:
+        """The options, with what `checked` chooses from the contact set as without one
+        (`contact_grading.without_contact`) where it has not run."""
+        return without_contact(self.options)
+
     def kernel_key(self, ball, target=None) -> tuple:
-        o = self.options
+        o = self.settings
         return ("3d", structure(ball, target), o.divisions, o.pole_grading, self.half,
                 o.integration, o.precision,
                 None if target is None else (o.slab_depth_growth, o.slab_depth_cell_m))
 
     def build(self, ball, target=None) -> tuple[Kernel, HexMesh]:
-        return build_kernel(ball, target, self.options, self.half)
+        return build_kernel(ball, target, self.settings, self.half)
 
     def mesh_size(self, ball, target=None) -> tuple[int, float]:
-        return mesh_size(ball, target, self.options, self.half)
+        return mesh_size(ball, target, self.settings, self.half)
 
     def pole_element_m(self, ball) -> float:
-        return pole_spacing_m(ball.outer_radius_m, self.options.divisions,
-                              self.options.pole_grading)
+        return pole_spacing_m(ball.outer_radius_m, self.settings.divisions,
+                              self.settings.pole_grading)
 
     def slack(self, target) -> float:
         return 1.0 if target is None else 4.0  # a slab lengthens the contact
@@ -420,7 +428,7 @@ class Hexahedral:
             9 * nodes + 6 * elements)
 
     def params(self, ball, target, kernel: Kernel, condition: ImpactCondition) -> HexParams:
-        return model_arrays(ball, target, kernel, self.options, condition)
+        return model_arrays(ball, target, kernel, self.settings, condition)
 
     def initial(self, conditions: list) -> list[np.ndarray]:
         return [np.array([c.speed_m_s for c in conditions]),
@@ -487,7 +495,8 @@ class Hexahedral:
             outer_radius_m=radius, half_model=bool(self.half),
             target="rigid plane" if target is None else target.name, wall_time_s=wall,
             stretch_range=(float(final["stretch_min"]), float(final["stretch_max"])),
-            pole_grading=float(self.options.pole_grading),
+            pole_grading=float(self.settings.pole_grading),
+            penalty_scale=float(self.settings.penalty_scale),
             pole_spacing_m=self.pole_element_m(ball), integration=self.options.integration,
             precision=self.options.precision, frames=frames, mesh=mesh,
             kernel_geometry=kernel.geom)
