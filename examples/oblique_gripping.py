@@ -221,9 +221,9 @@ def same_material_slab(nu: float) -> Target:
     return Target("same material", 0.12, (TargetLayer("slab", 0.08, DENSITY_KG_M3, material),))
 
 
-#: the diagnosis' mesh: the default 16 divisions and pole grading 2 (2.4 elements across the
-#: Hertz radius at 2 m/s)
-DIAGNOSIS_MESH = Options3D(divisions=16)
+#: the diagnosis' mesh: 16 divisions and pole grading 2 (2.4 elements across the Hertz radius at
+#: 2 m/s) with the default penalty, the defaults before they were chosen from the contact
+DIAGNOSIS_MESH = Options3D(divisions=16, pole_grading=2.0, penalty_scale=1.0)
 
 
 def part_diagnosis(extended: bool = False) -> dict:

@@ -5,11 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from ballimpact.errors import InputError, InputWarning
+from ballimpact.errors import InputError
 from ballimpact.balls.ball import BallModel, Layer
 from ballimpact.constitutive import material_from_dict
 from ballimpact.oblique import ImpactCondition, Options3D
 from ballimpact.fe.hex.contact_grading import grading_for_contact
+from ballimpact.fe.engine import contact_resolution_note
 from ballimpact.fe.estimates import hertz_contact_radius_m
 from ballimpact.fe.hex.mesh import GRADING_RANGE, ball_mesh, pole_spacing_m
 from ballimpact.fe import Hexahedral, estimate, load_ball
@@ -94,12 +95,11 @@ def test_default_mesh_and_penalty_come_from_the_contact():
 
 def test_a_contact_the_divisions_cannot_resolve_takes_the_finest_pole_and_is_warned():
     """4 divisions cannot put 3 elements across the 0.002 m/s contact (0.37 mm; 0.69 mm at the
-    pole at the largest grading): that grading, and the run's 'contact not resolved' note
-    (checked before anything is compiled)."""
+    pole at the largest grading): that grading, and the run's 'contact not resolved' note."""
     chosen = _chosen(Options3D(divisions=4), 0.002)
     assert chosen.pole_grading == GRADING_RANGE[1] and chosen.penalty_scale == 3.0
-    with pytest.warns(InputWarning, match="^contact not resolved"):
-        estimate(BALL, [ImpactCondition(0.002)], geometry=Hexahedral(Options3D(divisions=4)))
+    note = contact_resolution_note(BALL, 0.002, Hexahedral(chosen).pole_element_m(BALL))
+    assert note.startswith("contact not resolved") and "spans 0.54 elements" in note
 
 
 def test_export_keeps_the_default_grading():

@@ -88,9 +88,10 @@ def gripping_reference(ball, target, condition, psi_max: float,
             f"tangentially (Maw, Barber & Fawcett 1976, 1981), nu = {nu:.4g} from the ball's "
             f"small-strain moduli, k^2 = 0.4, no initial spin; it leaves out the coupling "
             f"(beta = {beta:.3g}) and the contact's size (a / R up to {a_over_r:.3g}); with "
-            "mu >= 1.4 beta, a / R < 0.1, --contact-elements 2.9 and --penalty-scale 3 the FE "
-            "was within 0.02 of its e_t from Psi 0.5 to 10; with the default penalty it "
-            "reverses too little below Psi 3 (docs/oblique.md, the gripping regime)")
+            "mu >= 1.4 beta, a / R < 0.1 and the mesh and penalty the defaults choose for a "
+            "small contact (3 elements across a, penalty 3) the FE was within 0.02 of its e_t "
+            "from Psi 0.5 to 10; with penalty 1 it reverses too little below Psi 3 "
+            "(docs/oblique.md, the gripping regime)")
     return {"poissons_ratio": nu, "curves": {k: v.tolist() for k, v in curves.items()},
             "note": note, "coupling_beta": beta, "contact_radius_over_radius": a_over_r}, note
 
