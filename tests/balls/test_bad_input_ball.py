@@ -251,12 +251,14 @@ def test_api_narrow_target_is_refused_before_meshing():
 
 
 def test_3d_unresolved_contact_names_the_3d_options():
-    """The note's advice is the 3D mesh's options, not the axisymmetric pole size."""
-    from ballimpact.oblique import ImpactCondition, simulate_oblique
+    """The note's advice is the 3D mesh's options, not the axisymmetric pole size (a grading
+    given: the default would refine the pole for the contact)."""
+    from ballimpact.oblique import ImpactCondition, Options3D, simulate_oblique
 
     with pytest.warns(InputWarning, match="^contact not resolved.*--divisions, --pole-grading"), \
             pytest.raises(AssertionError, match="meshed"):
-        simulate_oblique(load_ball("cricket-3layer"), ImpactCondition(speed_m_s=0.05))
+        simulate_oblique(load_ball("cricket-3layer"), ImpactCondition(speed_m_s=0.05),
+                         Options3D(pole_grading=2.0))
 
 
 # ---- the axisymmetric solver's flags and ball files --------------------------------------------
