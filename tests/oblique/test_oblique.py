@@ -496,8 +496,9 @@ def test_contact_spring_factors_only_where_the_ball_can_meet_the_target():
         for options in (Options3D(divisions=8), Options3D(divisions=8, slab_depth_growth=1.2)):
             geometry = fe.Hexahedral(options).checked(ball, [condition], target)
             kernel, mesh = kernel_for(ball, geometry, target)
-            mass = model_arrays(ball, target, kernel, options, condition).mass_kg
-            factors = _contact_spring_factors(ball, target, kernel, mass, condition, options)
+            chosen = geometry.settings  # the grading and penalty chosen for the contact
+            mass = model_arrays(ball, target, kernel, chosen, condition).mass_kg
+            factors = _contact_spring_factors(ball, target, kernel, mass, condition, chosen)
             if target is None:
                 assert np.all(factors == 1.0)
                 continue

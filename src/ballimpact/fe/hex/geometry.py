@@ -71,7 +71,6 @@ def slab_cell_m(ball, options: Options3D) -> float:
     """The target slab's cell size near the contact (m): about the ball mesh's arc spacing at
     the pole (the exact spacing is `mesh.pole_spacing_m`; this estimate is kept because the
     slab's documented figures rest on it)."""
-    options = without_contact(options)
     return (ball.outer_radius_m * math.radians(90.0 / options.divisions)
             / options.pole_grading ** 0.5)
 
@@ -286,7 +285,6 @@ def _contact_reach(ball, target, kernel: Kernel, mass: np.ndarray, condition: Im
     `REACH_MARGIN` on its radius and time: the contact's half angle plus the rotation over the
     contact at the initial spin plus the most friction can add, plus two pole spacings; the
     travel is the tangential speed and that rotation over the contact, plus a pole spacing."""
-    options = without_contact(options)
     theta = math.radians(condition.angle_deg)
     v_n, v_t = condition.speed_m_s * math.cos(theta), abs(condition.speed_m_s * math.sin(theta))
     materials = [layer.material for layer in target.layers]
