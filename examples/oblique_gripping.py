@@ -17,6 +17,8 @@ of the first probes for the diagnosis. Parts:
   plane couples normal pressure and tangential displacement, beta 0.35 for nu 0.23);
 - `penalty`: Psi 0.5 on the sweep's mesh with the normal penalty scaled 1 to 16: the penalty's
   normal compliance against the mesh's tangential stiffness;
+- `defaults`: Psi 0.5, 1 and 3 with `Options3D()` (the mesh and penalty chosen from the
+  contact) against the defaults before (grading 2, penalty 1);
 - `diagnosis`: what moves the FE result at Psi 0.5 and 2 (nu 0.23): friction (the coupling of
   normal pressure and tangential displacement), the stick spring, the normal penalty, the time
   step, the hourglass stiffness, the integration and a target of the ball's own material.
@@ -30,6 +32,7 @@ plot. Each run is made alone: on a CPU that is faster than a vmapped batch (docs
     python examples/oblique_gripping.py --slab --part sweep --part convergence \
         --plot docs/oblique-gripping.png
     python examples/oblique_gripping.py --part diagnosis
+    python examples/oblique_gripping.py --part defaults
 """
 
 from __future__ import annotations
@@ -215,6 +218,24 @@ def part_penalty() -> dict:
     return out
 
 
+#: the 3D defaults before they were chosen from the contact (grading 2, penalty 1)
+DEFAULTS_BEFORE = Options3D(divisions=16, pole_grading=2.0, penalty_scale=1.0)
+
+
+def part_defaults() -> dict:
+    """Psi 0.5, 1 and 3 with `Options3D()` (mesh and penalty chosen from the contact), and Psi
+    0.5 and 1 with the defaults before (`DEFAULTS_BEFORE`)."""
+    out = {}
+    for nu in (0.23, 0.45):
+        for label, options, psi in (("now", Options3D(), (0.5, 1.0, 3.0)),
+                                    ("before", DEFAULTS_BEFORE, (0.5, 1.0))):
+            results, rows = run(nu, psi, options, label=f"nu {nu:g}, defaults {label}")
+            for result, row in zip(results, rows):
+                out[f"nu_{nu:g}_psi_{row['psi']:.2g}_{label}"] = {
+                    **row, "penalty_scale": result.penalty_scale}
+    return out
+
+
 def same_material_slab(nu: float) -> Target:
     material = material_from_dict({"model": "linear_elastic", "youngs_modulus_pa": YOUNGS_PA,
                                    "poissons_ratio": nu})
@@ -260,7 +281,7 @@ def part_diagnosis(extended: bool = False) -> dict:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--part", action="append",
-                        choices=("sweep", "convergence", "penalty", "diagnosis"),
+                        choices=("sweep", "convergence", "penalty", "diagnosis", "defaults"),
                         help="the parts to run (repeatable; default: sweep)")
     parser.add_argument("--plot", help="PNG of the sweep (one per Poisson's ratio: -nu0.23.png)")
     parser.add_argument("--slab", action="store_true",
@@ -281,6 +302,8 @@ def main() -> None:
         out["convergence"] = part_convergence(args.slab)
     if "penalty" in parts:
         out["penalty"] = part_penalty()
+    if "defaults" in parts:
+        out["defaults"] = part_defaults()
     if "diagnosis" in parts:
         out["diagnosis"] = part_diagnosis(args.all_suspects)
     out["wall_time_s"] = time.perf_counter() - started
