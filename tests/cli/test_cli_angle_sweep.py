@@ -71,6 +71,8 @@ def test_sweep_rows_equal_single_runs(sweep):
     # the batch's mesh and penalty, chosen for its slowest normal speed (60 degrees)
     batch = Hexahedral(Options3D(divisions=DIVISIONS)).checked(
         ball, [ImpactCondition(SPEED, a, 0.0, FRICTION) for a in ANGLES], None)
+    assert sweep["json"]["penalty_scale"] == batch.settings.penalty_scale
+    assert sweep["json"]["pole_grading"] == pytest.approx(batch.settings.pole_grading, rel=1e-12)
     for row in runs:
         single = simulate(ball, ImpactCondition(SPEED, row["angle_deg"], 0.0, FRICTION),
                           geometry=Hexahedral(batch.settings))

@@ -65,13 +65,14 @@ def test_default_mesh_from_the_contact():
     """`compression_options`: both poles refined to 5-7 elements across the Hertz contact radius
     sqrt(R D / 2), pole sizes on a ladder (nearby deflections share a mesh), the stiff platen
     penalty; a contact wider than 5 coarse elements needs no refinement."""
-    from ballimpact.fe.compression import CONTACT_ELEMENTS, PENALTY_SCALE, compression_options
+    from ballimpact.fe.compression import CONTACT_ELEMENTS, compression_options
+    from ballimpact.fe.options import COMPRESSION_PENALTY_SCALE
 
     ball = neo_hookean(0.3)
     d = 0.01 * 2 * R_M
     radius = math.sqrt(R_M * d / 2)
     options = compression_options(ball, d)
-    assert options.both_poles and options.penalty_scale == PENALTY_SCALE
+    assert options.both_poles and options.penalty_scale == COMPRESSION_PENALTY_SCALE
     assert radius / CONTACT_ELEMENTS / math.sqrt(2) < options.pole_element_size_m \
         <= radius / CONTACT_ELEMENTS
     assert compression_options(ball, 1.05 * d) == options

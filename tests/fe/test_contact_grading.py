@@ -107,3 +107,15 @@ def test_export_keeps_the_default_grading():
     from ballimpact.export.geometry import estimate_elements
 
     assert estimate_elements(BALL, "3d") == estimate_elements(BALL, "3d", pole_grading=2.0)
+
+
+def test_cli_penalty_scale_bad_input(bad_input):
+    """--penalty-scale has no fixed default any more; a value given is still checked, for the
+    3D, the axisymmetric and the compression solvers alike."""
+    for argv in (["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed-m-s", "10",
+                  "--penalty-scale", "0"],
+                 ["simulate", "--ball", "cricket-universal", "--speed-m-s", "10",
+                  "--penalty-scale", "500"],
+                 ["compress", "--ball", "baseball", "--deflection-m", "0.002",
+                  "--penalty-scale", "-1"]):
+        bad_input(argv, "penalty_scale = ", "allowed range (0, 100]")

@@ -108,7 +108,9 @@ def _print_angle_sweep(out: dict[str, Any]) -> None:
               f"{r['normalised_spin']:>10.3f}")
     steps = [r["steps"] for r in out["runs"]]
     print(f"  {out['wall_time_s']:.2f} s wall for the batch, {out['elements']} hexahedra "
-          f"({'half' if out['half_model'] else 'full'} model), {min(steps)}-{max(steps)} steps")
+          f"({'half' if out['half_model'] else 'full'} model, pole grading "
+          f"{out['pole_grading']:.3g}, penalty scale {out['penalty_scale']:g}), "
+          f"{min(steps)}-{max(steps)} steps")
     print(f"  {out['reference_note']}")
     for key in ("table", "plot"):
         if out.get(key) is not None:

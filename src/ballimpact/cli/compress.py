@@ -12,7 +12,7 @@ from ..errors import InputError
 from ..checks import check_allow
 from ..progress import CountProgress
 from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
-from ..fe.options import COMPRESSION_PENALTY_SCALE as PENALTY_SCALE
+from ..fe.options import COMPRESSION_PENALTY_SCALE
 from .simulate import SolverDefaults
 
 #: print progress lines only for curves that take longer than this (s)
@@ -48,9 +48,9 @@ def add_parser(verbs) -> None:
                           default=SolverDefaults.integration,
                           help="reduced: one point with hourglass control (default); full: 2x2 "
                                "points with F-bar")
-    compress.add_argument("--penalty-scale", type=float, default=PENALTY_SCALE,
+    compress.add_argument("--penalty-scale", type=float, default=COMPRESSION_PENALTY_SCALE,
                           help=f"platen contact penalty over the impact solver's (default "
-                               f"{PENALTY_SCALE:g})")
+                               f"{COMPRESSION_PENALTY_SCALE:g})")
     compress.add_argument("--moduli", choices=("long_term", "instantaneous"),
                           help="override the ball's moduli convention")
     add_allow(compress)

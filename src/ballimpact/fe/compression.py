@@ -69,10 +69,6 @@ CONTACT_ELEMENTS = 5
 POLE_SIZE_RATIO = math.sqrt(2.0)
 #: The refined zone spans this many contact radii of arc from each pole.
 ZONE_CONTACT_RADII = 2.5
-#: The platens' penalty springs are this much stiffer than the impact solver's: a static solve
-#: has no stability limit, and the impact's springs let a compressible ball (nu 0.3) sink into
-#: the platens by enough to read 4% soft at D / 2R = 2% (a 100x penalty moves it 0.3% further).
-PENALTY_SCALE = COMPRESSION_PENALTY_SCALE
 #: Fewer elements than this across the contact radius at the full deflection get a warning.
 RESOLVED_CONTACT_ELEMENTS = 3.0
 
@@ -205,18 +201,19 @@ def compression_options(ball, deflection_m: float,
                         element_size_m: float = SolverOptions.element_size_m) -> SolverOptions:
     """The mesh and contact `compress` uses by default: elements of `element_size_m` (m) away
     from the poles, both poles refined to about `CONTACT_ELEMENTS` elements across the contact
-    radius at `deflection_m` (m), and the platens' `PENALTY_SCALE`."""
+    radius at `deflection_m` (m), and the platens' `options.COMPRESSION_PENALTY_SCALE`."""
     check_compression_input(ball, deflection_m)
     radius = hertz_platen_radius_m(ball, deflection_m)
     pole = element_size_m
     while pole > radius / CONTACT_ELEMENTS and pole > 1e-3 * element_size_m:
         pole /= POLE_SIZE_RATIO
     if pole >= element_size_m:
-        return SolverOptions(element_size_m=element_size_m, penalty_scale=PENALTY_SCALE)
+        return SolverOptions(element_size_m=element_size_m,
+                             penalty_scale=COMPRESSION_PENALTY_SCALE)
     zone = math.degrees(ZONE_CONTACT_RADII * CONTACT_ELEMENTS * pole / ball.outer_radius_m)
     return SolverOptions(element_size_m=element_size_m, pole_element_size_m=pole,
                          pole_zone_deg=min(max(zone, 5.0), 45.0), both_poles=True,
-                         penalty_scale=PENALTY_SCALE)
+                         penalty_scale=COMPRESSION_PENALTY_SCALE)
 
 
 def unresolved_contact_note(ball, deflection_m: float, options: SolverOptions) -> str | None:
@@ -244,7 +241,8 @@ def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps:
     None: the long-term (fully relaxed) curve. `options`: the mesh, integration and contact
     penalty (`SolverOptions`); None: `compression_options`, a mesh that resolves the platens'
     contact at this deflection; options that leave it unresolved get an `InputWarning`. The
-    solve is always in float64 (Newton needs it) and without bulk viscosity (no motion). `progress(done, total)` is called after each increment.
+    solve is always in float64 (Newton needs it) and without bulk viscosity (no motion).
+    `progress(done, total)` is called after each increment.
     Raises `InputError` on bad input, `SimulationError` when an increment does not converge
     after `MAX_INCREMENT_CUTS` halvings.
     """

@@ -157,12 +157,14 @@ def angle_sweep(ball, condition: ImpactCondition, angles_deg, *,
 
 def angle_sweep_summary(sweep: AngleSweep, ball) -> dict[str, Any]:
     """An angle sweep's JSON object (SI): the ball's name, the speed, friction and spin the
-    runs share, the target, mesh, k^2, the batch's wall time, the rows ("runs"), the reference
-    and its note ("plot": None until one is written)."""
+    runs share, the target, mesh (with the pole grading and penalty chosen for the batch), k^2,
+    the batch's wall time, the rows ("runs"), the reference and its note ("plot": None until
+    one is written)."""
     first = sweep.results[0]
     c = first.condition
     return {"ball": ball.name, "speed_m_s": c.speed_m_s, "friction": c.friction,
             "spin_rad_s": c.spin_rad_s, "target": first.target, "elements": first.elements,
+            "pole_grading": first.pole_grading, "penalty_scale": first.penalty_scale,
             "half_model": first.half_model, "k2": sweep.k2, "wall_time_s": sweep.wall_time_s,
             "runs": sweep.rows, "reference": sweep.reference,
             "reference_note": sweep.reference_note, "plot": None}
