@@ -214,34 +214,34 @@ def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=Non
                   moduli: str | None = None, allow=frozenset()) -> BallComparison:
     """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
     more, `check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
-    speeds one batched run (`sweep.run_sweep`, `options` a `fe.SolverOptions`), `moduli`
+    speeds one batched run (`runs.run_speed_sweep`, `options` a `fe.SolverOptions`), `moduli`
     overriding every ball's convention: every ball loaded and its run estimated before any
     runs; a large run's warning and progress go to stderr."""
-    from .engine import default_group_size, estimate
+    from .engine import estimate
     from .options import SolverOptions
     from .progress import RunProgress
-    from .runs import check_sweep_speeds
+    from .runs import check_sweep_speeds, run_speed_sweep
 
     specs = check_balls(specs)
     speeds = tuple(float(s) for s in speeds_m_s)
     options = SolverOptions() if options is None else options
     check_sweep_speeds(speeds, allow)
-    balls = {spec: sweep_balls(spec, speeds, moduli=moduli, allow=allow) for spec in specs}
     slowest = min(range(len(speeds)), key=speeds.__getitem__)
-    estimates = {spec: estimate(b[slowest], speeds, options, allow=allow)
-                 for spec, b in balls.items()}
+    for spec in specs:  # a bad ball, or one too large to run, stops the comparison here
+        estimate(sweep_balls(spec, speeds, moduli=moduli, allow=allow)[slowest], speeds, options,
+                 allow=allow)
+
+    def start_of(spec: str):
+        def start(cost):
+            if cost.warning() is not None:
+                print(f"warning: {cost.warning()}", file=sys.stderr, flush=True)
+            print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
+            return RunProgress(cost.end_time_s, options.chunk_steps)
+        return start
+
     started = time.perf_counter()
-    sweeps = []
-    for spec in specs:
-        message = estimates[spec].warning()
-        if message is not None:
-            print(f"warning: {message}", file=sys.stderr, flush=True)
-        print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
-        one_group = len(speeds) <= default_group_size(len(speeds))
-        progress = RunProgress(estimates[spec].end_time_s, options.chunk_steps) if one_group \
-            else None
-        sweeps.append(run_sweep(balls[spec], speeds, options, label=spec, progress=progress,
-                                allow=allow))
+    sweeps = [run_speed_sweep(spec, speeds, options, moduli=moduli, label=spec, allow=allow,
+                              start=start_of(spec)) for spec in specs]
     return BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
                           time.perf_counter() - started)
 

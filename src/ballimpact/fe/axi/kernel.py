@@ -107,6 +107,14 @@ AxiState = named_tuple(
                               "d_backing": "the backing's dashpot dissipation (J)"})
 
 
+def extremes(J, lam2_min, lam2_max):
+    """The step's smallest volume ratio and smallest and largest eigenvalue of C over the
+    elements' points (each (points, elements)), in one reduction (each is a pass of its own)."""
+    min_j, low, neg_high = jnp.min(jnp.stack([
+        jnp.min(J, axis=0), jnp.min(lam2_min, axis=0), -jnp.max(lam2_max, axis=0)]), axis=1)
+    return min_j, low, -neg_high
+
+
 @dataclass(frozen=True, eq=False)
 class Kernel(ChunkedSteps):
     """Static data of one mesh, ball structure, integration and precision; traced by JAX."""
@@ -306,24 +314,14 @@ class Kernel(ChunkedSteps):
         a = a.at[0].multiply(off_axis)
         v = v_half + 0.5 * dt * a
         du = u - state.u
-        # Internal work summed over elements (the same as over nodes): the corner forces then
-        # have a second reader besides the nodal gather, so XLA computes them once into memory
-        # instead of fusing their whole computation into the gather (4x slower).
-        corners = element_corners if self.reduced else element_values
-        new_u, old_u = corners(g, u), corners(g, state.u)
-        work_e = 0.5 * sum((state.f_e[c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a])
-                           for c in range(2) for a in range(4))
-        # bulk-viscous work by the trapezoidal rule, as the internal work (power = sigma dJ/dt V)
-        bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (j0 - state.j0) * g.element_volume_m3
+        work_e, bv_e = self.element_work(state, u, f_e, j0, sigma_bv)
         # every sum and extremum of the step in three reductions (each is a pass of its own)
         stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
         height = g.nodes_m[:, 1] - g.nodes_m[:, 1].min() + u[1]
         kinetic, momentum_z, moment_z, dw_contact = jnp.sum(jnp.stack([
             0.5 * mass * (v[0] * v[0] + v[1] * v[1]), mass * v[1], mass * height,
             0.5 * (state.f_contact + f_contact) * du[1]]), axis=1)
-        min_j, lam2_min, neg_lam2_max = jnp.min(jnp.stack([
-            jnp.min(J, axis=0), jnp.min(lam2_min, axis=0), -jnp.max(lam2_max, axis=0)]), axis=1)
-        lam2_max = -neg_lam2_max
+        min_j, lam2_min, lam2_max = extremes(J, lam2_min, lam2_max)
         w_int = state.w_int + dw_int
         w_contact = state.w_contact + dw_contact
         d_bv = state.d_bv + dd_bv
@@ -342,6 +340,21 @@ class Kernel(ChunkedSteps):
         row = jnp.stack([t, total, z_cm, v_cm, kinetic, w_int, w_contact, stored, d_bv, e_hg]
                         + backing_row)
         return new, row
+
+    def element_work(self, state, u, f_e, j0, sigma_bv):
+        """Per element, the step's internal work (its corner forces, the last step's and this
+        one's averaged, over its corners' displacement) and bulk-viscous work (the trapezoidal
+        rule too: power = sigma dJ/dt V), from `state` to displacements `u` (J)."""
+        g = self.geom
+        # Summed over elements (the same as over nodes): the corner forces then have a second
+        # reader besides the nodal gather, so XLA computes them once into memory instead of
+        # fusing their whole computation into the gather (4x slower).
+        corners = element_corners if self.reduced else element_values
+        new_u, old_u = corners(g, u), corners(g, state.u)
+        work_e = 0.5 * sum((state.f_e[c][a] + f_e[c][a]) * (new_u[c][a] - old_u[c][a])
+                           for c in range(2) for a in range(4))
+        bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (j0 - state.j0) * g.element_volume_m3
+        return work_e, bv_e
 
     # ---- the stable increment ----------------------------------------------------------------
     def frequency_mask(self):

@@ -28,8 +28,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..steps import LANCZOS_STEPS, STATE, named_tuple, step_events
-from .element import element_corners, element_values
-from .kernel import AxiParams, BACKING_HISTORY, HISTORY, Kernel
+from .kernel import AxiParams, BACKING_HISTORY, HISTORY, Kernel, extremes
 
 AxiTargetState = named_tuple(
     "AxiTargetState", __name__, "The axisymmetric ball-on-target kernel's state between steps "
@@ -192,11 +191,7 @@ class TargetKernel(Kernel):
         v = v.at[1, base].set(v_base)
         a = a.at[1, base].set(a_base)
         du = u - state.u
-        corners = element_corners if self.reduced else element_values
-        new_u, old_u = corners(g, u), corners(g, state.u)
-        work_e = 0.5 * sum((state.f_e[c][k] + f_e[c][k]) * (new_u[c][k] - old_u[c][k])
-                           for c in range(2) for k in range(4))
-        bv_e = 0.5 * (state.sigma_bv + sigma_bv) * (j0 - state.j0) * g.element_volume_m3
+        work_e, bv_e = self.element_work(state, u, f_e, j0, sigma_bv)
         stored, e_hg, dw_int, dd_bv = jnp.sum(jnp.stack([stored, e_hg, work_e, bv_e]), axis=1)
         w_layers = state.w_layers + jnp.stack([jnp.sum(work_e[a_:b_])
                                                for a_, b_ in g.layer_slices])
@@ -209,9 +204,7 @@ class TargetKernel(Kernel):
         # the backing's work on the base (trapezoidal): it moves the base by plane_z's change
         dw_base = 0.5 * (state.f_base + f_base) * (plane_z - (
             params.backing_shape_1_sqrt_kg @ state.backing_q if self.backed else 0.0))
-        min_j, lam2_min, neg_lam2_max = jnp.min(jnp.stack([
-            jnp.min(J, axis=0), jnp.min(lam2_min, axis=0), -jnp.max(lam2_max, axis=0)]), axis=1)
-        lam2_max = -neg_lam2_max
+        min_j, lam2_min, lam2_max = extremes(J, lam2_min, lam2_max)
         w_int = state.w_int + dw_int
         w_contact = state.w_contact + dw_contact + dw_base
         d_bv = state.d_bv + dd_bv
