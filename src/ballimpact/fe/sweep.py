@@ -233,8 +233,9 @@ def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=Non
 
     def start_of(spec: str):
         def start(cost):
-            if cost.warning() is not None:
-                print(f"warning: {cost.warning()}", file=sys.stderr, flush=True)
+            warning = cost.warning()
+            if warning is not None:
+                print(f"warning: {warning}", file=sys.stderr, flush=True)
             print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
             return RunProgress(cost.end_time_s, options.chunk_steps)
         return start

@@ -91,8 +91,6 @@ def without_contact(options):
     impact is known (a mesh built or estimated on its own, an exported deck): grading
     `DEFAULT_POLE_GRADING`, penalty 1. Settings already chosen are kept."""
     if options.pole_grading is not None and options.penalty_scale is not None:
-        return options
-    return replace(options, penalty_scale=1.0 if options.penalty_scale is None
-                   else options.penalty_scale,
-                   pole_grading=DEFAULT_POLE_GRADING if options.pole_grading is None
-                   else options.pole_grading)
+        return options  # already chosen (the hot path: every parameter build)
+    return replace(options, pole_grading=options.pole_grading or DEFAULT_POLE_GRADING,
+                   penalty_scale=options.penalty_scale or 1.0)
