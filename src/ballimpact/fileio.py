@@ -105,6 +105,21 @@ def write_table(path: Path, columns: Sequence[str], rows: Iterable[Sequence[Any]
     return str(path)
 
 
+def check_plot_path(path: Path | None, flag: str = "--plot") -> None:
+    """Refuse, before a run, a plot path that is not a .png file in an existing folder."""
+    if path is None:
+        return
+    if Path(path).suffix.lower() != ".png":
+        raise InputError(f"{flag}: {path} must be a .png file")
+    check_output_folder(path, flag)
+
+
+def check_output_folder(path: Path | None, flag: str) -> None:
+    """Refuse, before a run, an output file whose folder does not exist."""
+    if path is not None and not Path(path).parent.is_dir():
+        raise InputError(f"{flag}: folder {Path(path).parent} does not exist")
+
+
 def first_line(error: BaseException) -> str:
     """The first line of an error's message (its type's name if it has none), for one-line
     `InputError`s about a damaged file."""

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from ballimpact.cli import main
-from ballimpact.cli.angle_sweep import parse_angles
+from ballimpact.oblique.sweep import parse_angles
 from ballimpact.errors import InputError
 from ballimpact.fe import Hexahedral, ImpactCondition, Options3D, load_ball, simulate
 from ballimpact.oblique.elastic_reference import normalised_curves

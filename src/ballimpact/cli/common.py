@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
+from ..fileio import check_output_folder, check_plot_path  # noqa: F401 - the verbs' import
 from ..records.features import DEFAULT_IMPULSE_TOLERANCE, METHODS
 from ..records.filters import FILTER_NAMES
 from ..records.loaders import load_record
@@ -171,20 +172,6 @@ def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
                    pulse=args.pulse, allow=args.allow, resonance_hz=args.load_cell_hz,
                    method=args.pulse_method, uncertainty=args.pulse_method == "fit",
                    damping_ratio=args.load_cell_damping)
-
-
-def check_plot_path(path: Path | None) -> None:
-    if path is None:
-        return
-    if path.suffix.lower() != ".png":
-        raise InputError(f"--plot: {path} must be a .png file")
-    if not path.parent.is_dir():
-        raise InputError(f"--plot: folder {path.parent} does not exist")
-
-
-def check_output_folder(path: Path | None, flag: str) -> None:
-    if path is not None and not path.parent.is_dir():
-        raise InputError(f"{flag}: folder {path.parent} does not exist")
 
 
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:

@@ -1,20 +1,19 @@
-"""`ballimpact simulate`: an FE impact (axisymmetric or 3D), a speed sweep, and the solver flags
-other verbs share (`add_solver_options`, `SolverDefaults`); runs are the library's (`fe.runs`,
-`sweep`, `oblique.sweep`), the 3D inputs and text in `simulate_3d`, angles in `angle_sweep`."""
+"""`ballimpact simulate`: an FE impact (axisymmetric or 3D), a speed sweep or an angle sweep, and
+the solver flags other verbs share (`add_solver_options`, `SolverDefaults`). The runs are the
+library's (`fe.runs.simulate_impact`, `fe.runs.simulate_speeds`, `oblique.sweep.simulate_angles`);
+here the flags are turned into their arguments, and the text is `simulate_text`'s."""
 
 from __future__ import annotations
 
 import argparse
+import sys
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..checks import check_allow
-from .angle_sweep import parse_angles, run_angle_sweep
-from .common import add_json, add_allow, check_output_folder, finite_float
-from ..fe.sweep import parse_speeds, sweep_figure, write_table
-from .simulate_3d import (check_flags, checked_allow, inputs_3d, load_checked_target, print_3d,
-                          starter)
+from ..fe.sweep import parse_speeds
+from .common import add_allow, add_json, finite_float, use_compilation_cache
 
 
 class SolverDefaults:
@@ -148,19 +147,25 @@ def speed_list(text: str) -> float | tuple[float, ...]:
 def angle_list(text: str) -> float | tuple[float, ...]:
     """argparse type of `--angle-deg`: one angle (deg; a float, checked by the 3D solver as
     before the sweeps) or a comma-separated list of several (a tuple: an angle sweep,
-    `angle_sweep.parse_angles`)."""
+    `oblique.sweep.parse_angles`)."""
     if "," not in text:
         return finite_float(text)
+    from ..oblique.sweep import parse_angles
+
     try:
         return parse_angles(text)
     except InputError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def _values(given) -> tuple[float, ...]:
+    """A flag's values: one number, or a tuple or list of them."""
+    return tuple(float(v) for v in given) if isinstance(given, (tuple, list)) else (float(given),)
+
+
 def given_speeds(args: argparse.Namespace) -> tuple[float, ...]:
     """The `--speed-m-s` values (m/s), ascending: one number, or a tuple from `speed_list`."""
-    speeds = args.speed_m_s
-    return tuple(sorted(speeds)) if isinstance(speeds, (tuple, list)) else (float(speeds),)
+    return tuple(sorted(_values(args.speed_m_s)))
 
 
 def solver_options(args: argparse.Namespace):
@@ -174,130 +179,101 @@ def solver_options(args: argparse.Namespace):
                          precision=args.precision)
 
 
-def _with(args: argparse.Namespace, **values) -> argparse.Namespace:
-    return argparse.Namespace(**{**vars(args), **values})
+def _options_3d(args: argparse.Namespace):
+    """The 3D flags as `fe.Options3D` (None: its defaults)."""
+    from ..fe import Options3D
+
+    given = {"divisions": args.divisions, "pole_grading": args.pole_grading,
+             "stick_scale": args.stick_scale}
+    return Options3D(**{k: v for k, v in given.items() if v is not None},
+                     contact_elements=args.contact_elements,
+                     half=False if args.full_model else None, integration=args.integration,
+                     penalty_scale=args.penalty_scale, slab_depth_growth=args.slab_depth_growth,
+                     slab_depth_cell_m=args.slab_depth_cell_m, precision=args.precision)
+
+
+#: flags of one solver only (attribute: the flag's name in snake case)
+FLAGS_3D = ("--angle-deg", "--spin-rad-s", "--spin-x-rad-s", "--spin-z-rad-s", "--vtk",
+            "--animate", "--divisions", "--pole-grading", "--contact-elements", "--full-model",
+            "--stick-scale", "--slab-depth-growth", "--slab-depth-cell-m")
+FLAGS_AXISYMMETRIC = ("--element-size-m", "--pole-element-size-m")
+
+
+def _check_solver_flags(args: argparse.Namespace, speeds, angles) -> None:
+    """No flag of the other solver (it would be ignored silently: refused, naming the solver),
+    and one list at a time: several speeds run axisymmetric, several angles in 3D."""
+    def given(flag):
+        return getattr(args, flag[2:].replace("-", "_"))
+
+    if len(angles) > 1:
+        if args.solver != "3d":
+            raise InputError("--angle-deg: a sweep of angles needs --solver 3d")
+        if len(speeds) > 1:
+            raise InputError("--speed-m-s: an angle sweep runs at one speed; give one speed with "
+                             "a list of --angle-deg (or one angle with a list of speeds)")
+    elif len(speeds) > 1 and args.solver == "3d":
+        raise InputError("--speed-m-s: a list of speeds (a sweep) runs with the axisymmetric "
+                         "solver only; with --solver 3d give one speed per run")
+    if args.solver == "3d":
+        for flag in FLAGS_AXISYMMETRIC:
+            if given(flag) is not None:
+                raise InputError(f"{flag}: sets the axisymmetric mesh; the 3d solver's mesh is "
+                                 "set by --divisions and --pole-grading")
+        return
+    for flag in FLAGS_3D:
+        if given(flag) not in (None, 0.0, False):
+            raise InputError(f"{flag}: oblique and spinning impacts, 3D output and the 3D mesh "
+                             "need --solver 3d")
+
+
+def start_run(cost):
+    """The `start` hook of the library's runs (`fe.runs.Start`): JAX's compilation cache, then
+    what is about to run and the estimate's warning (also in the end's list) on stderr, and the
+    run's progress lines on stderr."""
+    from ..fe import RunProgress
+
+    use_compilation_cache()
+    warning = cost.warning()
+    for line in (cost.announce, None if warning is None else f"warning: {warning}"):
+        if line:
+            print(line, file=sys.stderr, flush=True)
+    return RunProgress(cost.end_time_s, cost.chunk_steps)
 
 
 def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
-    if isinstance(args.angle_deg, (tuple, list)):
-        if len(args.angle_deg) > 1:  # several angles: one batched 3D run
-            return run_angle_sweep(args)
-        # a caller's namespace holding [angle]: the run of one impact
-        args = _with(args, angle_deg=float(args.angle_deg[0]))
-    speeds = given_speeds(args)
-    if len(speeds) > 1:
-        return _run_sweep(args, speeds)
-    if isinstance(args.speed_m_s, (tuple, list)):  # a caller's namespace holding [v]
-        args = _with(args, speed_m_s=speeds[0])
-    return _run_one(args)  # one speed: the run of one impact, as before the sweeps
-
-
-def _run_one(args: argparse.Namespace) -> dict[str, Any]:
-    """One impact (`fe.runs.run_impact`), its summary and files, and its text unless --json."""
     from ..fe import Axisymmetric, Hexahedral
-    from ..fe.output import write_run_files
-    from ..fe.runs import impact_summary, load_model, run_impact
+    from ..fe.output import RunFiles
+    from . import simulate_text
 
-    # every check on the input before anything is printed (progress, warnings) or meshed
-    check_output_folder(args.csv, "--csv")
-    table = getattr(args, "table", None)
-    if args.solver == "3d" and table is not None:
-        raise InputError("--table: the sweep table of the axisymmetric solver; a 3d run's "
-                         "figures are in --json")
-    check_flags(args)
-    allow = checked_allow(args)
-    if args.solver == "3d":
-        ball, condition, target, options = inputs_3d(args, allow)
-        geometry = Hexahedral(options)
-        announce = (f"simulating {ball.name} in 3D at {condition.speed_m_s:g} m/s, "
-                    f"{condition.angle_deg:g} deg ...")
-    else:
-        ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
-        condition, announce = args.speed_m_s, None
-        target = load_checked_target(args, ball)
-        geometry = Axisymmetric(solver_options(args))
-    result = run_impact(ball, condition, geometry, target=target, allow=allow,
-                        start=starter(geometry.options.chunk_steps, announce))
-    out = impact_summary(result, ball, target)
-    out.update(write_run_files(result, csv=args.csv, table=table,
-                               vtk=getattr(args, "vtk", None),
-                               animation=getattr(args, "animate", None), plot=args.plot))
+    speeds, angles = given_speeds(args), _values(args.angle_deg)
+    _check_solver_flags(args, speeds, angles)
+    three_d = args.solver == "3d"
+    files = RunFiles(csv=args.csv, table=args.table, vtk=getattr(args, "vtk", None),
+                     animation=getattr(args, "animate", None), plot=args.plot)
+    common = {"moduli": args.moduli, "allow": args.allow, "files": files, "start": start_run}
+    spins = {"spin_rad_s": args.spin_rad_s, "spin_x_rad_s": args.spin_x_rad_s,
+             "spin_z_rad_s": args.spin_z_rad_s, "friction": args.friction,
+             "target": args.target}
+    if len(angles) > 1:  # several angles: one batched 3D run
+        from ..oblique.sweep import simulate_angles
+
+        out = simulate_angles(args.ball, speeds[0], angles, Hexahedral(_options_3d(args)),
+                              **spins, **common)
+        text = simulate_text.print_angle_sweep
+    elif len(speeds) > 1:  # several speeds: one batched axisymmetric run
+        from ..fe.runs import simulate_speeds
+
+        out = simulate_speeds(args.ball, speeds, solver_options(args), target=args.target,
+                              **common)
+        text = simulate_text.print_speed_sweep
+    else:  # the run of one impact
+        from ..fe.runs import simulate_impact
+
+        geometry = (Hexahedral(_options_3d(args)) if three_d
+                    else Axisymmetric(solver_options(args)))
+        result, out = simulate_impact(args.ball, speeds[0], geometry, angle_deg=angles[0],
+                                      **spins, **common)
+        text = partial(simulate_text.print_3d if three_d else simulate_text.print_one, result)
     if not args.json:
-        (print_3d if args.solver == "3d" else _print_one)(result, out)
+        text(out)
     return out
-
-
-def _print_one(result, out: dict[str, Any]) -> None:
-    """One axisymmetric run's text."""
-    e = result.energies_j
-    on = "" if result.target == "rigid plane" else f" on {result.target}"
-    print(f"{result.ball_name} at {result.impact_speed_m_s:g} m/s{on} ({out['moduli']} moduli): "
-          f"peak force {result.peak_force_n:.5g} N at {result.time_of_peak_s * 1e3:.4g} ms, "
-          f"contact time {result.contact_time_s * 1e3:.4g} ms, COR {result.cor:.4f}")
-    print(f"  energy balance error {result.energy_balance_error:.2e}; viscous "
-          f"{e['viscous_dissipation_j']:.4g} J, bulk viscous "
-          f"{e['bulk_viscous_dissipation_j']:.4g} J of {e['initial_kinetic_energy_j']:.4g} J")
-    print(f"  {result.elements} elements, {result.steps} steps of "
-          f"{result.stable_time_increment_s:.3g} s, {result.wall_time_s:.2f} s wall")
-    print_target(out)
-
-
-def print_target(out: dict[str, Any]) -> None:
-    """A target's and a backing's figures (`fe.runs.impact_summary`), if any."""
-    for layer in out.get("target_layers", []):
-        print(f"  target layer {layer['name']}: took {layer['work_j']:.4g} J, largest "
-              f"compression {layer['max_compression']:.1%} of its thickness")
-    b = out.get("backing")
-    if b is not None:
-        print(f"  backing: {b['backing_speed_m_s']:.3f} m/s after, peak acceleration "
-              f"{b['backing_peak_acceleration_g']:.1f} g, HIC15 {b['hic15']:.1f}, Gadd "
-              f"{b['gadd_severity_index']:.1f}, peak transmitted force "
-              f"{b['peak_transmitted_force_n']:.4g} N")
-
-
-def _run_sweep(args: argparse.Namespace, speeds: tuple[float, ...]) -> dict[str, Any]:
-    """Several speeds of one ball in one batched run (`fe.runs.run_speed_sweep`): a row per
-    speed, the table and plot, and the text unless --json."""
-    from ..fe.runs import run_speed_sweep, speed_sweep_summary
-    from ..plotting import save_and_close
-
-    if args.solver == "3d":
-        raise InputError("--speed-m-s: a list of speeds (a sweep) runs with the axisymmetric "
-                         "solver only; with --solver 3d give one speed per run")
-    if args.csv is not None:
-        raise InputError("--csv: writes the histories of one run; a sweep writes a row per "
-                         "speed with --table (or give one speed)")
-    if args.target is not None:
-        raise InputError("--target: a speed sweep runs on the rigid plane; give one speed per "
-                         "run on a target")
-    check_flags(args)
-    allow = check_allow(args.allow)
-    options = solver_options(args)
-    announce = f"simulating {args.ball} at {len(speeds)} speeds in one batched run ..."
-    sweep = run_speed_sweep(args.ball, speeds, options, moduli=args.moduli, label=args.ball,
-                            allow=allow, start=starter(options.chunk_steps, announce,
-                                                       warn_first=True))
-    out = speed_sweep_summary(sweep)
-    if args.table is not None:
-        out["table"] = write_table(out["sweep"], args.table)
-    if args.plot is not None:
-        figure = sweep_figure([sweep], title=f"{args.ball}: speed sweep (FE, rigid plane)")
-        out["plot"] = str(save_and_close(figure, args.plot))
-    if not args.json:
-        _print_sweep(out)
-    return out
-
-
-def _print_sweep(out: dict[str, Any]) -> None:
-    print(f"{out['ball']}: {len(out['sweep'])} speeds in one batched run ({out['moduli']} moduli, "
-          f"{out['elements']} elements, {out['wall_time_s']:.2f} s wall)")
-    print(f"{'speed m/s':>10}{'COR':>8}{'peak kN':>9}{'contact ms':>11}{'deflect mm':>11}"
-          f"{'rebound m/s':>12}{'stiff MN/m':>11}{'energy err':>11}")
-    for r in out["sweep"]:
-        print(f"{r['impact_speed_m_s']:>10.4g}{r['cor']:>8.4f}{r['peak_force_n'] / 1e3:>9.3f}"
-              f"{r['contact_time_s'] * 1e3:>11.4f}{r['max_deflection_m'] * 1e3:>11.3f}"
-              f"{r['rebound_speed_m_s']:>12.3f}{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}"
-              f"{r['energy_balance_error']:>11.1e}")
-    for key in ("table", "plot"):
-        if key in out:
-            print(f"{key} written to {out[key]}")

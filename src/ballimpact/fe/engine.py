@@ -141,7 +141,7 @@ def run_estimate(geometry: Geometry, balls: list, conditions: list, target, elem
     return RunEstimate(elements=int(elements), steps=steps, end_time_s=end, memory_bytes=memory,
                        element_steps_limit=geometry.ELEMENT_STEPS_WARNING,
                        seconds_per_element_step=geometry.SECONDS_PER_ELEMENT_STEP,
-                       hint=geometry.HINT,
+                       hint=geometry.HINT, chunk_steps=options.chunk_steps,
                        model_bytes=geometry.BASE_MEMORY_BYTES + per_element * float(elements)
                        * held, runs=runs, base_bytes=geometry.BASE_MEMORY_BYTES)
 

@@ -93,6 +93,8 @@ class RunEstimate:
     - `base_bytes`: the process's part of `model_bytes` (Python, JAX, the compiled program), which
       a process that has imported JAX already holds in part (`check_memory`).
     - `runs`: runs of the batch.
+    - `chunk_steps`: steps between the run's progress reports (`ExplicitOptions.chunk_steps`).
+    - `announce`: what is about to run, a line for the user (`fe.runs.started` sets it).
     """
 
     elements: int
@@ -105,6 +107,8 @@ class RunEstimate:
     model_bytes: float = 0.0
     runs: int = 1
     base_bytes: float = 0.0
+    chunk_steps: int = 200
+    announce: str = ""
 
     @property
     def element_steps(self) -> float:

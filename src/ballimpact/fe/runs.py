@@ -10,15 +10,20 @@ science (rows, tables, figures).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .speed_range import check_fe_speed
 from ..balls.ball import BallModel, load_ball
-from .engine import Axisymmetric, Geometry, default_group_size, estimate, simulate
-from .options import SolverOptions
+from ..checks import check_allow, check_range
+from ..errors import InputError
+from .engine import Axisymmetric, Geometry, Hexahedral, default_group_size, estimate, simulate
+from .options import ImpactCondition, SolverOptions
+from .output import RunFiles, write_run_files
+from .speed_range import check_fe_speed
 from .progress import RunEstimate
 from .result import ImpactResult
 
@@ -47,24 +52,26 @@ def check_sweep_speeds(speeds_m_s: Sequence[float], allow=()) -> None:
 
 
 def started(start: Start | None, ball, conditions, geometry: Geometry, *, target=None,
-            allow=()):
+            allow=(), announce: str = ""):
     """`start(estimate)` of a run of `ball` under `conditions` on `geometry`: the estimate is
-    made (and a run that would not fit in memory refused) before anything is meshed; None
-    without `start`."""
+    made (and a run that would not fit in memory refused) before anything is meshed, `announce`
+    (what is about to run) put in it; None without `start`."""
     if start is None:
         return None
-    return start(estimate(ball, conditions, geometry=geometry, target=target, allow=allow))
+    cost = estimate(ball, conditions, geometry=geometry, target=target, allow=allow)
+    return start(replace(cost, announce=announce))
 
 
 def run_impact(ball: BallModel, condition, geometry: Geometry | None = None, *, target=None,
-               allow=(), start: Start | None = None,
-               frames: int = ANIMATION_FRAMES) -> ImpactResult:
+               allow=(), start: Start | None = None, frames: int = ANIMATION_FRAMES,
+               announce: str = "") -> ImpactResult:
     """One impact (`fe.simulate`: `condition` an `ImpactCondition` or a normal speed in m/s,
     `geometry` default `Axisymmetric()`, `target` a slab or None) after its estimate and
-    `start` (`started`). Frames kept for output (`Options3D.frames`) are thinned to about
+    `start` (`started`, with `announce`). Frames kept for output (`Options3D.frames`) are thinned to about
     `frames`, evenly spread over the run."""
     geometry = Axisymmetric() if geometry is None else geometry
-    progress = started(start, ball, condition, geometry, target=target, allow=allow)
+    progress = started(start, ball, condition, geometry, target=target, allow=allow,
+                       announce=announce)
     result = simulate(ball, condition, progress=progress, geometry=geometry, target=target,
                       allow=allow)
     if len(result.frames) > frames:
@@ -75,11 +82,11 @@ def run_impact(ball: BallModel, condition, geometry: Geometry | None = None, *, 
 
 def run_speed_sweep(spec, speeds_m_s: Sequence[float], options=None, *,
                     moduli: str | None = None, label: str = "", allow=(),
-                    start: Start | None = None):
+                    start: Start | None = None, announce: str = ""):
     """Ball `spec` at each of `speeds_m_s` (m/s; ascending) in one batched axisymmetric run
     (`sweep.sweep_balls`, `sweep.run_sweep`): the speeds checked first (`check_sweep_speeds`),
     the cost estimated with the ball of the slowest speed (the longest run) before meshing, then
-    `start`; its progress callback is used when the sweep runs as one vmapped group. Returns
+    `start` (`started`, with `announce`); its progress callback is used when the sweep runs as one vmapped group. Returns
     the `sweep.Sweep`."""
     from .sweep import run_sweep, sweep_balls
 
@@ -87,7 +94,8 @@ def run_speed_sweep(spec, speeds_m_s: Sequence[float], options=None, *,
     balls = sweep_balls(spec, speeds_m_s, moduli=moduli, allow=allow)
     geometry = Axisymmetric(SolverOptions() if options is None else options)
     slowest = balls[int(np.argmin(speeds_m_s))]
-    progress = started(start, slowest, list(speeds_m_s), geometry, allow=allow)
+    progress = started(start, slowest, list(speeds_m_s), geometry, allow=allow,
+                       announce=announce)
     one_group = len(speeds_m_s) <= default_group_size(len(speeds_m_s))
     return run_sweep(balls, speeds_m_s, geometry.options, label=label, allow=allow,
                      progress=progress if one_group else None)
@@ -140,3 +148,111 @@ def speed_sweep_summary(sweep) -> dict[str, Any]:
             "elements": first["elements"], "integration": first["integration"],
             "precision": first["precision"], "wall_time_s": sweep.wall_time_s,
             "materials": [b.to_dict() for b in sweep.balls]}
+
+
+def load_checked_target(target, ball):
+    """`target`: a preset or file name (`fe.hex.target.load_target`, at least the ball's width),
+    a loaded target, or None (the rigid plane)."""
+    from .hex.target import check_target_width, load_target
+
+    if target is None or not isinstance(target, (str, Path)):
+        return target
+    slab = load_target(target)
+    try:
+        check_target_width(slab, ball)
+    except InputError as error:
+        raise InputError(f"--target {target}: {error}") from None
+    return slab
+
+
+def checked_speed(speed_m_s: float, allow=(), *, solver: str = "axisymmetric") -> frozenset:
+    """The `allow` names, checked, and `speed_m_s` against the FE speed range of `solver`, before
+    anything is loaded (a non-positive or non-finite speed is left to `load_ball`)."""
+    allow = check_allow(allow)
+    if math.isfinite(speed_m_s) and speed_m_s > 0:
+        check_fe_speed(speed_m_s, allow, solver=solver)
+    return allow
+
+
+def impact_inputs(spec, speed_m_s: float, geometry: Geometry, files: RunFiles, *, friction=0.0,
+                  target=None, moduli: str | None = None, allow=()):
+    """The checked inputs of an impact on `geometry` (every check before anything is printed,
+    meshed or compiled): (allow, ball, target, geometry), the 3D geometry's frames set by
+    `files` (`RunFiles.frames`) and its slab settings refused without a target."""
+    files.check()
+    check_range("--friction", friction, 0.0)
+    three_d = isinstance(geometry, Hexahedral)
+    allow = checked_speed(speed_m_s, allow, solver="3d" if three_d else "axisymmetric")
+    ball = load_model(spec, speed_m_s, moduli=moduli, allow=allow)
+    slab = load_checked_target(target, ball)
+    if three_d:
+        options = geometry.options
+        for flag, value in (("--slab-depth-growth", options.slab_depth_growth),
+                            ("--slab-depth-cell-m", options.slab_depth_cell_m)):
+            if value is not None and target is None:
+                raise InputError(f"{flag}: sets a target slab's cells; give --target FILE")
+        geometry = Hexahedral(replace(options, chunk_steps=50 if files.frames else 200,
+                                      frames=1 if files.frames else 0))
+    return allow, ball, slab, geometry
+
+
+def simulate_impact(spec, speed_m_s: float, geometry: Geometry | None = None, *,
+                    angle_deg: float = 0.0, spin_rad_s: float = 0.0, spin_x_rad_s: float = 0.0,
+                    spin_z_rad_s: float = 0.0, friction: float = 0.0, target=None,
+                    moduli: str | None = None, allow=(), files: RunFiles = RunFiles(),
+                    start: Start | None = None) -> tuple[ImpactResult, dict[str, Any]]:
+    """One impact as `ballimpact simulate` makes it: ball `spec` (a preset, a file or a
+    `BallModel`) at `speed_m_s` (m/s) on `geometry` (default `Axisymmetric()`; the angle (deg
+    from the normal), spins (rad/s) and friction are the 3D geometry's, `fe.ImpactCondition`),
+    on `target` (a preset or file, or None: the rigid plane), with `moduli` overriding the
+    ball's convention. Every input is checked first (`impact_inputs`; `files.table` is a
+    sweep's, refused for a 3D run), then `start` gets the estimate, the run runs and `files`
+    are written. Returns the result and its JSON object (`impact_summary` and the files)."""
+    geometry = Axisymmetric() if geometry is None else geometry
+    three_d = isinstance(geometry, Hexahedral)
+    if three_d and files.table is not None:
+        raise InputError("--table: the sweep table of the axisymmetric solver; a 3d run's "
+                         "figures are in --json")
+    allow, ball, slab, geometry = impact_inputs(spec, speed_m_s, geometry, files,
+                                                friction=friction, target=target, moduli=moduli,
+                                                allow=allow)
+    condition, announce = speed_m_s, ""
+    if three_d:
+        condition = ImpactCondition(speed_m_s, angle_deg, spin_rad_s, friction, spin_x_rad_s,
+                                    spin_z_rad_s)
+        announce = f"simulating {ball.name} in 3D at {speed_m_s:g} m/s, {angle_deg:g} deg ..."
+    result = run_impact(ball, condition, geometry, target=slab, allow=allow, start=start,
+                        announce=announce)
+    out = impact_summary(result, ball, slab)
+    out.update(write_run_files(result, files))
+    return result, out
+
+
+def simulate_speeds(spec, speeds_m_s: Sequence[float], options: SolverOptions | None = None, *,
+                    moduli: str | None = None, allow=(), files: RunFiles = RunFiles(),
+                    target=None, start: Start | None = None) -> dict[str, Any]:
+    """A speed sweep as `ballimpact simulate --speed-m-s 5,10,20` makes it: ball `spec` at each of
+    `speeds_m_s` (m/s) in one batched axisymmetric run on the rigid plane (`run_speed_sweep`;
+    `target` and a history file are refused), its JSON object (`speed_sweep_summary`) with the
+    row table and the plot of `files` written."""
+    from ..plotting import save_and_close
+    from .sweep import sweep_figure, write_table
+
+    files.refuse("csv", why="a sweep writes a row per speed with --table (or give one speed)")
+    if target is not None:
+        raise InputError("--target: a speed sweep runs on the rigid plane; give one speed per "
+                         "run on a target")
+    files.check()
+    allow = check_allow(allow)
+    label = spec if isinstance(spec, str) else ""
+    sweep = run_speed_sweep(spec, sorted(speeds_m_s), options, moduli=moduli, label=label,
+                            allow=allow, start=start,
+                            announce=f"simulating {label} at {len(speeds_m_s)} speeds in one "
+                                     "batched run ...")
+    out = speed_sweep_summary(sweep)
+    if files.table is not None:
+        out["table"] = write_table(out["sweep"], files.table)
+    if files.plot is not None:
+        figure = sweep_figure([sweep], title=f"{label}: speed sweep (FE, rigid plane)")
+        out["plot"] = str(save_and_close(figure, files.plot))
+    return out

@@ -16,7 +16,10 @@ import numpy as np
 from ..fe.engine import Hexahedral, simulate_batch
 from ..fe.estimates import hertz_contact_radius_m
 from ..fe.options import ImpactCondition
-from ..fe.runs import started
+from ..checks import allowed_range, check_range
+from ..errors import InputError
+from ..fe.output import RunFiles
+from ..fe.runs import impact_inputs, started
 from .elastic_reference import normalised_curves
 from .rigid_body import normalised_incidence, normalised_spin
 
@@ -27,6 +30,34 @@ REFERENCE_PSI_MIN = 0.05
 ROW_FIELDS = ("angle_deg", "psi", "normal_cor", "tangential_cor", "contact_point_tangential_cor",
               "rebound_angle_deg", "rebound_spin_rad_s", "normalised_spin", "peak_force_n",
               "contact_time_s", "energy_balance_error", "steps")
+
+
+#: the angles a sweep accepts (deg from the normal; `ImpactCondition.angle_deg`'s range)
+ANGLE_RANGE_DEG = (0.0, 89.0)
+
+
+def parse_angles(text: str) -> tuple[float, ...]:
+    """Angles from the surface normal (deg) from a comma-separated list ("5,10,20"): each item a
+    number in `ANGLE_RANGE_DEG` (`checks.check_range`), none empty, none given twice (a repeated
+    angle would look like two points). Their order is kept. Raises `InputError` naming the item
+    and the allowed range."""
+    allowed = f"allowed range {allowed_range(*ANGLE_RANGE_DEG, unit='deg')}"
+    angles: list[float] = []
+    for k, item in enumerate(text.split(","), 1):
+        where = f"item {k} of {text!r}"
+        if not item.strip():
+            raise InputError(f"{where}: empty; give angles separated by commas, e.g. 5,10,20 "
+                             f"({allowed})")
+        try:
+            value = float(item)
+        except ValueError:
+            raise InputError(f"{where}: {item.strip()!r} is not a number ({allowed})") from None
+        check_range(f"{where}: angle_deg", value, *ANGLE_RANGE_DEG, unit="deg")
+        if value in angles:
+            raise InputError(f"{where}: {value:g} deg is given twice; give each angle once "
+                             f"({allowed})")
+        angles.append(value)
+    return tuple(angles)
 
 
 def ball_k2(ball) -> float:
@@ -133,16 +164,17 @@ class AngleSweep:
 
 def angle_sweep(ball, condition: ImpactCondition, angles_deg, *,
                 geometry: Hexahedral | None = None, target=None, progress=None,
-                allow=(), start=None) -> AngleSweep:
+                allow=(), start=None, announce: str = "") -> AngleSweep:
     """`condition` (speed, friction, spins) at each of `angles_deg` (from the normal) in one
     vmapped run on `geometry` (default `fe.Hexahedral()`) and `target` (None: the rigid
     plane); the checks and warnings are `fe.simulate_batch`'s. With `start`, the batch's cost is
     estimated before anything is meshed and `start(estimate)` gives the progress callback
-    (`fe.runs.started`)."""
+    (`fe.runs.started`, with `announce`)."""
     conditions = [replace(condition, angle_deg=float(a)) for a in sorted(angles_deg)]
     geometry = geometry or Hexahedral()
     if start is not None:
-        progress = started(start, ball, conditions, geometry, target=target, allow=allow)
+        progress = started(start, ball, conditions, geometry, target=target, allow=allow,
+                           announce=announce)
     began = time.perf_counter()
     results = simulate_batch(ball, conditions, geometry=geometry, target=target,
                              progress=progress, allow=allow)
@@ -183,3 +215,40 @@ def plot_angle_sweep(sweep: AngleSweep, path, ball) -> str:
                         f"(3D FE, {first.target})",
                   k2=sweep.k2, poissons_ratio=reference["poissons_ratio"] if reference else None)
     return str(path)
+
+
+def simulate_angles(spec, speed_m_s: float, angles_deg, geometry: Hexahedral | None = None, *,
+                    spin_rad_s: float = 0.0, spin_x_rad_s: float = 0.0,
+                    spin_z_rad_s: float = 0.0, friction: float = 0.0, target=None,
+                    moduli: str | None = None, allow=(), files: RunFiles = RunFiles(),
+                    start=None) -> dict[str, Any]:
+    """An angle sweep as `ballimpact simulate --solver 3d --angle-deg 5,10,20` makes it: ball
+    `spec` at `speed_m_s` (m/s), spins (rad/s) and `friction` at each of `angles_deg` (deg from
+    the normal) in one batched 3D run (`angle_sweep`), on `target` (a preset or file, or None);
+    every input checked first (`fe.runs.impact_inputs`; a history, series or animation of one
+    run is refused, and a plot without friction, whose normalised axes divide by it). Returns
+    its JSON object (`angle_sweep_summary`) with the row table and the plot of `files`
+    written."""
+    from ..fe.sweep import write_table
+
+    files.refuse("vtk", "animation", "csv",
+                 why="an angle sweep writes a row per angle with --table (or give one angle)")
+    angles = sorted(float(a) for a in angles_deg)
+    allow, ball, slab, geometry = impact_inputs(spec, speed_m_s, geometry or Hexahedral(), files,
+                                                friction=friction, target=target,
+                                                moduli=moduli, allow=allow)
+    first = ImpactCondition(speed_m_s, angles[0], spin_rad_s, friction, spin_x_rad_s,
+                            spin_z_rad_s)
+    if files.plot is not None and friction <= 0.0:
+        raise InputError("--plot: the normalised axes of an angle sweep divide by the friction; "
+                         "give --friction > 0")
+    announce = (f"simulating {ball.name} in 3D at {speed_m_s:g} m/s, {len(angles)} angles "
+                f"({', '.join(f'{a:g}' for a in angles)} deg) in one batched run ...")
+    sweep = angle_sweep(ball, first, angles, geometry=geometry, target=slab, allow=allow,
+                        start=start, announce=announce)
+    out = angle_sweep_summary(sweep, ball)
+    if files.table is not None:
+        out["table"] = write_table(sweep.rows, files.table)
+    if files.plot is not None:
+        out["plot"] = plot_angle_sweep(sweep, files.plot, ball)
+    return out
