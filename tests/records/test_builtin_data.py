@@ -8,7 +8,7 @@ import pytest
 
 from ballimpact.records import datasets
 from ballimpact.cli import main
-from ballimpact.cli.calibrate import parse_test
+from ballimpact.calibrate.files import parse_test
 from ballimpact.records.loaders import load_record
 from ballimpact.material.data import parse_spec, read_test
 from ballimpact.records.repeats import expand_records

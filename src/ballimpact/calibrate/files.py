@@ -1,23 +1,52 @@
 """The files of `ballimpact calibrate`: its tests named by file (impact tests already processed,
-compression curves read from their CSVs), and its results written to the output folder
-(docs/calibrate.md)."""
+compression curves read from their CSVs), its results written to the output folder
+(docs/calibrate.md), and the calibration from those files to those results
+(`calibrate_from_files`)."""
 
 from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import json_safe, write_atomic
+from ..fileio import check_output_folder, check_plot_path, json_safe, write_atomic
+from ..records.datasets import PREFIX, is_builtin
 from .compression import DEFAULT_STEPS, CompressionTest, read_compression_csv
 from .problem import CalibrationTest
 
 #: the files `write_results` puts in the output folder
 BALL_FILE = "calibrated-ball.json"
 RESULT_FILE = "calibration.json"
+
+
+def parse_test(text: str) -> tuple[Path, float | None, str | None]:
+    """FILE[:SPEED[:LAYER]] of --test (FILE may be `builtin:NAME`) -> (path, speed (m/s) or
+    None, layer or None); `InputError` naming --test for a speed that is not a number > 0."""
+    prefix = text[:len(PREFIX)] if is_builtin(text) else ""  # builtin:NAME[:SPEED]
+    path, _, rest = text[len(prefix):].partition(":")
+    path = prefix + path
+    speed_text, _, layer = rest.partition(":")
+    speed = None
+    if speed_text:
+        try:
+            speed = float(speed_text)
+        except ValueError:
+            raise InputError(f"--test {text}: the speed {speed_text!r} is not a number "
+                             "(FILE[:SPEED[:LAYER]])") from None
+        if not (math.isfinite(speed) and speed > 0):
+            raise InputError(f"--test {text}: the speed must be > 0 (m/s)")
+    return Path(path), speed, layer or None
+
+
+def parse_compression(text: str) -> tuple[Path, str | None]:
+    """FILE.csv[:LAYER] of --compression -> (path, layer or None)."""
+    path, _, layer = text.partition(":")
+    if not path:
+        raise InputError(f"--compression {text!r}: expected FILE.csv[:LAYER]")
+    return Path(path), layer or None
 
 
 def calibration_tests(impacts: Sequence[tuple[Path, Any, str | None]],
@@ -62,4 +91,70 @@ def write_results(out: Path, result: dict[str, Any]) -> None:
     write_atomic(Path(out) / RESULT_FILE, json.dumps(json_safe(result), indent=2))
 
 
-__all__ = ["BALL_FILE", "RESULT_FILE", "calibration_tests", "write_results"]
+def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]], options, *,
+                         tests: Sequence[str] = (), compressions: Sequence[str] = (),
+                         read_record: Callable[[Path, float | None], Any] | None = None,
+                         process_record: Callable[[Any], Any] | None = None,
+                         impact_speed_m_s: float | None = None,
+                         compression_rate_m_s: float | None = None,
+                         compression_steps: int = DEFAULT_STEPS, objectives=None,
+                         method: str = "nsga2", stages=None, population: int = 24,
+                         generations: int = 8, seed: int = 0, decision: str = "knee",
+                         weights=None, out: Path | None = None, resume: bool = False,
+                         max_evaluations: int = 30, allow=(),
+                         plot_path: Path | None = None) -> tuple[dict[str, Any], list]:
+    """`ballimpact calibrate`: the ball `ball` (preset or specification file, its constants at
+    the first impact test's speed, else at `impact_speed_m_s` (m/s)) calibrated by
+    `calibration.calibrate` (the free parameters' `bounds` (SI), the solver `options` and the
+    search's arguments as there; checkpoints, and with `resume` the search continued, in the
+    folder `out`) against the impact tests `tests` (FILE[:SPEED[:LAYER]], `parse_test`: each
+    read by `read_record(path, speed (m/s) or None)` into an `ImpactRecord` and processed by
+    `process_record(record)` into its `ImpactFeatures`) and the compression curves
+    `compressions` (FILE.csv[:LAYER]; `calibration_tests` with `compression_rate_m_s` (m/s)
+    and `compression_steps`). With `out` the results are written there (`write_results`),
+    with `plot_path` a PNG of the last stage's pulses. Returns (the result of `calibrate`
+    without its stage results, with `ball_file` and `plot` where written; the
+    `StageResult`s). Raises `InputError` (naming the flag) on bad paths, no test, a test
+    without an impact speed, and what `calibrate` raises."""
+    from ..fe import load_ball
+    from .calibration import calibrate
+
+    check_plot_path(plot_path)
+    if out is not None:
+        if out.exists() and not out.is_dir():
+            raise InputError(f"--out {out}: is a file; give a folder (it holds the "
+                             "evaluations, plots and the calibrated ball)")
+        check_output_folder(out, "--out")
+    if not tests and not compressions:
+        raise InputError("--test or --compression: give at least one test (an impact record, "
+                         "or a compression curve)")
+    impacts = []
+    for text, (path, speed, layer) in zip(tests, [parse_test(text) for text in tests]):
+        record = read_record(path, speed)
+        if record.impact_speed_m_s is None:
+            raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
+                             "or in the side file (impact_speed_m_s)")
+        impacts.append((path, process_record(record), layer))
+    found = calibration_tests(impacts, [parse_compression(text) for text in compressions],
+                              compression_rate_m_s=compression_rate_m_s,
+                              compression_steps=compression_steps)
+    speed = found[0].impact_speed_m_s if impacts else impact_speed_m_s  # impacts come first
+    template = load_ball(ball, speed, allow=allow).to_dict()
+    result = calibrate(template, found, bounds, options, objectives=objectives, method=method,
+                       stages=stages, population=population, generations=generations,
+                       seed=seed, decision=decision, weights=weights, out=out, resume=resume,
+                       max_evaluations=max_evaluations, allow=allow)
+    stage_results = result.pop("stage_results")
+    if out is not None:
+        write_results(out, result)
+    if plot_path is not None:
+        from .plots import plot_pulses
+
+        last = stage_results[-1]
+        plot_pulses(last.problem.tests, last.runs, plot_path, "calibrated ball")
+        result["plot"] = str(plot_path)
+    return result, stage_results
+
+
+__all__ = ["BALL_FILE", "RESULT_FILE", "calibrate_from_files", "calibration_tests",
+           "parse_compression", "parse_test", "write_results"]

@@ -9,14 +9,11 @@ import shlex
 from pathlib import Path
 from typing import Any
 
-from ..records.datasets import PREFIX, is_builtin
 from ..errors import InputError
 from .common import (
     add_processing,
     add_record_options,
     assignments,
-    check_output_folder,
-    check_plot_path,
     load,
     process_record,
     use_compilation_cache,
@@ -86,53 +83,6 @@ def add_parser(verbs) -> argparse.ArgumentParser:
     return p
 
 
-def parse_test(text: str) -> tuple[Path, float | None, str | None]:
-    prefix = text[:len(PREFIX)] if is_builtin(text) else ""  # builtin:NAME[:SPEED]
-    path, _, rest = text[len(prefix):].partition(":")
-    path = prefix + path
-    speed_text, _, layer = rest.partition(":")
-    speed = None
-    if speed_text:
-        try:
-            speed = float(speed_text)
-        except ValueError:
-            raise InputError(f"--test {text}: the speed {speed_text!r} is not a number "
-                             "(FILE[:SPEED[:LAYER]])") from None
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"--test {text}: the speed must be > 0 (m/s)")
-    return Path(path), speed, layer or None
-
-
-def parse_compression(text: str) -> tuple[Path, str | None]:
-    """FILE.csv[:LAYER] of --compression."""
-    path, _, layer = text.partition(":")
-    if not path:
-        raise InputError(f"--compression {text!r}: expected FILE.csv[:LAYER]")
-    return Path(path), layer or None
-
-
-def load_tests(args: argparse.Namespace) -> list:
-    """The --test records loaded and processed, and the --compression curves, as the tests of a
-    calibration (`calibrate.files.calibration_tests`)."""
-    from ..calibrate.files import calibration_tests
-
-    parsed = [parse_test(text) for text in args.test]  # every --test's form before any file
-    impacts = []
-    for text, (path, speed, layer) in zip(args.test, parsed):
-        # a copy: `args` stays the command as given (the resume hint is built from it)
-        given = argparse.Namespace(**vars(args))
-        if speed is not None:
-            given.impact_speed_m_s = speed
-        record = load(path, given)
-        if record.impact_speed_m_s is None:
-            raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
-                             "or in the side file (impact_speed_m_s)")
-        impacts.append((path, process_record(record, args).features, layer))
-    return calibration_tests(impacts, [parse_compression(text) for text in args.compression],
-                             compression_rate_m_s=args.compression_rate_m_s,
-                             compression_steps=args.compression_steps)
-
-
 def command_line(args: argparse.Namespace) -> str:
     """The command as given, for the resume hint: the options that differ from their defaults,
     read from `args` by this verb's flags (`sys.argv` is not the command when the verb runs
@@ -154,56 +104,51 @@ def command_line(args: argparse.Namespace) -> str:
     return shlex.join(words + ["--resume"])
 
 
-def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..calibrate.calibration import calibrate, parse_stage
-    from ..calibrate.files import write_results
-    from ..fe import load_ball
+def _weights(text: str | None) -> list[float] | None:
+    """--weights 'a,b,...' -> finite numbers >= 0."""
+    if not text:
+        return None
+    try:
+        weights = [float(w) for w in text.split(",")]
+    except ValueError:
+        raise InputError(f"--weights {text!r}: expected comma-separated numbers") from None
+    if not all(math.isfinite(w) and w >= 0 for w in weights):
+        raise InputError(f"--weights {text}: expected finite numbers >= 0")
+    return weights
 
-    check_plot_path(args.plot)
-    if args.out is not None:
-        if args.out.exists() and not args.out.is_dir():
-            raise InputError(f"--out {args.out}: is a file; give a folder (it holds the "
-                             "evaluations, plots and the calibrated ball)")
-        check_output_folder(args.out, "--out")
+
+def run(args: argparse.Namespace) -> dict[str, Any]:
+    from ..calibrate.calibration import parse_stage
+    from ..calibrate.files import calibrate_from_files
+
     bounds = assignments(args.free, "--free", bounds=True)
     stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
     objectives = None if args.objectives is None else \
         tuple(o.strip() for o in args.objectives.split(",") if o.strip())
-    if not args.test and not args.compression:
-        raise InputError("--test or --compression: give at least one test (an impact record, "
-                         "or a compression curve)")
-    weights = None
-    if args.weights:
-        try:
-            weights = [float(w) for w in args.weights.split(",")]
-        except ValueError:
-            raise InputError(f"--weights {args.weights!r}: expected comma-separated numbers") \
-                from None
-        if not all(math.isfinite(w) and w >= 0 for w in weights):
-            raise InputError(f"--weights {args.weights}: expected finite numbers >= 0")
-    tests = load_tests(args)
-    impacts = [t for t in tests if hasattr(t, "features")]
-    speed = impacts[0].impact_speed_m_s if impacts else args.impact_speed_m_s
-    template = load_ball(args.ball, speed, allow=args.allow).to_dict()
+    weights = _weights(args.weights)
     options = solver_options(args)
+
+    def read_record(path: Path, speed_m_s: float | None):
+        # a copy: `args` stays the command as given (the resume hint is built from it)
+        given = argparse.Namespace(**vars(args))
+        if speed_m_s is not None:
+            given.impact_speed_m_s = speed_m_s
+        return load(path, given)
+
     use_compilation_cache()
     if "nsga2" in args.method:  # what Ctrl-C (cli.main) adds to its line
         args.resume_hint = (f"resume with: {command_line(args)}" if args.out is not None else
                             "no checkpoint was kept: give --out DIR to be able to --resume")
-    result = calibrate(template, tests, bounds, options, objectives=objectives,
-                       method=args.method, stages=stages, population=args.population,
-                       generations=args.generations, seed=args.seed, decision=args.decision,
-                       weights=weights, out=args.out, resume=args.resume,
-                       max_evaluations=args.max_evaluations, allow=args.allow)
-    stage_results = result.pop("stage_results")
-    if args.out is not None:
-        write_results(args.out, result)
-    if args.plot is not None:
-        from ..calibrate.plots import plot_pulses
-
-        last = stage_results[-1]
-        plot_pulses(last.problem.tests, last.runs, args.plot, "calibrated ball")
-        result["plot"] = str(args.plot)
+    result, stage_results = calibrate_from_files(
+        args.ball, bounds, options, tests=args.test, compressions=args.compression,
+        read_record=read_record,
+        process_record=lambda record: process_record(record, args).features,
+        impact_speed_m_s=args.impact_speed_m_s, compression_rate_m_s=args.compression_rate_m_s,
+        compression_steps=args.compression_steps, objectives=objectives, method=args.method,
+        stages=stages, population=args.population, generations=args.generations,
+        seed=args.seed, decision=args.decision, weights=weights, out=args.out,
+        resume=args.resume, max_evaluations=args.max_evaluations, allow=args.allow,
+        plot_path=args.plot)
     if not args.json:
         _print(result, stage_results)
     return result

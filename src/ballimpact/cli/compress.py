@@ -4,14 +4,11 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..checks import check_allow
 from ..progress import CountProgress
-from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
+from .common import add_json, add_allow, use_compilation_cache
 from ..fe.options import COMPRESSION_PENALTY_SCALE
 from .simulate import SolverDefaults
 
@@ -60,37 +57,25 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import compress
-    from ..fe.compression import compression_options
-    from ..fe.output import plot_curve, write_curve
-    from ..fe.runs import load_model
+    from ..fe.compression import compress_ball
 
-    check_plot_path(args.plot)
-    check_output_folder(args.csv, "--csv")
-    if args.csv is not None and args.csv.suffix.lower() != ".csv":
-        raise InputError(f"--csv: {args.csv} must be a .csv file")
-    allow = check_allow(args.allow)
-    ball = load_model(args.ball, args.impact_speed_m_s, moduli=args.moduli, allow=allow)
-    options = replace(compression_options(ball, args.deflection_m, args.element_size_m),
-                      integration=args.integration, penalty_scale=args.penalty_scale)
     use_compilation_cache()
-    progress = CountProgress("increment", quiet_s=PROGRESS_AFTER_S)
-    result = compress(ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
-                      options=options, progress=progress)
-    out = {**result.to_dict(), "materials": ball.to_dict()}
-    if args.csv is not None:
-        out["csv"] = write_curve(args.csv, result)
-    if args.plot is not None:
-        out["plot"] = str(plot_curve(result, args.plot))
+    out = compress_ball(args.ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
+                        impact_speed_m_s=args.impact_speed_m_s,
+                        element_size_m=args.element_size_m, integration=args.integration,
+                        penalty_scale=args.penalty_scale, moduli=args.moduli, allow=args.allow,
+                        csv_path=args.csv, plot_path=args.plot,
+                        progress=CountProgress("increment", quiet_s=PROGRESS_AFTER_S))
     if not args.json:
         curve = (f"at {args.rate_m_s:g} m/s" if args.rate_m_s is not None
                  else "long-term (relaxed)")
-        print(f"{result.ball_name} compressed by {args.deflection_m * 1e3:.4g} mm between two "
-              f"platens, {curve}: peak force {result.peak_force_n:.5g} N")
-        print(f"  stiffness at the end {result.end_stiffness_n_m / 1e3:.5g} N/mm, secant "
-              f"{result.secant_stiffness_n_m / 1e3:.5g} N/mm; principal stretches "
-              f"{result.stretch_range[0]:.3f}-{result.stretch_range[1]:.3f}")
-        print(f"  {result.elements} elements, {result.increments} increments, "
-              f"{result.newton_iterations} Newton iterations, {result.wall_time_s:.2f} s wall "
-              f"({result.compile_time_s:.2f} s compiling)")
+        low, high = out["principal_stretch_range"]
+        print(f"{out['ball']} compressed by {args.deflection_m * 1e3:.4g} mm between two "
+              f"platens, {curve}: peak force {out['peak_force_n']:.5g} N")
+        print(f"  stiffness at the end {out['end_stiffness_n_m'] / 1e3:.5g} N/mm, secant "
+              f"{out['secant_stiffness_n_m'] / 1e3:.5g} N/mm; principal stretches "
+              f"{low:.3f}-{high:.3f}")
+        print(f"  {out['elements']} elements, {out['increments']} increments, "
+              f"{out['newton_iterations']} Newton iterations, {out['wall_time_s']:.2f} s wall "
+              f"({out['compile_time_s']:.2f} s compiling)")
     return out

@@ -4,14 +4,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
-import warnings
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, InputWarning
-from ..checks import check_allow
 from .common import add_json, add_allow
 
 
@@ -79,79 +75,30 @@ def add_parser(verbs) -> None:
     add_allow(imp)
 
 
-def _refuse_other_solver_mesh(args: argparse.Namespace) -> None:
-    """A mesh flag of the other solver would be ignored silently: refuse it."""
-    if args.solver == "3d" and args.element_size_m is not None:
-        raise InputError("--element-size-m: sets the axisymmetric mesh; with --solver 3d the "
-                         "mesh is set by --divisions and --pole-grading")
-    if args.solver == "axisymmetric":
-        for flag, value in (("--divisions", args.divisions),
-                            ("--pole-grading", args.pole_grading)):
-            if value is not None:
-                raise InputError(f"{flag}: sets the 3D mesh; the axisymmetric mesh is set by "
-                                 "--element-size-m (or give --solver 3d)")
-
-
-def _warn_ignored_impact_flags(args: argparse.Namespace) -> None:
-    """The impact's flags mean nothing to a file of the ball alone (--ball-only, or VTK): an
-    `InputWarning` that names those given."""
-    ignored = [flag for flag, value in (("--angle-deg", args.angle_deg),
-                                        ("--friction", args.friction),
-                                        ("--step-time-s", args.step_time_s)) if value is not None]
-    if ignored:
-        what = "--ball-only" if args.ball_only else "--format vtk"
-        warnings.warn(f"{', '.join(ignored)}: ignored with {what} (the file holds the ball "
-                      "alone, no impact); they set a complete deck's impact", InputWarning,
-                      stacklevel=2)
-
-
 def run_export(args: argparse.Namespace) -> dict[str, Any]:
-    from ..export import ImpactSetup, check_output, export_ball
-    from ..fe.runs import load_model
+    from ..export import export_ball_spec
 
-    check_output(args.out, args.format)
-    _refuse_other_solver_mesh(args)
-    allow = check_allow(args.allow)
-    ball = load_model(args.ball, args.speed_m_s, moduli=args.moduli, allow=allow)
-    setup = None
-    if not args.ball_only and args.format != "vtk":
-        if args.speed_m_s is None:
-            raise InputError("--speed-m-s: needed for a complete deck (or give --ball-only)")
-        setup = ImpactSetup(args.speed_m_s, args.angle_deg or 0.0, args.friction or 0.0,
-                            args.step_time_s)
-    else:
-        _warn_ignored_impact_flags(args)
-    written = export_ball(ball, args.out, args.format, solver=args.solver, setup=setup,
-                          ball_only=args.ball_only, units=args.units, moduli=args.moduli,
-                          approximate=args.approximate, element_size_m=args.element_size_m,
-                          divisions=args.divisions, pole_grading=args.pole_grading,
-                          half=args.half_model, allow=allow)
-    for note in written.notes:
+    out = export_ball_spec(args.ball, args.out, args.format, speed_m_s=args.speed_m_s,
+                           angle_deg=args.angle_deg, friction=args.friction,
+                           step_time_s=args.step_time_s, solver=args.solver,
+                           ball_only=args.ball_only, units=args.units, moduli=args.moduli,
+                           approximate=args.approximate, element_size_m=args.element_size_m,
+                           divisions=args.divisions, pole_grading=args.pole_grading,
+                           half=args.half_model, allow=args.allow)
+    for note in out["notes"]:
         print(f"note: {note}", file=sys.stderr)
-    out = {"ball": ball.name, "mass_kg": ball.mass_kg, **written.summary()}
-    if setup is not None:
-        out.update(impact_speed_m_s=setup.speed_m_s, angle_deg=setup.angle_deg,
-                   friction=setup.friction)
     if not args.json:
-        what = "ball" if written.ball_only else "impact deck"
-        print(f"wrote {written.path}: {args.format} {what} of {ball.name} ({written.solver}, "
-              f"{written.n_nodes} nodes, {written.n_elements} elements, units {written.units})")
+        what = "ball" if out["ball_only"] else "impact deck"
+        print(f"wrote {out['out']}: {args.format} {what} of {out['ball']} ({out['solver']}, "
+              f"{out['nodes']} nodes, {out['elements']} elements, units {out['units']})")
     return out
 
 
 def run_import(args: argparse.Namespace) -> dict[str, Any]:
-    from ..export import read_abaqus_file
+    from ..export.importer import import_abaqus_file, imported_json
 
-    allow = check_allow(args.allow)
-    if args.out is not None and not args.out.parent.is_dir():  # before reading anything
-        raise InputError(f"--out: folder {args.out.parent} does not exist")
-    out = read_abaqus_file(args.file, args.units, ball=args.ball, allow=allow)
-    text = json.dumps(out.get("ball", out), indent=2)
-    if args.out is not None:
-        try:
-            args.out.write_text(text + "\n")
-        except OSError as error:
-            raise InputError(f"--out: cannot write {args.out} ({error.strerror or error})") from None
+    out = import_abaqus_file(args.file, args.units, ball=args.ball, allow=args.allow,
+                             out_path=args.out)
     if not args.json:
-        print(text)
+        print(imported_json(out))
     return out

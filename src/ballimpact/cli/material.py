@@ -10,14 +10,12 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import add_json, check_output_folder, check_plot_path, use_compilation_cache
-
-#: models of `material fit`: the hyperelastic fits and the Prony series of viscoelastic tests
-FIT_MODELS = ("neo_hookean", "mooney_rivlin", "yeoh", "ogden", "ogden_hyperfoam", "prony")
-SHIFTS = ("wlf", "arrhenius")
+from .common import add_json, check_output_folder, use_compilation_cache
 
 
 def add_parser(verbs) -> None:
+    from ..material.fitting import FIT_MODELS
+
     material = verbs.add_parser(
         "material", help="fit material constants to material tests; check a ball's materials",
         description="Fit hyperelastic constants (or a Prony series) to material tests given as "
@@ -109,80 +107,35 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 
 # ---- fit ----------------------------------------------------------------------------------------
-def _checked_fit_flags(args: argparse.Namespace) -> None:
-    from ..material.hyperelastic import ERRORS, MAX_ORDER, OGDEN_MODELS
-
-    if args.model not in FIT_MODELS:
-        raise InputError(f"--model {args.model}: allowed {', '.join(FIT_MODELS)}")
-    if args.error not in ERRORS:
-        raise InputError(f"--error {args.error}: allowed {', '.join(ERRORS)}")
-    if args.order is not None:
-        if args.model not in OGDEN_MODELS:
-            raise InputError(f"--order {args.order}: only for {' and '.join(OGDEN_MODELS)} (the "
-                             f"number of terms); {args.model} has a fixed form")
-        if not 1 <= args.order <= MAX_ORDER:
-            raise InputError(f"--order {args.order}: allowed 1 to {MAX_ORDER} terms")
-    if args.starts is not None and args.starts < 1:
-        raise InputError(f"--starts {args.starts}: need an integer >= 1")
-    prony_flags = [flag for flag, value in (
-        ("--terms", args.terms), ("--shift", args.shift),
-        ("--reference-temperature-c", args.reference_temperature_c), ("--merge", args.merge),
-        ("--bulk-relaxation", args.bulk_relaxation or None)) if value is not None]
-    if args.model != "prony" and prony_flags:
-        raise InputError(f"{prony_flags[0]}: only with --model prony (a Prony series fit to "
-                         "relaxation, creep or DMA tests)")
-    if args.model == "prony":
-        if args.terms is None:
-            raise InputError("--model prony needs --terms N (the number of Prony terms)")
-        if args.shift is not None and args.shift not in SHIFTS:
-            raise InputError(f"--shift {args.shift}: allowed {', '.join(SHIFTS)}")
-        if args.out is not None and args.merge is None:
-            raise InputError("--out: a Prony series alone is not a material; give --merge "
-                             "MATERIAL_JSON (the hyperelastic material it belongs to)")
-    check_plot_path(args.plot)
-    check_output_folder(args.out, "--out")
-
-
 def _fit(args: argparse.Namespace) -> dict[str, Any]:
-    from ..material.data import parse_spec
-    from ..material.files import write_material
-    from ..material.fitting import fit_material
+    from ..material.fitting import fit_material_files
 
-    _checked_fit_flags(args)
-    run = fit_material([parse_spec(text) for text in args.tests], args.model,
-                       compression_positive=args.compression_positive, order=args.order,
-                       error=args.error, seed=args.seed, starts=args.starts, terms=args.terms,
-                       shift=args.shift, reference_temperature_c=args.reference_temperature_c,
-                       bulk_relaxation=args.bulk_relaxation, merge=args.merge)
+    run = fit_material_files(
+        args.tests, args.model, compression_positive=args.compression_positive,
+        order=args.order, error=args.error, seed=args.seed, starts=args.starts, terms=args.terms,
+        shift=args.shift, reference_temperature_c=args.reference_temperature_c,
+        bulk_relaxation=args.bulk_relaxation, merge=args.merge, out_path=args.out,
+        plot_path=args.plot)
     out = run.result
-    if args.out is not None:
-        if run.unusable:
-            raise InputError(f"--out {args.out}: not written, the fitted set is not a valid ball "
-                             f"material ({run.unusable})")
-        write_material(args.out, run.material)
-        out["out"] = str(args.out)
-    if args.model == "prony":
-        if not args.json:
-            test = run.tests[0]
-            print(f"Prony series ({len(out['prony'])} terms) fitted to {test.path} ({test.mode}),"
-                  f" R^2 = {run.fit.r2:.5f}")
-            for term in out["prony"]:
-                print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
+    if args.json:
         return out
-    if args.plot is not None:
-        from ..material.plots import plot_fit
-        out["plot"] = str(plot_fit(run.tests, run.fit, args.plot))
-    if not args.json:
-        print(f"{out['model']} fitted to {len(run.tests)} test(s), error {out['error']}")
-        errors = out["standard_errors"]
-        for key, value in out["constants"].items():
-            print(f"  {key:<18} {value:>14.6g}  +/- {errors.get(key, 0.0):.3g}")
-        print("  R^2: " + ", ".join(f"{Path(k).name if k != 'overall' else k} {v:.5f}"
-                                    for k, v in out["r2"].items()))
-        for mode, (low, high) in out["stable_range"].items():
-            print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
-        for note in out["notes"]:
-            print(f"  note: {note}")
+    if args.model == "prony":
+        test = run.tests[0]
+        print(f"Prony series ({len(out['prony'])} terms) fitted to {test.path} ({test.mode}),"
+              f" R^2 = {run.fit.r2:.5f}")
+        for term in out["prony"]:
+            print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
+        return out
+    print(f"{out['model']} fitted to {len(run.tests)} test(s), error {out['error']}")
+    errors = out["standard_errors"]
+    for key, value in out["constants"].items():
+        print(f"  {key:<18} {value:>14.6g}  +/- {errors.get(key, 0.0):.3g}")
+    print("  R^2: " + ", ".join(f"{Path(k).name if k != 'overall' else k} {v:.5f}"
+                                for k, v in out["r2"].items()))
+    for mode, (low, high) in out["stable_range"].items():
+        print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
+    for note in out["notes"]:
+        print(f"  note: {note}")
     return out
 
 

@@ -10,16 +10,17 @@ their header (`units`).
 from __future__ import annotations
 
 import os
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..balls.ball import BallModel
 from ..fe.progress import RunEstimate
 from ..checks import check_allow
 from . import abaqus, lsdyna, vtk
 from .geometry import SOLVERS, BallGeometry, ball_geometry, estimate_elements
-from .importer import read_abaqus_file, read_ball, read_materials
+from .importer import import_abaqus_file, read_abaqus_file, read_ball, read_materials
 from .materials import ExportError
 from .setup import ImpactSetup
 from .units import MM_TONNE_S, SI, UNIT_SYSTEMS, UnitSystem, unit_system
@@ -152,7 +153,74 @@ def export_ball(ball: BallModel, path: Path, fmt: str, *, solver: str = "axisymm
                   None if ball_only else setup.step_time(ball))
 
 
+def _refuse_other_solver_mesh(solver: str, element_size_m: float | None,
+                              divisions: int | None, pole_grading: float | None) -> None:
+    """A mesh flag of the other solver would be ignored silently: refuse it."""
+    if solver == "3d" and element_size_m is not None:
+        raise InputError("--element-size-m: sets the axisymmetric mesh; with --solver 3d the "
+                         "mesh is set by --divisions and --pole-grading")
+    if solver == "axisymmetric":
+        for flag, value in (("--divisions", divisions), ("--pole-grading", pole_grading)):
+            if value is not None:
+                raise InputError(f"{flag}: sets the 3D mesh; the axisymmetric mesh is set by "
+                                 "--element-size-m (or give --solver 3d)")
+
+
+def _warn_ignored_impact_flags(ball_only: bool, angle_deg: float | None,
+                               friction: float | None, step_time_s: float | None) -> None:
+    """The impact's flags mean nothing to a file of the ball alone (--ball-only, or VTK): an
+    `InputWarning` that names those given."""
+    ignored = [flag for flag, value in (("--angle-deg", angle_deg), ("--friction", friction),
+                                        ("--step-time-s", step_time_s)) if value is not None]
+    if ignored:
+        what = "--ball-only" if ball_only else "--format vtk"
+        warnings.warn(f"{', '.join(ignored)}: ignored with {what} (the file holds the ball "
+                      "alone, no impact); they set a complete deck's impact", InputWarning,
+                      stacklevel=3)
+
+
+def export_ball_spec(ball: str | Path, path: Path, fmt: str, *, speed_m_s: float | None = None,
+                     angle_deg: float | None = None, friction: float | None = None,
+                     step_time_s: float | None = None, solver: str = "axisymmetric",
+                     ball_only: bool = False, units: str | None = None,
+                     moduli: str | None = None, approximate: bool = False,
+                     element_size_m: float | None = None, divisions: int | None = None,
+                     pole_grading: float | None = None, half: bool = False,
+                     allow=()) -> dict:
+    """`ballimpact export`: the ball `ball` (preset or specification file, its constants at
+    `speed_m_s` (m/s) where they depend on the speed; `moduli` overriding its convention)
+    written by `export_ball` to `path` in `fmt`. A complete deck's impact is `speed_m_s`,
+    `angle_deg` (deg, default 0), `friction` (default 0) and `step_time_s` (s, default from a
+    Hertz estimate); those given for a file of the ball alone (`ball_only`, VTK) get an
+    `InputWarning`. Returns the ball's name and `mass_kg` (kg), `Export.summary()` (its
+    `notes` included) and, for a deck, its impact (`impact_speed_m_s`, `angle_deg`,
+    `friction`). Raises `InputError` (naming the flag) on a mesh option of the other solver,
+    a deck without a speed, and what `export_ball` raises."""
+    from ..fe.runs import load_model
+
+    check_output(path, fmt)
+    _refuse_other_solver_mesh(solver, element_size_m, divisions, pole_grading)
+    allow = check_allow(allow)
+    model = load_model(ball, speed_m_s, moduli=moduli, allow=allow)
+    setup = None
+    if not ball_only and fmt != "vtk":
+        if speed_m_s is None:
+            raise InputError("--speed-m-s: needed for a complete deck (or give --ball-only)")
+        setup = ImpactSetup(speed_m_s, angle_deg or 0.0, friction or 0.0, step_time_s)
+    else:
+        _warn_ignored_impact_flags(ball_only, angle_deg, friction, step_time_s)
+    written = export_ball(model, path, fmt, solver=solver, setup=setup, ball_only=ball_only,
+                          units=units, moduli=moduli, approximate=approximate,
+                          element_size_m=element_size_m, divisions=divisions,
+                          pole_grading=pole_grading, half=half, allow=allow)
+    out = {"ball": model.name, "mass_kg": model.mass_kg, **written.summary()}
+    if setup is not None:
+        out.update(impact_speed_m_s=setup.speed_m_s, angle_deg=setup.angle_deg,
+                   friction=setup.friction)
+    return out
+
+
 __all__ = ["DEFAULT_UNITS", "FORMATS", "MM_TONNE_S", "SI", "SOLVERS", "UNIT_SYSTEMS",
            "BallGeometry", "Export", "ExportError", "ImpactSetup", "UnitSystem", "ball_geometry",
-           "check_export_memory", "check_output", "export_ball", "read_abaqus_file", "read_ball",
-           "read_materials"]
+           "check_export_memory", "check_output", "export_ball", "export_ball_spec",
+           "import_abaqus_file", "read_abaqus_file", "read_ball", "read_materials"]

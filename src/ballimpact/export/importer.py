@@ -14,6 +14,7 @@ lower case.
 
 from __future__ import annotations
 
+import json
 import re
 import warnings
 from pathlib import Path
@@ -25,6 +26,7 @@ from ..errors import InputError, InputWarning
 from ..balls.ball import load_ball
 from ..constitutive import material_from_dict
 from ..checks import check_allow
+from ..fileio import check_output_folder
 from ..balls.checks import check_material_values
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
@@ -299,3 +301,27 @@ def read_abaqus_file(path, units: str | None = None, *, ball: bool = False,
         return {"materials": materials}
     except InputError as error:
         raise InputError(f"{path}: {error}") from None
+
+
+def import_abaqus_file(path, units: str | None = None, *, ball: bool = False, allow=(),
+                       out_path: Path | None = None) -> dict[str, Any]:
+    """`ballimpact import-material`: `read_abaqus_file`, and with `out_path` its JSON
+    (`imported_json`) written there. Returns what `read_abaqus_file` returns. Raises
+    `InputError` naming --out when its folder does not exist (before reading anything) or it
+    cannot be written, and what `read_abaqus_file` raises."""
+    check_allow(allow)
+    check_output_folder(out_path, "--out")
+    out = read_abaqus_file(path, units, ball=ball, allow=allow)
+    if out_path is not None:
+        try:
+            Path(out_path).write_text(imported_json(out) + "\n")
+        except OSError as error:
+            raise InputError(f"--out: cannot write {out_path} ({error.strerror or error})") \
+                from None
+    return out
+
+
+def imported_json(result: dict[str, Any]) -> str:
+    """The JSON text of an import (`import_abaqus_file`): the ball specification of a deck read
+    as a ball, else the materials."""
+    return json.dumps(result.get("ball", result), indent=2)

@@ -30,6 +30,7 @@ import math
 import time
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import jax
@@ -45,7 +46,8 @@ from ..progress import waits_announced
 from .programs import CompileWait
 from .options import COMPRESSION_PENALTY_SCALE, SolverOptions
 
-__all__ = ["CompressionResult", "compress", "check_compression_input", "compression_options"]
+__all__ = ["CompressionResult", "compress", "compress_ball", "check_compression_input",
+           "compression_options"]
 
 #: Prony increment (s) that stands for "fully relaxed" (exp(-dt/tau) is 0 for any tau)
 RELAXED_DT_S = 1e30
@@ -333,6 +335,44 @@ def compress(ball, deflection_m: float, *, rate_m_s: float | None = None, steps:
         jacobian_products=len(system.seeds), integration=options.integration,
         compile_time_s=compile_time, wall_time_s=time.perf_counter() - started,
         moduli=tuple(layer.material.moduli for layer in ball.layers))
+
+
+def compress_ball(ball: str, deflection_m: float, *, rate_m_s: float | None = None,
+                  steps: int = 20, impact_speed_m_s: float | None = None,
+                  element_size_m: float = SolverOptions.element_size_m,
+                  integration: str = SolverOptions.integration,
+                  penalty_scale: float = COMPRESSION_PENALTY_SCALE, moduli: str | None = None,
+                  allow=(), csv_path: Path | None = None, plot_path: Path | None = None,
+                  progress=None) -> dict[str, Any]:
+    """`ballimpact compress`: the ball `ball` (preset or specification file; its constants at
+    `impact_speed_m_s` (m/s) where they depend on the speed; `moduli` overriding its convention)
+    compressed to `deflection_m` (m) by `compress` on `compression_options`' mesh of
+    `element_size_m` (m) with `integration` and `penalty_scale`. Writes the curve to
+    `csv_path` (`output.write_curve`: deflection_m,force_n) and its picture to `plot_path` (PNG)
+    when given. Returns `CompressionResult.to_dict()` with the ball's `materials` and the paths
+    written (`csv`, `plot`). Raises `InputError` (naming --plot, --csv, or the argument) on bad
+    input before anything runs, and what `compress` raises."""
+    from ..checks import check_allow
+    from ..fileio import check_output_folder, check_plot_path
+    from .output import plot_curve, write_curve
+    from .runs import load_model
+
+    check_plot_path(plot_path)
+    check_output_folder(csv_path, "--csv")
+    if csv_path is not None and Path(csv_path).suffix.lower() != ".csv":
+        raise InputError(f"--csv: {csv_path} must be a .csv file")
+    allow = check_allow(allow)
+    model = load_model(ball, impact_speed_m_s, moduli=moduli, allow=allow)
+    options = dataclasses.replace(compression_options(model, deflection_m, element_size_m),
+                                  integration=integration, penalty_scale=penalty_scale)
+    result = compress(model, deflection_m, rate_m_s=rate_m_s, steps=steps, options=options,
+                      progress=progress)
+    out = {**result.to_dict(), "materials": model.to_dict()}
+    if csv_path is not None:
+        out["csv"] = write_curve(csv_path, result)
+    if plot_path is not None:
+        out["plot"] = str(plot_curve(result, plot_path))
+    return out
 
 
 # ---- the sparse tangent ----------------------------------------------------------------------

@@ -10,9 +10,12 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import check_distinct_files
+from ..fileio import check_distinct_files, check_output_folder, check_plot_path
 from .data import SIGNED_MODES, STRESS_MODES, VISCOELASTIC_MODES, MaterialTest, base_mode, read_test
 from .files import read_material
+
+#: models of `material fit`: the hyperelastic fits and the Prony series of viscoelastic tests
+FIT_MODELS = ("neo_hookean", "mooney_rivlin", "yeoh", "ogden", "ogden_hyperfoam", "prony")
 
 
 @dataclass
@@ -116,4 +119,86 @@ def fit_material(specs: Sequence[tuple[Path, str]], model: str, *,
                        "" if fit.usable else fit.notes[-1])
 
 
-__all__ = ["MaterialFit", "fit_material", "fit_prony_test", "read_tests"]
+def _check_fit_options(model: str, *, order: int | None = None, error: str = "absolute",
+                       starts: int | None = None, terms: int | None = None,
+                       shift: str | None = None, reference_temperature_c: float | None = None,
+                       bulk_relaxation: bool = False, merge: Path | None = None,
+                       out_path: Path | None = None) -> None:
+    """`InputError` naming the flag of `material fit` for a model not in `FIT_MODELS`, an
+    error measure, order or start count the model does not take, Prony options without
+    `model` prony, prony without `terms`, a `shift` not in `viscoelastic.SHIFTS`, and a Prony
+    series to be written (`out_path`) without the material it belongs to (`merge`)."""
+    from .hyperelastic import ERRORS, MAX_ORDER, OGDEN_MODELS
+    from .viscoelastic import SHIFTS
+
+    if model not in FIT_MODELS:
+        raise InputError(f"--model {model}: allowed {', '.join(FIT_MODELS)}")
+    if error not in ERRORS:
+        raise InputError(f"--error {error}: allowed {', '.join(ERRORS)}")
+    if order is not None:
+        if model not in OGDEN_MODELS:
+            raise InputError(f"--order {order}: only for {' and '.join(OGDEN_MODELS)} (the "
+                             f"number of terms); {model} has a fixed form")
+        if not 1 <= order <= MAX_ORDER:
+            raise InputError(f"--order {order}: allowed 1 to {MAX_ORDER} terms")
+    if starts is not None and starts < 1:
+        raise InputError(f"--starts {starts}: need an integer >= 1")
+    prony_flags = [flag for flag, value in (
+        ("--terms", terms), ("--shift", shift),
+        ("--reference-temperature-c", reference_temperature_c), ("--merge", merge),
+        ("--bulk-relaxation", bulk_relaxation or None)) if value is not None]
+    if model != "prony" and prony_flags:
+        raise InputError(f"{prony_flags[0]}: only with --model prony (a Prony series fit to "
+                         "relaxation, creep or DMA tests)")
+    if model == "prony":
+        if terms is None:
+            raise InputError("--model prony needs --terms N (the number of Prony terms)")
+        if shift is not None and shift not in SHIFTS:
+            raise InputError(f"--shift {shift}: allowed {', '.join(SHIFTS)}")
+        if out_path is not None and merge is None:
+            raise InputError("--out: a Prony series alone is not a material; give --merge "
+                             "MATERIAL_JSON (the hyperelastic material it belongs to)")
+
+
+def fit_material_files(tests: Sequence[str], model: str, *, compression_positive: bool = False,
+                       order: int | None = None, error: str = "absolute", seed: int = 0,
+                       starts: int | None = None, terms: int | None = None,
+                       shift: str | None = None, reference_temperature_c: float | None = None,
+                       bulk_relaxation: bool = False, merge: Path | None = None,
+                       out_path: Path | None = None,
+                       plot_path: Path | None = None) -> MaterialFit:
+    """`ballimpact material fit`: the tests given as FILE:MODE texts (`data.parse_spec`) fitted
+    by `fit_material` (options checked by `_check_fit_options` first); with `out_path` the
+    material written there (`files.write_material`; a Prony fit: the `merge` material with its
+    terms), with `plot_path` a PNG of data and fit per mode (hyperelastic models only:
+    `plots.plot_fit`). The result's JSON gets the paths written (`out`, `plot`). Raises
+    `InputError` on bad options or paths (naming the flag), on tests the model cannot fit, and
+    when a fitted set that is not a valid ball material would be written."""
+    from .data import parse_spec
+    from .files import write_material
+
+    _check_fit_options(model, order=order, error=error, starts=starts, terms=terms, shift=shift,
+                       reference_temperature_c=reference_temperature_c,
+                       bulk_relaxation=bulk_relaxation, merge=merge, out_path=out_path)
+    check_plot_path(plot_path)
+    check_output_folder(out_path, "--out")
+    run = fit_material([parse_spec(text) for text in tests], model,
+                       compression_positive=compression_positive, order=order, error=error,
+                       seed=seed, starts=starts, terms=terms, shift=shift,
+                       reference_temperature_c=reference_temperature_c,
+                       bulk_relaxation=bulk_relaxation, merge=merge)
+    if out_path is not None:
+        if run.unusable:
+            raise InputError(f"--out {out_path}: not written, the fitted set is not a valid ball "
+                             f"material ({run.unusable})")
+        write_material(out_path, run.material)
+        run.result["out"] = str(out_path)
+    if plot_path is not None and model != "prony":
+        from .plots import plot_fit
+
+        run.result["plot"] = str(plot_fit(run.tests, run.fit, plot_path))
+    return run
+
+
+__all__ = ["FIT_MODELS", "MaterialFit", "fit_material", "fit_material_files", "fit_prony_test",
+           "read_tests"]
