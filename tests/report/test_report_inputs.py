@@ -64,3 +64,10 @@ def test_best_miss_and_the_failed_check():
                                  "best three missed peak force, COR; see out/report.html")
     assert caught.value.exit_code == 3 and caught.value.result is result
     raise_if_unmatched(result_of([("20 m/s", "single", 0.02, [])]))  # every test matched
+
+
+def test_the_command_help_names_the_library_default_models():
+    from ballimpact.cli import report as cli_report
+    from ballimpact.report.build import DEFAULT_MODELS
+
+    assert cli_report.DEFAULT_MODELS == DEFAULT_MODELS

@@ -76,8 +76,7 @@ def test_design_config_new_and_stored():
 
 
 def test_run_design_summarises_the_study_and_held_out_checks_the_study(tmp_path):
-    config = steps.design_config(runs=2, batch_size=2, element_size_m=COARSE)
-    summary = steps.run_design(tmp_path / "s", config)
+    summary = steps.run_design(tmp_path / "s", runs=2, batch_size=2, element_size_m=COARSE)
     assert (summary["runs"], summary["finished_runs"], summary["new_runs"]) == (2, 2, 2)
     columns, _ = load_dataset(tmp_path / "s")
     assert summary["failed_runs"] == int(np.sum(columns["status"] != "ok"))
@@ -103,8 +102,10 @@ def test_train_model_saves_the_model_and_returns_its_figures(tmp_path, monkeypat
         return builtin, builtin.metadata["held_out"]
 
     monkeypatch.setattr(steps, "train", train)
+    monkeypatch.setattr(steps, "load_config", lambda study: {})  # no study on disk
     out = steps.train_model(tmp_path / "study", tmp_path / "m", seed=1, steps=100, force=True)
-    assert given == {"study": tmp_path / "study", "seed": 1, "steps": 100, "force": True}
+    assert given == {"study": tmp_path / "study", "seed": 1, "steps": 100, "width": 128,
+                     "members": 5, "noise_augment": 0.02, "force": True}
     assert out["model_json"].endswith("m.json") and out["model_npz"].endswith("m.npz")
     saved = load_model(tmp_path / "m")
     assert saved.metadata["held_out"] == json.loads(json.dumps(out["held_out"]))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -14,8 +14,7 @@ from ..errors import InputError
 from ..records.features import FEATURE_NAMES
 from ..records.pipeline import ProcessedImpact
 from ..fe.sweep import parse_speeds
-from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,
-                     load, process_record)
+from .common import add_processing, add_record_options, load, process_record
 
 
 def add_parser(verbs) -> None:
@@ -56,40 +55,17 @@ def speed_list(text: str) -> list[float]:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    check_plot_path(args.plot)
-    if args.table is not None:
-        if args.table.suffix.lower() != ".csv":
-            raise InputError(f"--table: {args.table} must be a .csv file")
-        check_output_folder(args.table, "--table")
-    repeats.check_tolerance(args.speed_tolerance)
-    if args.speeds is not None:
-        repeats.check_nominal(args.speeds)
-    files = repeats.record_files(args.files, args.table)
-    started = time.perf_counter()
-    processed = [process_record(load(path, args), args) for path in files]
-    if len(files) > 1:  # a row each, grouped by speed, with per-group means and SDs
-        result = repeats.summarise_repeats(processed, files, args.speeds, args.speed_tolerance)
-        rows = result["records"]
-    else:  # a single record must still lie near a nominal speed
-        group = repeats.record_group(processed[0], files[0], args.speeds, args.speed_tolerance)
-        result = repeats.record_summary(processed[0])
-        rows = [repeats.record_row(processed[0], files[0], group)]
-    result["wall_time_s"] = time.perf_counter() - started
-    if args.table is not None:
-        result["table_csv"] = repeats.write_speed_table(args.table, rows)
-    if not args.json and len(files) == 1:
-        print_table(processed[0])
-    if args.plot:
-        from .. import plotting  # matplotlib only when a plot is asked for
+    from ..records.summaries import features_of_files
 
-        if len(files) > 1:
-            plotting.plot_repeats(processed, [row["group_speed_m_s"] for row in rows], args.plot)
+    result, processed = features_of_files(
+        args.files, load=partial(load, args=args), process=partial(process_record, args=args),
+        nominal_m_s=args.speeds, tolerance=args.speed_tolerance, table_path=args.table,
+        plot_path=args.plot)
+    if not args.json:
+        if len(processed) > 1:
+            print_groups(result)
         else:
-            plotting.plot_impact(processed[0].raw, processed[0].filtered, processed[0].features,
-                                 args.plot, title=str(files[0].name))
-        result["plot"] = str(args.plot)
-    if not args.json and len(files) > 1:
-        print_groups(result)
+            print_table(processed[0])
     return result
 
 

@@ -4,25 +4,13 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
+from functools import partial
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..fileio import write_atomic
 from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
-from ..records.repeats import expand_records
-from .common import (
-    add_json,
-    add_processing,
-    add_record_options,
-    assignments,
-    check_output_folder,
-    check_plot_path,
-    load,
-    process_record,
-    use_compilation_cache,
-)
+from .common import (add_json, add_processing, add_record_options, assignments, load,
+                     process_record, use_compilation_cache)
 
 
 def add_parser(verbs) -> None:
@@ -71,31 +59,19 @@ def add_parser(verbs) -> None:
 
 
 def run_fit(args: argparse.Namespace) -> dict[str, Any]:
-    from .. import lumped  # JAX and pymoo load only for the verbs that need them
+    from ..lumped.fit_records import fit_files  # JAX and pymoo: only for the verbs needing them
 
     use_compilation_cache()
-    check_plot_path(args.plot)
-    check_output_folder(args.table, "--table")
-    model = lumped.get_model(args.model)
-    tolerances = tolerances_from(args)
-    options = dict(method=args.method, seed=args.seed, population=args.population,
-                   generations=args.generations, polish=not args.no_polish,
-                   bounds=assignments(args.bound, "--bound", bounds=True),
-                   fixed=assignments(args.fix, "--fix", bounds=False),
-                   cor_weight=args.cor_weight, contact_time_weight=args.contact_time_weight)
-    args.files = expand_records(args.files)  # folders and built-in sets, as `features DIR`
-    if args.table is not None and len(args.files) < 2:
-        raise InputError("--table: needs several files")
-    started = time.perf_counter()
-    processed = [process_record(load(path, args), args) for path in args.files]
-    fits = lumped.fit_records(processed, model, [str(p) for p in args.files],
-                              tolerances=tolerances, allow=args.allow, **options)
-    result = fits.to_dict()
+    fits, result = fit_files(
+        args.files, load=partial(load, args=args), process=partial(process_record, args=args),
+        model=args.model, tolerances=tolerances_from(args), allow=args.allow,
+        table_path=args.table, plot_path=args.plot, method=args.method, seed=args.seed,
+        population=args.population, generations=args.generations, polish=not args.no_polish,
+        bounds=assignments(args.bound, "--bound", bounds=True),
+        fixed=assignments(args.fix, "--fix", bounds=False), cor_weight=args.cor_weight,
+        contact_time_weight=args.contact_time_weight)
     if fits.table is not None:
         _note_repeats(fits.table)
-        if args.table is not None:
-            write_atomic(args.table, fits.table.to_csv())
-            result["table_csv"] = str(args.table)
     if not args.json:
         for f, file, check in zip(fits.fits, fits.labels, fits.checks):
             _print_fit(f, Path(file), check)
@@ -105,15 +81,6 @@ def run_fit(args: argparse.Namespace) -> dict[str, Any]:
             spread = ", ".join(f"{k} {group['params_mean'][k]:.5g} +/- {group['params_sd'][k]:.3g}"
                                for k in group["params_mean"])
             print(f"repeats at {group['speed_m_s']:g} m/s ({group['count']} tests): {spread}")
-    if args.plot:
-        from ..plotting import plot_fit, plot_speed_fits
-
-        if fits.table is None:
-            plot_fit(fits.fits[0], args.plot, title=str(args.files[0].name))
-        else:
-            plot_speed_fits(fits.fits, args.plot)
-        result["plot"] = str(args.plot)
-    result["wall_time_s"] = time.perf_counter() - started
     raise_if_missed(list(zip(fits.labels, fits.checks)), result, "model check", "the model")
     return result
 

@@ -3,19 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import json
-import time
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import check_distinct_files, table_text, write_table
-from ..checks import check_allow
+from ..fileio import table_text
 from ..records.repeats import DEFAULT_SPEED_TOLERANCE
 from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
                        verdict_line)
-from .common import (add_processing, add_record_options, check_output_folder, check_plot_path,
-                     load, process_record, use_compilation_cache)
+from .common import add_processing, add_record_options, load, process_record, use_compilation_cache
 from .features import speed_list
 
 
@@ -66,77 +63,28 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.by_speed import identify_tests
-    from ..universal.identify import check_speed
-    from ..universal.model import load_model
+    from ..universal.by_speed import identify_files
 
-    started = time.perf_counter()
-    check_arguments(args)
-    allow = check_allow(args.allow)
-    model = load_model(args.model)
-    records = [load(path, args) for path in args.files]
-    for path, record in zip(args.files, records):  # before any processing or FE run
-        if record.impact_speed_m_s is not None:
-            check_speed(model, record.impact_speed_m_s, allow, f"{path}: ")
-    processed = [process_record(record, args) for record in records]
-    if args.verify:
-        use_compilation_cache()
-    found = identify_tests(processed, args.files, model, nominal_m_s=args.speeds,
-                           tolerance=args.speed_tolerance, verify=args.verify,
-                           refine=args.refine, allow=allow, diameter_m=args.ball_diameter_m,
-                           tolerances=tolerances_from(args), each=None if args.json else _print)
-    out = found.to_dict()
-    if found.repeats and not args.json:
-        _print_repeats(found.repeats)
-    if "table" in out:
-        rows = out["table"]
-        if args.table is not None:
-            out["table_csv"] = write_table(args.table, list(rows[0]), rows, ".6g")
-        if not args.json:
-            print(table_text(list(rows[0]), rows, ".6g"), end="")
-    if args.ball_out is not None:
-        args.ball_out.write_text(json.dumps(found.ball, indent=2))
-        out["ball_file"] = str(args.ball_out)
-    if args.plot is not None:
-        from ..universal.plots import plot_identification
-
-        plot_identification([(p.name, pr, f) for p, pr, f in found.results], args.plot)
-        out["plot"] = str(args.plot)
-    out["wall_time_s"] = time.perf_counter() - started
-    raise_if_missed([(path, f.verification) for path, _, f in found.results], out,
-                    "FE check", "the identified ball")
-    return out
-
-
-def check_arguments(args: argparse.Namespace) -> None:
-    """Flags and output paths, before anything is loaded or run."""
-    check_plot_path(args.plot)
-    if args.ball_diameter_m is not None:  # before anything is loaded (the mass comes later)
-        from ..universal.similarity import check_diameter
-
-        check_diameter(args.ball_diameter_m)
-    tolerances_from(args)  # a bad tolerance is refused before anything is loaded
+    tolerances = tolerances_from(args)  # a bad tolerance is refused before anything is loaded
     if given_flags(args) and not args.verify:
         raise InputError(f"{', '.join(given_flags(args))}: the FE check's tolerances, which "
                          "--no-verify turns off")
-    records = check_distinct_files(args.files, "FILE")
-    inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
-    for path, flag, suffix in ((args.table, "--table", ".csv"),
-                               (args.ball_out, "--ball-out", ".json")):
-        if path is None:
-            continue
-        if path.suffix.lower() != suffix:
-            raise InputError(f"{flag}: {path} must be a {suffix} file")
-        check_output_folder(path, flag)
-        if path.is_dir():
-            raise InputError(f"{flag}: {path} is a folder; give a {suffix} file")
-        if path.resolve() in inputs:
-            raise InputError(f"{flag}: {path} is one of the test records or their side files; "
-                             "writing it would overwrite the test: choose another name")
-    if args.table is not None and len(args.files) < 2:
-        raise InputError("--table: needs several test files (one per speed), got one; the "
-                         "parameters of one test are in the output (--json) and its ball in "
-                         "--ball-out")
+    if args.verify:
+        use_compilation_cache()
+    found, out = identify_files(
+        args.files, load=partial(load, args=args), process=partial(process_record, args=args),
+        model=args.model, verify=args.verify, refine=args.refine, allow=args.allow,
+        diameter_m=args.ball_diameter_m, nominal_m_s=args.speeds,
+        tolerance=args.speed_tolerance, tolerances=tolerances, table_path=args.table,
+        ball_path=args.ball_out, plot_path=args.plot, each=None if args.json else _print)
+    if not args.json:
+        if found.repeats:
+            _print_repeats(found.repeats)
+        if "table" in out:
+            print(table_text(list(out["table"][0]), out["table"], ".6g"), end="")
+    raise_if_missed([(path, f.verification) for path, _, f in found.results], out,
+                    "FE check", "the identified ball")
+    return out
 
 
 def _print_repeats(repeated: list[dict[str, Any]]) -> None:

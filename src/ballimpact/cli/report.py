@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 import argparse
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import check_distinct_files
 from ..verdict import add_tolerance_flags, tolerances_from
 from .common import (add_json, add_filtering, add_record_options, load, process_record,
                      use_compilation_cache)
 
+#: for the help only: `report.build.DEFAULT_MODELS` (that package loads JAX and matplotlib)
 DEFAULT_MODELS = "single_element,three_element,universal"
 
 
@@ -47,46 +48,20 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..report import build_report, builtin_files, parse_models
-    from ..report.build import raise_if_unmatched
-    from ..report.inputs import builtin_ball, builtin_note, check_test_record, label_tests
-    from ..report.models import check_balls
+    from ..report.build import raise_if_unmatched, report_files
 
     tolerances = tolerances_from(args)
-    if bool(args.files) == bool(args.builtin):
-        raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
-    if not args.out.parent.is_dir():
-        raise InputError(f"--out: folder {args.out.parent} does not exist")
-    if args.out.exists() and not args.out.is_dir():
-        raise InputError(f"--out: {args.out} is a file, not a folder")
-    if args.seed < 0:
-        raise InputError(f"--seed: must be an integer >= 0, got {args.seed}")
-    check_distinct_files(args.files, "TEST")  # each once, and each with its own speed
     for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
                         ("--rebound-speed-m-s", args.rebound_speed_m_s)):
         if value is not None and len(args.files) > 1:
             raise InputError(f"{flag}: one speed for {len(args.files)} test files; each test "
                              "has its own: give it in the file's side file (FILE.json with "
                              "impact_speed_m_s and rebound_speed_m_s)")
-    # the generating ball of a built-in set joins the default models
-    ball = builtin_ball(args.builtin) if args.builtin and args.models is None else None
-    # an empty --models is a mistake, not a request for the default
-    models = parse_models(args.models if args.models is not None
-                          else DEFAULT_MODELS + (f",{ball}" if ball is not None else ""))
-    files = builtin_files(args.builtin) if args.builtin else args.files
-    processed = [process_record(check_test_record(load(path, args), path, len(files)), args)
-                 for path in files]
-    tests = label_tests([str(f) for f in files], processed)
-    check_balls(models, tests[len(tests) // 2].speed_m_s, args.allow)
-    universal = None
-    if any(m.kind == "universal" for m in models):
-        from ..universal.model import load_model
-
-        universal = load_model(args.universal_model)
     use_compilation_cache()
-    note = builtin_note(args.builtin, ball) if args.builtin else ""
-    result = build_report(tests, models, args.out, seed=args.seed, universal_model=universal,
-                          note=note, progress=not args.quiet, allow=args.allow,
+    result = report_files(args.files, args.out, load=partial(load, args=args),
+                          process=partial(process_record, args=args), builtin=args.builtin,
+                          models=args.models, universal_model=args.universal_model,
+                          seed=args.seed, progress=not args.quiet, allow=args.allow,
                           tolerances=tolerances)
     if not args.json:
         _print(result)

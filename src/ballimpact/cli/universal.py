@@ -4,17 +4,11 @@ universal model and its held-out figures."""
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_fraction
-from ..errors import InputError
-from ..records.filters import check_filter_name
 from ..progress import progress_bar
-from .common import (add_json, add_allow, assignments, check_output_folder, check_plot_path,
-                     use_compilation_cache)
+from .common import add_json, add_allow, assignments, use_compilation_cache
 
 
 def add_parser(verbs) -> None:
@@ -100,38 +94,20 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     return {"run": _run, "train": _train, "report": _report}[args.step](args)
 
 
-def _at_least(value: int | None, flag: str, low: int, what: str) -> None:
-    if value is not None and value < low:
-        raise InputError(f"{flag} {value}: need an integer >= {low} ({what})")
-
-
 def _run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.steps import design_config, run_design
+    from ..universal.steps import run_design
 
-    # --workers and --extend: checked by `run_study`, before anything is written
-    for flag, value, low, what in (("--runs", args.runs, 1, "the number of runs"),
-                                   ("--seed", args.seed, 0, "the design's seed"),
-                                   ("--batch-size", args.batch_size, 1, "runs per batch"),
-                                   ("--group-size", args.group_size, 1, "balls per FE group")):
-        _at_least(value, flag, low, what)
-    if args.element_size_m is not None and not args.element_size_m > 0:
-        raise InputError(f"--element-size-m {args.element_size_m:g}: need a size in m > 0 "
-                         "(default 1.5e-3)")
-    if args.extend is not None and args.runs is not None:
-        raise InputError(f"--extend {args.extend} and --runs {args.runs}: give one (--runs sets "
-                         "a new study's size, --extend adds runs to the study in DIR)")
     use_compilation_cache()
-    config = design_config(template=args.template, ranges=assignments(args.range, "--range",
-                                                                      bounds=True),
-                           allow=args.allow, stored=args.resume or args.extend is not None,
-                           runs=args.runs, seed=args.seed, method=args.method,
-                           batch_size=args.batch_size, group_size=args.group_size,
-                           element_size_m=args.element_size_m, precision=args.precision)
     # Ctrl-C from here on: the command line ends with exit 130 and this line (finished batches
     # are on disk, each written atomically)
     args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
-    summary = run_design(args.dir, config, resume=args.resume, extend=args.extend,
-                         workers=args.workers, scheduler=args.scheduler, progress=progress_bar)
+    summary = run_design(args.dir, template=args.template,
+                         ranges=assignments(args.range, "--range", bounds=True),
+                         allow=args.allow, runs=args.runs, seed=args.seed, method=args.method,
+                         batch_size=args.batch_size, group_size=args.group_size,
+                         element_size_m=args.element_size_m, precision=args.precision,
+                         resume=args.resume, extend=args.extend, workers=args.workers,
+                         scheduler=args.scheduler, progress=progress_bar)
     if not args.json:
         print(f"{args.dir}: {summary['finished_runs']}/{summary['runs']} runs finished "
               f"({summary['new_runs']} now, {summary['wall_time_s']:.1f} s), "
@@ -143,19 +119,7 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
 
 def _train(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.steps import train_model
-    from ..universal.study import load_config
 
-    check_output_folder(args.out, "--out")
-    if args.out.is_dir():
-        raise InputError(f"--out {args.out}: a folder; give a model path (writes OUT.json and "
-                         "OUT.npz)")
-    _check_noise_fraction(args.noise_augment, "--noise-augment")
-    for flag, value, low, what in (("--steps", args.steps, 100, "validation every 100 steps"),
-                                   ("--width", args.width, 1, "hidden units per layer"),
-                                   ("--members", args.members, 1, "ensemble members"),
-                                   ("--seed", args.seed, 0, "the split's seed")):
-        _at_least(value, flag, low, what)
-    load_config(args.dir)  # a missing or damaged study: said before JAX starts
     use_compilation_cache()
     out = train_model(args.dir, args.out, seed=args.seed, steps=args.steps, width=args.width,
                       members=args.members, noise_augment=args.noise_augment, force=args.force)
@@ -167,48 +131,23 @@ def _train(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _report(args: argparse.Namespace) -> dict[str, Any]:
-    from ..universal.steps import held_out
+    from ..universal.steps import report_model
 
-    check_plot_path(args.plot)
-    loop_only = [flag for flag, value in (("--runs", args.runs), ("--noise", args.noise),
-                                          ("--filter", args.filter), ("--refine", args.refine))
-                 if value is not None]
-    if args.closed_loop is None and loop_only:
-        raise InputError(f"{loop_only[0]}: applies to the closed loop only; add --closed-loop "
-                         "DIR (the model's study folder)")
-    noise = 0.0 if args.noise is None else args.noise
-    _check_noise_fraction(noise, "--noise")
-    _at_least(args.runs, "--runs", 1, "closed-loop runs")
-    if args.filter is not None:
-        check_filter_name(args.filter, "--filter")
-    started = time.perf_counter()
-    # a wrong study is said before anything is printed
-    model, out = held_out(args.model, args.closed_loop)
-    if not args.json:
-        _print_report(out)
     if args.closed_loop is not None:
-        from ..universal.evaluate import closed_loop
-
         use_compilation_cache()
-        loop = closed_loop(model, args.closed_loop, runs=args.runs or 60, noise=noise,
-                           refine=args.refine or "none", filter=args.filter or "none")
-        out["closed_loop"] = loop
-        if not args.json:
-            s = loop["summary"]
-            print(f"closed loop on {s['runs']} held-out runs (noise {s['noise_of_peak']:.0%} of "
-                  f"peak, refine {s['refine']}), {s['failed']} failed:")
-            for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
-                        "peak_force_relative_error"):
-                print(f"  |{key}|: median {s[key]['median']:.4g}, 90th percentile "
-                      f"{s[key]['p90']:.4g}, max {s[key]['max']:.4g}")
-            print("  90% interval coverage: " + ", ".join(
-                f"{k} {v:.0%}" for k, v in s["interval_90_coverage"].items()))
-    if args.plot is not None:
-        from ..universal.plots import plot_held_out
-
-        plot_held_out(model, args.plot)
-        out["plot"] = str(args.plot)
-    out["wall_time_s"] = time.perf_counter() - started
+    out = report_model(args.model, study=args.closed_loop, runs=args.runs, noise=args.noise,
+                       filter_name=args.filter, refine=args.refine, plot_path=args.plot,
+                       shown=None if args.json else _print_report)
+    if "closed_loop" in out and not args.json:
+        s = out["closed_loop"]["summary"]
+        print(f"closed loop on {s['runs']} held-out runs (noise {s['noise_of_peak']:.0%} of "
+              f"peak, refine {s['refine']}), {s['failed']} failed:")
+        for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
+                    "peak_force_relative_error"):
+            print(f"  |{key}|: median {s[key]['median']:.4g}, 90th percentile "
+                  f"{s[key]['p90']:.4g}, max {s[key]['max']:.4g}")
+        print("  90% interval coverage: " + ", ".join(
+            f"{k} {v:.0%}" for k, v in s["interval_90_coverage"].items()))
     return out
 
 
@@ -235,12 +174,5 @@ def _print_report(metadata: dict) -> None:
     fwd = report["forward"]
     print(f"forward surrogate: force shape RMS {fwd['force_shape_rms_of_peak']['median']:.2%} of "
           f"peak (median), COR error {fwd['cor_absolute_error']['median']:.4f} (median); "
-          f"peak force error {fwd['P6']['median']:.2%}, contact time error {fwd['P1']['median']:.2%}",
-          file=sys.stdout)
+          f"peak force error {fwd['P6']['median']:.2%}, contact time error {fwd['P1']['median']:.2%}")
 
-
-def _check_noise_fraction(value: float, flag: str) -> None:
-    """A noise level: a fraction of the peak force in [0, 0.5) (`checks.check_fraction`); a
-    percentage typed for it (2 for 0.02) is named."""
-    check_fraction(flag, value, 0.5, high_open=True, allow_zero=True,
-                   note="white noise as a fraction of the peak force, e.g. 0.01")

@@ -6,9 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
 from ..progress import progress_line
-from .common import add_json, check_plot_path
+from .common import add_json
 
 
 def add_parser(verbs) -> None:
@@ -42,31 +41,13 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..video import analyse, check_mass, write_side_file
+    from ..video import measure_video
 
-    check_plot_path(args.plot)
-    if args.side_file is not None:
-        if not args.side_file.parent.is_dir():
-            raise InputError(f"--side-file: folder {args.side_file.parent} does not exist")
-        if args.side_file.suffix.lower() != ".json":
-            raise InputError(f"--side-file: {args.side_file} must end in .json (the force "
-                             "record's name with .json: test1.csv -> test1.json)")
-    if args.mass_kg is not None:
-        check_mass(args.mass_kg)
-    if args.fps is not None and not args.fps > 0:
-        raise InputError(f"--fps = {args.fps!r}: must be > 0")
-    # analyse checks the options before it reads or tracks anything
-    m, detections = analyse(args.file, args.fps, scale_m_per_px=args.scale_m_per_px,
-                            ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
-                            gravity_m_s2=args.gravity_m_s2, log=progress_line)
-    out = dict(m.summary)
-    if args.side_file is not None:
-        out["side_file"] = write_side_file(args.side_file, m.summary, args.mass_kg,
-                                           source=f"ballimpact video {args.file.name}")
-    if args.plot is not None:
-        from ..video.plots import plot_measurement
-
-        plot_measurement(detections, m, args.plot)
+    out = measure_video(args.file, fps=args.fps, scale_m_per_px=args.scale_m_per_px,
+                        ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
+                        gravity_m_s2=args.gravity_m_s2, side_file_path=args.side_file,
+                        mass_kg=args.mass_kg, source=f"ballimpact video {args.file.name}",
+                        plot_path=args.plot, log=progress_line)
     if not args.json:
         print(f"impact  {out['impact_speed_m_s']:.3f} +- {out['impact_speed_se_m_s']:.3f} m/s at "
               f"{out['impact_angle_deg']:.2f} +- {out['impact_angle_se_deg']:.2f} deg from the "

@@ -6,13 +6,16 @@ at one speed, and a warning per parameter a record does not determine (docs/lump
 from __future__ import annotations
 
 import math
+import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputWarning
+from ..errors import InputError, InputWarning
+from ..fileio import check_output_folder, check_plot_path, write_atomic
+from ..records.repeats import expand_records
 from ..verdict import Tolerances
 from .base import LumpedModel, Scale
 from .fit import FitResult, fit
@@ -175,5 +178,41 @@ def fit_records(processed: Sequence, model: str | LumpedModel, labels: Sequence[
     return result
 
 
-__all__ = ["BOUND_SLIPS", "RecordFits", "check_bound_scales", "fit_records", "model_check",
-           "parameter_scatter", "typical_values"]
+def fit_files(paths: Sequence[Path], *, load: Callable[[Path], Any],
+              process: Callable[[Any], Any], model: str | LumpedModel,
+              tolerances: Tolerances = Tolerances(), allow=(), table_path: Path | None = None,
+              plot_path: Path | None = None, **options) -> tuple[RecordFits, dict[str, Any]]:
+    """`fit_records` on the record files of `paths` (`repeats.expand_records`: folders and
+    built-in sets too), each read by `load` (path -> record) and `process` (record -> processed
+    record); `options` are `fit`'s. Writes the speed table (CSV, `table_path`, several files
+    only) and the fit or fits over the tests (PNG, `plot_path`). Returns the fits and the
+    command's result: `RecordFits.to_dict` with `table_csv` and `plot` where written and
+    `wall_time_s`. `InputError`, before anything is loaded, for a bad output path, an unknown
+    model and `table_path` with one file."""
+    check_plot_path(plot_path)
+    check_output_folder(table_path, "--table")
+    model = get_model(model)
+    files = expand_records(paths)
+    if table_path is not None and len(files) < 2:
+        raise InputError("--table: needs several files")
+    started = time.perf_counter()
+    fits = fit_records([process(load(path)) for path in files], model,
+                       [str(p) for p in files], tolerances=tolerances, allow=allow, **options)
+    result = fits.to_dict()
+    if fits.table is not None and table_path is not None:
+        write_atomic(table_path, fits.table.to_csv())
+        result["table_csv"] = str(table_path)
+    if plot_path is not None:
+        from ..plotting import plot_fit, plot_speed_fits
+
+        if fits.table is None:
+            plot_fit(fits.fits[0], plot_path, title=str(files[0].name))
+        else:
+            plot_speed_fits(fits.fits, plot_path)
+        result["plot"] = str(plot_path)
+    result["wall_time_s"] = time.perf_counter() - started
+    return fits, result
+
+
+__all__ = ["BOUND_SLIPS", "RecordFits", "check_bound_scales", "fit_files", "fit_records",
+           "model_check", "parameter_scatter", "typical_values"]

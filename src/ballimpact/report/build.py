@@ -1,5 +1,7 @@
 """Build the comparison report (thesis chapter 7): every model against every test, then the
-tables, the figures, `report.html`, `report.json` and one CSV per table in the output folder."""
+tables, the figures, `report.html`, `report.json` and one CSV per table in the output folder
+(`build_report`); `report_files` is the whole `report` command, from record files or a
+built-in set."""
 
 from __future__ import annotations
 
@@ -9,15 +11,18 @@ import json
 import time
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from .. import __version__
 from ..errors import CheckFailed, InputError, InputWarning, SimulationError
-from ..fileio import json_safe, write_atomic
+from ..fileio import check_distinct_files, json_safe, write_atomic
 from ..progress import progress_bar
+from ..records.pipeline import ProcessedImpact
+from ..records.record import ImpactRecord
 from . import figures
-from .inputs import ReportTest
-from .models import ModelRun, ModelSpec, run_model
+from .inputs import (ReportTest, builtin_ball, builtin_files, builtin_note, check_test_record,
+                     label_tests)
+from .models import ModelRun, ModelSpec, check_balls, parse_models, run_model
 from .page import figure_html, page, table_html
 from .tables import (
     Table,
@@ -33,6 +38,9 @@ _THESIS = ("The thesis (section 7.2) found the three-element and the universal m
            "each other in RMSE, the single-element model overestimating the peak force by "
            "7.5-13% and missing the unloading, and its FE runs taking 25 s (universal) and 87 s "
            "(detailed) each on a 2008 PC.")
+
+#: the models of a report when none are named (`report_files`)
+DEFAULT_MODELS = "single_element,three_element,universal"
 
 
 def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *, seed: int = 0,
@@ -113,6 +121,49 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
     }
     (out / "report.json").write_text(json.dumps(json_safe(result), indent=1))
     return result
+
+
+def report_files(files: list[Path], out: Path, *, load: Callable[[Path], ImpactRecord],
+                 process: Callable[[ImpactRecord], ProcessedImpact], builtin: str | None = None,
+                 models: str | None = None, universal_model: str | Path | None = None,
+                 seed: int = 0, progress: bool = True, allow=(),
+                 tolerances=None) -> dict[str, Any]:
+    """`build_report` into the folder `out` (its parent must exist) on the test record `files`,
+    each read by `load` (path -> record, which must carry its impact speed and mass,
+    `inputs.check_test_record`) and `process` (record -> processed record), or on the built-in
+    set `builtin` (`inputs.BUILTIN_SETS`; its generating FE ball joins the default models and
+    the page notes that the tests are synthetic). `models`: comma-separated
+    (`models.parse_models`; default `DEFAULT_MODELS`), the universal one loaded from
+    `universal_model` (None: the built-in model). `InputError`, before anything runs, for both
+    or neither of `files` and `builtin`, a bad `out`, `seed` < 0, a file given twice, an empty
+    or unknown model and a ball file that is not a ball."""
+    if bool(files) == bool(builtin):
+        raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
+    if not out.parent.is_dir():
+        raise InputError(f"--out: folder {out.parent} does not exist")
+    if out.exists() and not out.is_dir():
+        raise InputError(f"--out: {out} is a file, not a folder")
+    if seed < 0:
+        raise InputError(f"--seed: must be an integer >= 0, got {seed}")
+    check_distinct_files(files, "TEST")  # each once, and each with its own speed
+    # the generating ball of a built-in set joins the default models
+    ball = builtin_ball(builtin) if builtin and models is None else None
+    # an empty --models is a mistake, not a request for the default
+    specs = parse_models(models if models is not None
+                         else DEFAULT_MODELS + (f",{ball}" if ball is not None else ""))
+    files = builtin_files(builtin) if builtin else files
+    tests = label_tests([str(f) for f in files],
+                        [process(check_test_record(load(path), path, len(files)))
+                         for path in files])
+    check_balls(specs, tests[len(tests) // 2].speed_m_s, allow)
+    universal = None
+    if any(m.kind == "universal" for m in specs):
+        from ..universal.model import load_model
+
+        universal = load_model(universal_model)
+    return build_report(tests, specs, out, seed=seed, universal_model=universal,
+                        note=builtin_note(builtin, ball) if builtin else "", progress=progress,
+                        allow=allow, tolerances=tolerances)
 
 
 def best_miss(result: dict[str, Any], test: str) -> str:

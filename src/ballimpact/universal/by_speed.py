@@ -1,10 +1,12 @@
 """Identifications of several tests of one ball grouped by impact speed (`identify` with more
 than one test): the scatter of repeats at one speed with the identification of their mean pulse,
 and a speed-table ball file of the identified parameters against speed. `identify_tests` is the
-whole of the `identify` command's work on processed tests."""
+`identify` command's work on processed tests, `identify_files` the whole of it on record files."""
 
 from __future__ import annotations
 
+import json
+import time
 import warnings
 from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
@@ -13,12 +15,15 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InputWarning
+from ..checks import check_allow
+from ..errors import InputError, InputWarning
+from ..fileio import check_distinct_files, check_output_folder, check_plot_path, write_table
 from ..records.pipeline import process
 from ..records.repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
                        group_by_speed, mean_sd, pulse_band)
-from .identify import Identification, identify
-from .similarity import check_size
+from .identify import Identification, check_speed, identify
+from .model import load_model
+from .similarity import check_diameter, check_size
 
 
 def speed_groups(processed: Sequence, files: Sequence[str | Path],
@@ -143,3 +148,70 @@ def speed_table_ball(found: list, model, groups: list[float]) -> dict[str, Any]:
     return {"name": "identified-universal", "speed_table": {
         "outer_radius_m": layer["outer_radius_m"], "density_kg_m3": layer["density_kg_m3"],
         "moduli": template["moduli"], "rows": rows}}
+
+
+def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
+                   process: Callable[[Any], Any], model: str | Path | None = None,
+                   verify: bool = True, refine: str = "none", allow: Collection[str] = (),
+                   diameter_m: float | None = None,
+                   nominal_m_s: Sequence[float] | None = None,
+                   tolerance: float = DEFAULT_SPEED_TOLERANCE, tolerances=None,
+                   table_path: Path | None = None, ball_path: Path | None = None,
+                   plot_path: Path | None = None,
+                   each: Callable[[Any, Identification], None] | None = None
+                   ) -> tuple[IdentifiedTests, dict[str, Any]]:
+    """`identify_tests` on the test record `files`, each read by `load` (path -> record) and
+    `process` (record -> processed test), with the universal `model` (a path, None: the
+    built-in one); each impact speed (m/s) is checked against the model's training speeds
+    before anything is processed. Writes the speed table (CSV, `table_path`, several files
+    only), the identified ball (JSON, `ball_path`) and the tests with the identified balls'
+    pulses (PNG, `plot_path`). Returns the identifications and the command's result:
+    `IdentifiedTests.to_dict` with `table_csv`, `ball_file`, `plot` where written and
+    `wall_time_s`. `InputError`, before anything is loaded, for a bad output path (an output
+    over a test record or its side file included), `table_path` with one file, a diameter
+    outside sports balls' and an unknown `allow` name."""
+    started = time.perf_counter()
+    check_plot_path(plot_path)
+    if diameter_m is not None:  # before anything is loaded (the mass comes later)
+        check_diameter(diameter_m)
+    records = check_distinct_files(list(files), "FILE")
+    inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
+    for path, flag, suffix in ((table_path, "--table", ".csv"),
+                               (ball_path, "--ball-out", ".json")):
+        if path is None:
+            continue
+        if path.suffix.lower() != suffix:
+            raise InputError(f"{flag}: {path} must be a {suffix} file")
+        check_output_folder(path, flag)
+        if path.is_dir():
+            raise InputError(f"{flag}: {path} is a folder; give a {suffix} file")
+        if path.resolve() in inputs:
+            raise InputError(f"{flag}: {path} is one of the test records or their side files; "
+                             "writing it would overwrite the test: choose another name")
+    if table_path is not None and len(files) < 2:
+        raise InputError("--table: needs several test files (one per speed), got one; the "
+                         "parameters of one test are in the output (--json) and its ball in "
+                         "--ball-out")
+    allow = check_allow(allow)
+    loaded = load_model(model)
+    tests = [load(path) for path in files]
+    for path, record in zip(files, tests):  # before any processing or FE run
+        if record.impact_speed_m_s is not None:
+            check_speed(loaded, record.impact_speed_m_s, allow, f"{path}: ")
+    found = identify_tests([process(record) for record in tests], files, loaded,
+                           nominal_m_s=nominal_m_s, tolerance=tolerance, verify=verify,
+                           refine=refine, allow=allow, diameter_m=diameter_m,
+                           tolerances=tolerances, each=each)
+    out = found.to_dict()
+    if "table" in out and table_path is not None:
+        out["table_csv"] = write_table(table_path, list(out["table"][0]), out["table"], ".6g")
+    if ball_path is not None:
+        ball_path.write_text(json.dumps(found.ball, indent=2))
+        out["ball_file"] = str(ball_path)
+    if plot_path is not None:
+        from .plots import plot_identification
+
+        plot_identification([(Path(p).name, pr, f) for p, pr, f in found.results], plot_path)
+        out["plot"] = str(plot_path)
+    out["wall_time_s"] = time.perf_counter() - started
+    return found, out

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputWarning
+from ..fileio import check_plot_path
 
 #: (preset, impact speed in m/s) of the demo's impacts
 DEMO_IMPACTS = (("cricket-universal", 25.0), ("cricket-3layer", 20.8))
@@ -28,16 +29,23 @@ SAMPLE_PEAK_FORCE_N = 11219.9
 SAMPLE_FILE = "sample_impact.csv"
 
 
-def demo_impacts(announce: Callable[[str, float], None] | None = None) -> list:
+def demo_impacts(announce: Callable[[str, float], None] | None = None,
+                 plot_path: Path | None = None) -> list:
     """The `DEMO_IMPACTS` on a rigid plane with the default mesh (`fe.simulate`), in order;
-    `announce(preset, speed_m_s)` is called before each."""
+    `announce(preset, speed_m_s)` is called before each; with `plot_path` (PNG, checked first:
+    `InputError`) their pulses are drawn in one figure (`plotting.plot_fe`)."""
     from ..fe import load_ball, simulate  # the package's, looked up at call time
 
+    check_plot_path(plot_path)
     results = []
     for name, speed in DEMO_IMPACTS:
         if announce is not None:
             announce(name, speed)
         results.append(simulate(load_ball(name, impact_speed_m_s=speed), speed))
+    if plot_path is not None:
+        from ..plotting import plot_fe
+
+        plot_fe(results, plot_path, title="ballimpact demo: cricket balls on a rigid plane (FE)")
     return results
 
 

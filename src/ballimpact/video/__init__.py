@@ -1,10 +1,13 @@
 """Impact and rebound speeds from high-speed video (thesis section 3.3, measured there by hand
 in Image-Pro Plus): `read_frames`, `track` (background subtraction and a circle fit per
 frame), `measure` (free-flight fits before and after contact: speeds, angles and COR with
-standard errors), and `synthetic` videos with known answers."""
+standard errors), `measure_video` (all of them, with the side file and the plot: `ballimpact
+video`), and `synthetic` videos with known answers."""
 
 from pathlib import Path
 
+from ..errors import InputError
+from ..fileio import check_output_folder, check_plot_path
 from .frames import frame_rate, read_frames
 from .synthetic import SyntheticImpact, render
 from .track import Detection, track
@@ -37,6 +40,41 @@ def analyse(path, fps=None, *, log=None, **options) -> tuple[Measurement, list[D
     return measure(detections, fps, **options), detections
 
 
+def measure_video(path, *, fps: float | None = None, scale_m_per_px: float | None = None,
+                  ball_diameter_m: float | None = None, surface_row: float | None = None,
+                  gravity_m_s2: float = 9.81, side_file_path: Path | None = None,
+                  mass_kg: float | None = None, source: str | None = None,
+                  plot_path: Path | None = None, log=None) -> dict:
+    """`analyse` the recording at `path` (`fps` in frames/s; the scale by `scale_m_per_px` or
+    `ball_diameter_m` in m; `surface_row` in px; `gravity_m_s2` along the rows) and return
+    `Measurement.summary`; with `side_file_path` (.json) the force record's side file written
+    (`write_side_file`, with `mass_kg` and `source`) and its path under `side_file`; with
+    `plot_path` (PNG) the tracked and fitted trajectory drawn. `InputError`, before anything is
+    read, for a bad output path, mass or frame rate, and the errors of `analyse`."""
+    check_plot_path(plot_path)
+    if side_file_path is not None:
+        check_output_folder(side_file_path, "--side-file")
+        if side_file_path.suffix.lower() != ".json":
+            raise InputError(f"--side-file: {side_file_path} must end in .json (the force "
+                             "record's name with .json: test1.csv -> test1.json)")
+    if mass_kg is not None:
+        check_mass(mass_kg)
+    if fps is not None and not fps > 0:
+        raise InputError(f"--fps = {fps!r}: must be > 0")
+    # analyse checks the options before it reads or tracks anything
+    m, detections = analyse(path, fps, scale_m_per_px=scale_m_per_px,
+                            ball_diameter_m=ball_diameter_m, surface_row=surface_row,
+                            gravity_m_s2=gravity_m_s2, log=log)
+    out = dict(m.summary)
+    if side_file_path is not None:
+        out["side_file"] = write_side_file(side_file_path, m.summary, mass_kg, source=source)
+    if plot_path is not None:
+        from .plots import plot_measurement
+
+        plot_measurement(detections, m, plot_path)
+    return out
+
+
 __all__ = ["PROGRESS_AFTER_S", "TRACK_PIXELS_PER_S", "Detection", "Measurement", "SyntheticImpact",
            "analyse", "check_mass", "check_options", "check_surface_row", "measure",
-           "read_frames", "render", "side_file", "track", "write_side_file"]
+           "measure_video", "read_frames", "render", "side_file", "track", "write_side_file"]
