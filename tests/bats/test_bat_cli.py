@@ -74,3 +74,19 @@ def test_unit_slips_are_named(bad_input):
     bad_input(law + ["--impact-m", "700"], "--impact-m", "off the bat", "millimetres", "0.7")
     bad_input(law + ["--impact-m", "0.7", "--pivot-m", "152"], "--pivot-m", "millimetres",
               "0.152")
+
+
+@pytest.mark.parametrize("kwargs, fragments", [
+    ({"modes": 1}, ["--modes", "[2, 200]"]),
+    ({"grip": (2e4, -1.0)}, ["--grip", ">= 0"]),
+    ({"pivot_m": -0.1}, ["--pivot-m", "beyond the bat"]),
+])
+def test_the_library_run_refuses_what_the_flags_would(kwargs, fragments):
+    """`bats.ball_on_bat`, the command's one call, checks its plain arguments itself."""
+    from ballimpact.bats import HuntCrossleyBall, ball_on_bat
+    from ballimpact.errors import InputError
+
+    with pytest.raises(InputError) as error:
+        ball_on_bat("baseball-wood-34in", HuntCrossleyBall(0.145, 2e7, 0.02), 61.0, [0.7],
+                    **kwargs)
+    assert all(f in str(error.value) for f in fragments), str(error.value)

@@ -1,7 +1,10 @@
 """Pictures of the ball-bat collision, drawn on an Axes the caller gives (the conventions of
-`ballimpact.plotting`): the sweet spot along the bat and one collision's contact force."""
+`ballimpact.plotting`): the sweet spot along the bat and one collision's contact force; and
+either as a PNG (`save_plot`)."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 
 def plot_sweet_spot(ax, sweep):
@@ -43,3 +46,14 @@ def plot_contact_force(ax, result):
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
     return ax
+
+
+def save_plot(result, path: str | Path) -> Path:
+    """`plot_sweet_spot` of an `ImpactSweep`, else `plot_contact_force` of one collision, written
+    as a PNG to `path` (7 x 4.5 in). Returns the path written."""
+    from ..plotting import save_and_close, subplots
+    from .sweep import ImpactSweep
+
+    figure, ax = subplots(figsize=(7, 4.5), layout="constrained")
+    (plot_sweet_spot if isinstance(result, ImpactSweep) else plot_contact_force)(ax, result)
+    return save_and_close(figure, path)

@@ -1,4 +1,4 @@
-"""`ballimpact bat`: a ball on a flexible bat (`bats.bat_impact`, `bats.impact_sweep`): the
+"""`ballimpact bat`: a ball on a flexible bat (`bats.ball_on_bat`): the
 collision efficiency, batted-ball speed, energy split and bending stress at one impact point,
 or along the bat with its sweet spot; docs/equipment.md, "Ball on bat"."""
 
@@ -6,14 +6,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import add_allow, add_json, check_plot_path
+from .common import add_allow, add_json
 
-#: the hands' positions (m from the knob end) of `--grip`
+#: the hands' positions (m from the knob end) of `--grip`: `bats.Grip`'s
 GRIP_POSITIONS_M = (0.05, 0.15)
 
 
@@ -75,111 +74,50 @@ def _numbers(text: str, flag: str, count: int) -> list[float]:
     return values
 
 
-def impact_points(text: str, length_m: float) -> list[float]:
-    """`--impact-m`: one point, or START:STOP:STEP (STOP included), all on the bat."""
-    if ":" in text:
-        start, stop, step = _numbers(text, "--impact-m", 3)
-        if stop < start:
-            raise InputError(f"--impact-m = {text}: STOP {stop:g} is less than START {start:g}")
-        if step <= 0:
-            raise InputError(f"--impact-m = {text}: STEP must be > 0 m")
-        count = int(math.floor((stop - start) / step + 1e-9)) + 1
-        if count > 1000:
-            raise InputError(f"--impact-m = {text}: {count} points; at most 1000")
-        points = [start + i * step for i in range(count)]
-    else:
-        points = _numbers(text, "--impact-m", 1)
-    for x in points:
-        if not 0.0 < x <= length_m:
-            raise InputError(f"--impact-m = {text}: {x:g} m is off the bat (0, {length_m:g}] m "
-                             f"from the knob end{_millimetres(x, length_m)}")
-    return points
+def impact_points(text: str) -> list[float]:
+    """`--impact-m`: one point, or START:STOP:STEP (STOP included), in m from the knob end."""
+    if ":" not in text:
+        return _numbers(text, "--impact-m", 1)
+    start, stop, step = _numbers(text, "--impact-m", 3)
+    if stop < start:
+        raise InputError(f"--impact-m = {text}: STOP {stop:g} is less than START {start:g}")
+    if step <= 0:
+        raise InputError(f"--impact-m = {text}: STEP must be > 0 m")
+    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    if count > 1000:
+        raise InputError(f"--impact-m = {text}: {count} points; at most 1000")
+    return [start + i * step for i in range(count)]
 
 
-def _millimetres(x: float, length_m: float) -> str:
-    """The hint for a position on the bat typed in mm."""
-    return f"; {x:g} looks like millimetres: use {x / 1000:g}" if 0 < x / 1000 <= length_m else ""
+def ball_of(text: str):
+    """`--ball`: a `HuntCrossleyBall` from hc:MASS_KG:STIFFNESS:DAMPING_S_M, else the text (a
+    ball preset or file)."""
+    if not text.startswith("hc:"):
+        return text
+    from ..bats.ball_law import HuntCrossleyBall
 
-
-def _ball(args, speed: float):
-    """The collider: a `HuntCrossleyBall` (hc:..., or --ball-model law), or the FE ball
-    (`fe.BallModel`, --ball-model fe) loaded for `speed` (m/s, the relative speed)."""
-    from ..bats.ball_law import HuntCrossleyBall, ball_law
-
-    if getattr(args, "ball_model", "law") == "fe" and not args.ball.startswith("hc:"):
-        from ..fe import load_ball
-
-        return load_ball(args.ball, impact_speed_m_s=speed, allow=args.allow)
-    if args.ball.startswith("hc:"):
-        mass, k, c = _numbers(args.ball[3:], "--ball hc:", 3)
-        try:
-            return HuntCrossleyBall(mass, k, c, name=args.ball)
-        except InputError as error:
-            raise InputError(f"--ball: {error}") from None
-    print(f"ball law: one FE run of {args.ball} at {speed:g} m/s on a rigid plane ...",
-          file=sys.stderr, flush=True)
-    return ball_law(args.ball, speed, allow=args.allow)
+    mass, k, c = _numbers(text[3:], "--ball hc:", 3)
+    try:
+        return HuntCrossleyBall(mass, k, c, name=text)
+    except InputError as error:
+        raise InputError(f"--ball: {error}") from None
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..bats import Grip, load_bat
-    from ..bats.ball_law import HuntCrossleyBall
-    from ..bats.fe_impact import fe_bat_impact
-    from ..bats.impact import bat_impact, bat_model
-    from ..bats.sweep import impact_sweep
-    from ..checks import check_allow
+    from ..bats.study import ball_on_bat
 
-    check_plot_path(args.plot)
-    args.allow = check_allow(args.allow)
-    spec = load_bat(args.bat)
-    if not args.speed_m_s > 0:
-        raise InputError(f"--speed-m-s = {args.speed_m_s:g}: must be > 0 m/s")
-    if args.bat_speed_m_s < 0:
-        raise InputError(f"--bat-speed-m-s = {args.bat_speed_m_s:g}: must be >= 0 m/s")
-    points = impact_points(args.impact_m, spec.length_m)
-    if args.pivot_m is not None and not 0.0 <= args.pivot_m <= spec.length_m:
-        raise InputError(f"--pivot-m = {args.pivot_m:g}: beyond the bat, allowed [0, "
-                         f"{spec.length_m:g}] m from the knob end"
-                         f"{_millimetres(args.pivot_m, spec.length_m)}")
-    if args.support == "pivot" and args.pivot_m is None:
-        raise InputError("--support pivot: needs --pivot-m")
-    if not 2 <= args.modes <= 200:
-        raise InputError(f"--modes = {args.modes}: allowed range [2, 200]")
-    grip = None
-    if args.grip is not None:
-        k, c = _numbers(args.grip, "--grip", 2)
-        if k < 0 or c < 0:
-            raise InputError(f"--grip = {args.grip}: stiffness and damping must be >= 0")
-        grip = Grip(GRIP_POSITIONS_M, k, c)
-    ball = _ball(args, args.speed_m_s + args.bat_speed_m_s)
-    bm = bat_model(spec, support=args.support, pivot_m=args.pivot_m, grip=grip,
-                   modes=args.modes)
-    kw = {"bat_speed_m_s": args.bat_speed_m_s, "pivot_m": args.pivot_m}
-    if len(points) == 1:
-        if isinstance(ball, HuntCrossleyBall):
-            result = bat_impact(bm, ball, args.speed_m_s, points[0], **kw)
-        else:
-            result = fe_bat_impact(bm, ball, args.speed_m_s, points[0], allow=args.allow, **kw)
-        out = result.summary()
-    else:
-        from ..progress import CountProgress
-
-        result = impact_sweep(bm, ball, args.speed_m_s, points, progress=CountProgress(
-            "impact point"), allow=args.allow, **kw)
-        out = result.summary()
-    if args.plot is not None:
-        from ..bats.plots import plot_contact_force, plot_sweet_spot
-        from ..plotting import save_and_close, subplots
-
-        figure, ax = subplots(figsize=(7, 4.5), layout="constrained")
-        (plot_contact_force if len(points) == 1 else plot_sweet_spot)(ax, result)
-        out["plot"] = str(save_and_close(figure, args.plot))
+    grip = None if args.grip is None else tuple(_numbers(args.grip, "--grip", 2))
+    out = ball_on_bat(args.bat, ball_of(args.ball), args.speed_m_s, impact_points(args.impact_m),
+                      bat_speed_m_s=args.bat_speed_m_s, pivot_m=args.pivot_m,
+                      support=args.support, grip=grip, modes=args.modes,
+                      ball_model=args.ball_model, allow=args.allow, plot=args.plot,
+                      progress=True)
     if not args.json:
-        _print(out, len(points) == 1)
+        _print(out)
     return out
 
 
-def _print(out: dict, single: bool) -> None:
+def _print(out: dict) -> None:
     moi = out["bat_moment_of_inertia_kg_m2"]
     freqs = ", ".join(f"{f:.0f}" for f in out["mode_frequencies_hz"])
     print(f"{out['bat']}: {out['bat_mass_kg']:.3f} kg, centre of mass "
@@ -202,7 +140,7 @@ def _print(out: dict, single: bool) -> None:
                  f"{cal['fe_peak_force_n']:.4g} N; law: COR {cal['law_cor']:.4f}, peak force "
                  f"{cal['law_peak_force_n']:.4g} N)" if cal else ""))
     speeds = f"ball {out['speed_m_s']:g} m/s, bat {out['bat_speed_m_s']:g} m/s"
-    if single:
+    if "points" not in out:  # one point
         print(f"at {out['impact_m']:g} m from the knob ({out['from_barrel_end_m']:.3f} m from the "
               f"barrel end), {speeds}: e_A {out['collision_efficiency']:.4f} (rigid bat "
               f"{out['rigid_collision_efficiency']:.4f}), batted-ball speed "

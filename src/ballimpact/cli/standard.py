@@ -11,10 +11,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..checks import check_allow
-from ..standards import (METHODS, describe_methods, from_records, get_method, on_model,
-                         stats_text, write_result_table)
-from .common import add_json, add_filtering, check_output_folder, use_compilation_cache
+from ..standards import METHODS, describe_methods, get_method, run_method, stats_text
+from .common import add_json, add_filtering, use_compilation_cache
 from . import standard_ball
 from .simulate import SolverDefaults
 
@@ -104,36 +102,18 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     except InputError as error:
         raise InputError(f"{error}; or bbcor (a bat's BBCOR: --bat, --ball), or ball (a ball "
                          "file from a specification)") from None
-    if args.paths and args.ball is not None:
-        raise InputError("give either FILES_OR_DIRS (a lab's records) or --ball (a model), not "
-                         "both")
-    if not args.paths and args.ball is None:
-        raise InputError(f"{method.name}: give FILES_OR_DIRS (a lab's records) or --ball (a "
-                         "ball model)")
-    check_output_folder(args.table, "--table")
-    if args.table is not None and args.table.suffix.lower() != ".csv":
-        raise InputError(f"--table: {args.table} must be a .csv file")
-    allow = check_allow(args.allow)
     if args.ball is not None:
-        if args.mass_kg is not None:
-            raise InputError("--mass-kg: a ball model has its own mass; leave it out with --ball")
-        if args.ball_id_pattern is not None:
-            raise InputError("--ball-id-pattern: names the balls of records; leave it out with "
-                             "--ball")
         use_compilation_cache()
-        result = on_model(method, args.ball, nominal=args.impact_speed_m_s, allow=allow,
-                          element_size_m=args.element_size_m)
-    else:
-        options = {"filter": args.filter, "window_s": args.filter_window_s,
-                   "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
-                   "pulse": args.pulse, "allow": allow}
-        result = from_records(method, args.paths, mass_kg=args.mass_kg,
-                              ball_of=args.ball_id_pattern, nominal=args.impact_speed_m_s,
-                              process_options=options)
+    options = {"filter": args.filter, "window_s": args.filter_window_s,
+               "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
+               "pulse": args.pulse}
+    result = run_method(method, paths=args.paths, ball=args.ball, mass_kg=args.mass_kg,
+                        ball_id_pattern=args.ball_id_pattern,
+                        impact_speed_m_s=args.impact_speed_m_s,
+                        element_size_m=args.element_size_m, process_options=options,
+                        allow=args.allow, table=args.table)
     if not args.json:
-        (print_model if args.ball is not None else print_records)(result)
-    if args.table is not None:
-        result["table"] = write_result_table(args.table, result)
+        (print_model if result["source"] == "model" else print_records)(result)
     return result
 
 

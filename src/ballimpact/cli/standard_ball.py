@@ -7,7 +7,6 @@ are added here."""
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import Any
 
@@ -52,13 +51,9 @@ def is_ball(method: str | None) -> bool:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..fe import SolverOptions
-    from ..fileio import write_atomic
     from ..progress import progress_line
-    from ..standards.methods import QUARTER_INCH_M, SIXTY_MPH_M_S
-    from ..standards.model import method_options
-    from ..standards.specification import Specification, ball_for_specification
-    from .common import check_output_folder, use_compilation_cache
+    from ..standards.specification import write_specified_ball
+    from .common import use_compilation_cache
 
     for attribute, flag, what in OTHER_OPTIONS:
         if getattr(args, attribute, None) not in (None, []):
@@ -69,24 +64,15 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         if getattr(args, attribute) is None:
             raise InputError(f"{flag}: missing; `standard ball` needs --diameter-m, --mass-kg, "
                              "--cor, --compression-n and --out")
-    if args.out.suffix.lower() != ".json":
-        raise InputError(f"--out: {args.out} must be a .json ball file")
-    check_output_folder(args.out, "--out")
-    spec = Specification(
-        args.diameter_m, args.mass_kg, args.cor, args.compression_n,
-        QUARTER_INCH_M if args.deflection_m is None else args.deflection_m,
-        SIXTY_MPH_M_S if args.impact_speed_m_s is None else args.impact_speed_m_s).checked()
-    options = (method_options(0.5 * spec.diameter_m) if args.element_size_m is None
-               else SolverOptions(element_size_m=args.element_size_m))
     use_compilation_cache()
-    out = ball_for_specification(spec, args.name or args.out.stem, tau1_s=args.tau1_s,
-                                 options=options, progress=progress_line)
-    missed = out["check"]["missed"]
-    if not missed:
-        write_atomic(args.out, json.dumps(out["ball"], indent=2) + "\n")
-        out["out"] = str(args.out)
+    out = write_specified_ball(
+        args.out, args.diameter_m, args.mass_kg, args.cor, args.compression_n,
+        compression_deflection_m=args.deflection_m, impact_speed_m_s=args.impact_speed_m_s,
+        tau1_s=args.tau1_s, name=args.name, element_size_m=args.element_size_m,
+        progress=progress_line)
     if not args.json:
         print_ball(out)
+    missed = out["check"]["missed"]
     if missed:  # not written: a ball that does not meet its specification
         raise CheckFailed(f"the calibration did not close ({'; '.join(missed)}); "
                           f"{args.out} not written", out)

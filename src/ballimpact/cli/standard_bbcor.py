@@ -1,5 +1,6 @@
 """`ballimpact standard bbcor --bat BAT --ball BALL`: the BBCOR certification of a baseball bat
-(ASTM F2219 / NCAA BBCOR) on the bat's model (`standards.bbcor`); docs/equipment.md, "BBCOR".
+(ASTM F2219 / NCAA BBCOR) on the bat's model (`standards.bbcor_certification`);
+docs/equipment.md, "BBCOR".
 The `standard` verb's parser is `cli/standard.py`'s; it hands the bbcor method to `run` here."""
 
 from __future__ import annotations
@@ -26,12 +27,8 @@ def is_bbcor(method: str | None) -> bool:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..bats import load_bat
-    from ..checks import check_allow
-    from ..progress import CountProgress
-    from ..standards.bbcor import BBCOR_METHOD, bbcor
-    from ..bats.ball_law import HuntCrossleyBall
-    from .bat import _ball
+    from ..standards.bbcor import bbcor_certification
+    from .bat import ball_of
 
     for attribute, flag, what in OTHER_OPTIONS:
         if getattr(args, attribute, None) not in (None, []):
@@ -42,14 +39,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.ball is None:
         raise InputError("--ball: missing; a ball preset or file, or hc:MASS_KG:STIFFNESS:"
                          "DAMPING_S_M")
-    try:
-        spec = load_bat(args.bat)
-    except InputError as error:
-        raise InputError(f"--bat: {error}") from None
-    args.allow = check_allow(args.allow)
-    ball = _ball(args, BBCOR_METHOD.ball_speed_m_s)
-    result = bbcor(spec, ball, allow=args.allow, progress=CountProgress("impact point"),
-                   ball_model="law" if isinstance(ball, HuntCrossleyBall) else "fe").summary()
+    result = bbcor_certification(args.bat, ball_of(args.ball), ball_model=args.ball_model,
+                                 allow=args.allow, progress=True)
     if not args.json:
         print_bbcor(result)
     if not result["meets_limit"]:  # a certification the bat fails: exit 3, the result printed

@@ -67,7 +67,14 @@ from .bbcor import (
     BBCORMethod as BBCORMethod,
     BBCORResult as BBCORResult,
     bbcor as bbcor,
+    bbcor_certification as bbcor_certification,
     bbcor_of as bbcor_of,
+)
+from .run import (
+    run_method as run_method,
+)
+from .specification import (
+    write_specified_ball as write_specified_ball,
 )
 from .results import (
     shot_stats as shot_stats,
@@ -79,7 +86,8 @@ from .results import (
 
 __all__ = ["ALIASES", "BBCOR_METHOD", "BBCORMethod", "BBCORResult", "COMPRESSION_STEPS",
            "DEFAULT_BALL_PATTERN", "INCH_M", "METHODS", "Method", "QUARTER_INCH_M", "Quantity",
-           "SIXTY_MPH_M_S", "SPEED_TOLERANCE_M_S", "ball_id_function", "bbcor", "bbcor_of",
-           "checked_speed", "compression_quantities", "describe_methods", "from_records",
-           "get_method", "impact_quantities", "on_model", "shot_stats", "speed_note",
-           "stats_text", "summarise", "table_rows", "write_result_table"]
+           "SIXTY_MPH_M_S", "SPEED_TOLERANCE_M_S", "ball_id_function", "bbcor",
+           "bbcor_certification", "bbcor_of", "checked_speed", "compression_quantities",
+           "describe_methods", "from_records", "get_method", "impact_quantities", "on_model",
+           "run_method", "shot_stats", "speed_note", "stats_text", "summarise", "table_rows",
+           "write_result_table", "write_specified_ball"]

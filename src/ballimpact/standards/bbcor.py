@@ -265,3 +265,27 @@ def bbcor(bat, ball, *, scan_from_end_m=None, modes: int | None = None,
         spec.name, ball_summary, v, pivot, float(x), length, float(value),
         float(best.collision_efficiency), float(r), float(moi), mass, float(rigid_cor),
         props.mass_kg, best.energy_balance_error, scan)
+
+
+def bbcor_certification(bat, ball, *, ball_model: str = "fe", allow=(),
+                        progress: bool = False) -> dict[str, Any]:
+    """`bbcor` as `ballimpact standard bbcor` runs it, as its summary: `bat` anything
+    `bats.load_bat` takes; `ball` a `bats.HuntCrossleyBall`, or a preset, file or dict taken
+    at the method's speed as the FE ball itself (`ball_model` "fe") or as its contact law
+    ("law"; `bats.collider`). `progress`: the law's FE run and the scan's points reported on
+    stderr. Raises `InputError`: naming --bat for a bat that does not load; for an unknown
+    `allow` check; for a ball that does not load."""
+    from ..bats import HuntCrossleyBall, collider, load_bat
+    from ..checks import check_allow
+    from ..progress import CountProgress
+
+    try:
+        spec = load_bat(bat)
+    except InputError as error:
+        raise InputError(f"--bat: {error}") from None
+    allow = check_allow(allow)
+    ball = collider(ball, BBCOR_METHOD.ball_speed_m_s, ball_model=ball_model, allow=allow,
+                    announce=progress)
+    return bbcor(spec, ball, allow=allow,
+                 progress=CountProgress("impact point") if progress else None,
+                 ball_model="law" if isinstance(ball, HuntCrossleyBall) else "fe").summary()

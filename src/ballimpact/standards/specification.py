@@ -23,10 +23,12 @@ cannot match both numbers, and a layered ball (core and cover, `calibrate`) is t
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -235,3 +237,37 @@ def ball_for_specification(spec: Specification, name: str = "specification-ball"
             "runs": counts,
             "element_size_m": options.element_size_m,
             "wall_time_s": time.perf_counter() - started}
+
+
+def write_specified_ball(out: str | Path, diameter_m: float, mass_kg: float, cor: float,
+                         compression_force_n: float, *,
+                         compression_deflection_m: float | None = None,
+                         impact_speed_m_s: float | None = None, tau1_s: float | None = None,
+                         name: str | None = None, element_size_m: float | None = None,
+                         progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """`ball_for_specification` of a `Specification` (SI; `compression_deflection_m` default
+    F1888's 0.25 in, `impact_speed_m_s` F1887's 60 mph), the ball named `name` (default the
+    stem of `out`), its mesh's element size `element_size_m` (m; default `method_options`');
+    the ball file written to `out` (JSON) only when the FE check holds. Returns
+    `ball_for_specification`'s dict, with "out" (the path) when written; a non-empty
+    `check["missed"]`: not written. Raises `InputError` for an `out` that is no .json file in an
+    existing folder, a number out of its range (naming its flag) or a COR one homogeneous layer
+    cannot reach."""
+    from ..fe import SolverOptions
+    from ..fileio import check_output_folder, write_atomic
+
+    out = Path(out)
+    if out.suffix.lower() != ".json":
+        raise InputError(f"--out: {out} must be a .json ball file")
+    check_output_folder(out, "--out")
+    spec = Specification(
+        diameter_m, mass_kg, cor, compression_force_n,
+        QUARTER_INCH_M if compression_deflection_m is None else compression_deflection_m,
+        SIXTY_MPH_M_S if impact_speed_m_s is None else impact_speed_m_s).checked()
+    options = None if element_size_m is None else SolverOptions(element_size_m=element_size_m)
+    result = ball_for_specification(spec, name or out.stem, tau1_s=tau1_s, options=options,
+                                    progress=progress)
+    if not result["check"]["missed"]:
+        write_atomic(out, json.dumps(result["ball"], indent=2) + "\n")
+        result["out"] = str(out)
+    return result
