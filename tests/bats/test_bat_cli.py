@@ -74,6 +74,9 @@ def test_unit_slips_are_named(bad_input):
     bad_input(law + ["--impact-m", "700"], "--impact-m", "off the bat", "millimetres", "0.7")
     bad_input(law + ["--impact-m", "0.7", "--pivot-m", "152"], "--pivot-m", "millimetres",
               "0.152")
+    # just past the barrel's end (the 34 in bat is 0.864 m): off the bat, no millimetre hint
+    line = bad_input(law + ["--impact-m", "0.95"], "--impact-m", "off the bat")
+    assert "millimetres" not in line
 
 
 @pytest.mark.parametrize("kwargs, fragments", [

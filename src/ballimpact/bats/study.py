@@ -43,8 +43,10 @@ def collider(ball, relative_speed_m_s: float, *, ball_model: str = "fe", allow=(
 
 
 def _millimetres(x: float, length_m: float) -> str:
-    """The hint for a position on the bat typed in mm."""
-    return f"; {x:g} looks like millimetres: use {x / 1000:g}" if 0 < x / 1000 <= length_m else ""
+    """The hint for a position on the bat typed in mm: beyond ten bat lengths, and on the bat
+    read in mm (a position just past the barrel's end is a slip of another kind)."""
+    typed_in_mm = 10.0 * length_m < x <= 1000.0 * length_m
+    return f"; {x:g} looks like millimetres: use {x / 1000:g}" if typed_in_mm else ""
 
 
 def ball_on_bat(bat, ball, speed_m_s: float, impact_points_m: Sequence[float], *,

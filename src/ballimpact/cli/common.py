@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import check_output_folder, check_plot_path  # noqa: F401 - the verbs' import
 from ..records.features import DEFAULT_IMPULSE_TOLERANCE, METHODS
 from ..records.filters import FILTER_NAMES
 from ..records.loaders import load_record
@@ -166,12 +165,18 @@ def load(path: Path, args: argparse.Namespace):
         force_column=getattr(args, "force_column", None))
 
 
+def processing_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The processing flags (`add_filtering`) as the keyword arguments of
+    `records.pipeline.process`."""
+    return {"filter": args.filter, "window_s": args.filter_window_s,
+            "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
+            "pulse": args.pulse, "allow": args.allow, "resonance_hz": args.load_cell_hz,
+            "method": args.pulse_method, "uncertainty": args.pulse_method == "fit",
+            "damping_ratio": args.load_cell_damping}
+
+
 def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
-    return process(record, filter=args.filter, window_s=args.filter_window_s,
-                   resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance,
-                   pulse=args.pulse, allow=args.allow, resonance_hz=args.load_cell_hz,
-                   method=args.pulse_method, uncertainty=args.pulse_method == "fit",
-                   damping_ratio=args.load_cell_damping)
+    return process(record, **processing_options(args))
 
 
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:

@@ -7,10 +7,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_allow
-from ..fe.sweep import compare_balls, sweep_figure, write_table
-from .common import add_json, add_allow, check_output_folder, check_plot_path, use_compilation_cache
-from .simulate import add_solver_options, given_speeds, solver_options, speed_list
+from .common import add_allow, add_json
+from .simulate import add_solver_options, given_speeds, solver_options, speed_list, start_run
 
 
 def add_parser(verbs) -> None:
@@ -40,22 +38,13 @@ def add_parser(verbs) -> None:
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
-    from ..plotting import save_and_close  # matplotlib: loaded when used
+    from ..fe.output import RunFiles
+    from ..fe.sweep import compare_balls
 
-    check_plot_path(args.plot)
-    check_output_folder(args.table, "--table")
-    allow = check_allow(args.allow)
-    options = solver_options(args)
-    use_compilation_cache()
-    comparison = compare_balls(args.ball, given_speeds(args), options, moduli=args.moduli,
-                               allow=allow)
+    comparison = compare_balls(args.ball, given_speeds(args), solver_options(args),
+                               moduli=args.moduli, allow=args.allow,
+                               files=RunFiles(table=args.table, plot=args.plot), start=start_run)
     out = comparison.to_dict()
-    if args.table is not None:
-        out["table"] = write_table(comparison.rows, args.table)
-    if args.plot is not None:
-        figure = sweep_figure(comparison.sweeps, overlays=True,
-                              title="compare: FE impacts on a rigid plane")
-        out["plot"] = str(save_and_close(figure, args.plot))
     if not args.json:
         _print(out)
     return out

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import add_json, check_output_folder, use_compilation_cache
+from .common import add_json, use_compilation_cache
 
 
 def add_parser(verbs) -> None:
@@ -165,7 +165,6 @@ def _numbers(text: str | None, flag: str, auto: bool = False) -> list | None:
 def _ball(args: argparse.Namespace) -> dict[str, Any]:
     from ..material.ball_file import write_ball
 
-    check_output_folder(args.out, "--out")
     prony = []
     for text in args.prony:  # [LAYER=]FILE
         layer, sep, file = text.rpartition("=")

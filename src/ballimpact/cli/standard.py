@@ -12,7 +12,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..standards import METHODS, describe_methods, get_method, run_method, stats_text
-from .common import add_json, add_filtering, use_compilation_cache
+from .common import add_json, add_filtering, processing_options, use_compilation_cache
 from . import standard_ball
 from .simulate import SolverDefaults
 
@@ -104,9 +104,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                          "file from a specification)") from None
     if args.ball is not None:
         use_compilation_cache()
-    options = {"filter": args.filter, "window_s": args.filter_window_s,
-               "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
-               "pulse": args.pulse}
+    options = {k: v for k, v in processing_options(args).items() if k != "allow"}
     result = run_method(method, paths=args.paths, ball=args.ball, mass_kg=args.mass_kg,
                         ball_id_pattern=args.ball_id_pattern,
                         impact_speed_m_s=args.impact_speed_m_s,

@@ -12,7 +12,6 @@ their layer structure and differ in constants, which is what `simulate_batch` vm
 from __future__ import annotations
 
 import math
-import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -199,29 +198,38 @@ class BallComparison:
     sweeps: list
     rows: list[dict[str, Any]]
     wall_time_s: float
+    written: dict[str, str] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
-        """The JSON of `ballimpact compare` (without the files it wrote)."""
+        """The JSON of `ballimpact compare`: with the files written ("table", "plot")."""
         return {"balls": self.specs, "reference_ball": self.specs[0],
                 "speeds_m_s": list(self.speeds_m_s), "comparison": self.rows,
                 "sweeps": [{"ball": s.label, "ball_names": [r.ball_name for r in s.results],
                             "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
                             "rows": s.rows()} for s in self.sweeps],
-                "wall_time_s": self.wall_time_s}
+                "wall_time_s": self.wall_time_s, **self.written}
 
 
 def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=None, *,
-                  moduli: str | None = None, allow=frozenset()) -> BallComparison:
+                  moduli: str | None = None, allow=frozenset(), files=None,
+                  start=None) -> BallComparison:
     """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
     more, `check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
-    speeds one batched run (`runs.run_speed_sweep`, `options` a `fe.SolverOptions`), `moduli`
-    overriding every ball's convention: every ball loaded and its run estimated before any
-    runs; a large run's warning and progress go to stderr."""
+    speeds one batched run (`runs.run_speed_sweep`, `options` a `fe.SolverOptions`, `start` its
+    hook: `fe.runs.Start`), `moduli` overriding every ball's convention: every ball loaded and
+    its run estimated before any runs. `files` (`fe.output.RunFiles`): its `table` (the long
+    table) and `plot` (force-time overlays and the figures against speed) are written, their
+    paths in the result's `written`."""
+    from ..checks import check_allow
+    from ..plotting import save_and_close
     from .engine import estimate
     from .options import SolverOptions
-    from .progress import RunProgress
+    from .output import RunFiles
     from .runs import check_sweep_speeds, run_speed_sweep
 
+    files = RunFiles() if files is None else files
+    files.check()
+    allow = check_allow(allow)
     specs = check_balls(specs)
     speeds = tuple(float(s) for s in speeds_m_s)
     options = SolverOptions() if options is None else options
@@ -230,21 +238,19 @@ def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=Non
     for spec in specs:  # a bad ball, or one too large to run, stops the comparison here
         estimate(sweep_balls(spec, speeds, moduli=moduli, allow=allow)[slowest], speeds, options,
                  allow=allow)
-
-    def start_of(spec: str):
-        def start(cost):
-            warning = cost.warning()
-            if warning is not None:
-                print(f"warning: {warning}", file=sys.stderr, flush=True)
-            print(f"simulating {spec} at {len(speeds)} speed(s) ...", file=sys.stderr, flush=True)
-            return RunProgress(cost.end_time_s, options.chunk_steps)
-        return start
-
     started = time.perf_counter()
     sweeps = [run_speed_sweep(spec, speeds, options, moduli=moduli, label=spec, allow=allow,
-                              start=start_of(spec)) for spec in specs]
-    return BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
-                          time.perf_counter() - started)
+                              start=start,
+                              announce=f"simulating {spec} at {len(speeds)} speed(s) ...")
+              for spec in specs]
+    comparison = BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
+                                time.perf_counter() - started)
+    if files.table is not None:
+        comparison.written["table"] = write_table(comparison.rows, files.table)
+    if files.plot is not None:
+        figure = sweep_figure(sweeps, overlays=True, title="compare: FE impacts on a rigid plane")
+        comparison.written["plot"] = str(save_and_close(figure, files.plot))
+    return comparison
 
 
 # --------------------------------------------------------------------------- plots

@@ -19,7 +19,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..checks import check_positive
-from ..fileio import check_distinct_files, write_atomic
+from ..fileio import check_distinct_files, check_output_folder, write_atomic
 from ..balls.checks import BALL_RANGES, ball_unit_slip, check_ball_diameter, check_ball_mass
 from .files import read_material, read_prony_terms
 
@@ -195,6 +195,7 @@ def write_ball(out: Path, material_files: Sequence[Path], diameter_m: float, *,
     from ..fe import load_ball
 
     out = Path(out)
+    check_output_folder(out, "--out")
     if out.suffix.lower() != ".json":
         raise InputError(f"--out {out}: a ball file ends in .json")
     files = [Path(path) for path in material_files]
