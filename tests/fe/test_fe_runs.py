@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from ballimpact.errors import InputError, InputWarning
-from ballimpact.fe import Axisymmetric, SolverOptions, load_ball
-from ballimpact.fe.output import write_run_files
+from ballimpact.fe import Axisymmetric, Hexahedral, Options3D, SolverOptions, load_ball
+from ballimpact.fe.output import RunFiles, write_run_files
 from ballimpact.fe.progress import RunEstimate
 from ballimpact.fe.runs import (
     check_sweep_speeds,
@@ -16,10 +16,13 @@ from ballimpact.fe.runs import (
     load_model,
     run_impact,
     run_speed_sweep,
+    simulate_impact,
+    simulate_speeds,
     speed_sweep_summary,
     sweep_json_row,
 )
 from ballimpact.fe.sweep import ROW_KEYS, sweep_row
+from ballimpact.oblique.sweep import simulate_angles
 
 COARSE = SolverOptions(element_size_m=4e-3)
 BALL, SPEED = "cricket-universal", 20.0
@@ -93,7 +96,7 @@ def test_impact_summary_holds_the_features_ball_and_constants(one_run):
 def test_run_files_are_the_histories_row_and_plot(one_run, tmp_path):
     _, result, _ = one_run
     csv, table, plot = tmp_path / "h.csv", tmp_path / "t.csv", tmp_path / "p.png"
-    written = write_run_files(result, csv=csv, table=table, plot=plot)
+    written = write_run_files(result, RunFiles(csv=csv, table=table, plot=plot))
     assert written == {"csv": str(csv), "table": str(table), "plot": str(plot)}
     history = np.genfromtxt(csv, delimiter=",", names=True)
     assert list(history.dtype.names) == list(result.history)
@@ -105,7 +108,7 @@ def test_run_files_are_the_histories_row_and_plot(one_run, tmp_path):
     for key in ("cor", "peak_force_n", "contact_time_s", "energy_balance_error"):
         assert float(row[key]) == pytest.approx(want[key], rel=1e-9)
     assert plot.read_bytes().startswith(PNG_MAGIC)
-    assert write_run_files(result) == {}
+    assert write_run_files(result, RunFiles()) == {}
 
 
 def test_sweep_json_row_adds_the_runs_figures(one_run):
@@ -135,3 +138,37 @@ def test_speed_sweep_is_one_batch_equal_to_the_single_runs(one_run):
     assert out["materials"][0]["name"] != out["materials"][1]["name"]  # per-speed constants
     with pytest.raises(InputError, match="impact speed 100 m/s is outside"):
         run_speed_sweep(BALL, [10.0, 100.0], COARSE)
+
+
+def test_simulate_impact_is_the_run_its_summary_and_files(one_run, tmp_path):
+    """`simulate_impact`, the command's one call: the same run as `run_impact`, the estimate
+    announcing nothing for an axisymmetric run, its JSON object with the files written."""
+    _, result, _ = one_run
+    start = Recorder()
+    again, out = simulate_impact(BALL, SPEED, Axisymmetric(COARSE), start=start,
+                                 files=RunFiles(csv=tmp_path / "h.csv"))
+    assert again.cor == pytest.approx(result.cor, rel=ROUND_OFF)
+    assert out["csv"] == str(tmp_path / "h.csv") and "features" in out
+    assert len(start.estimates) == 1 and start.estimates[0].announce == ""
+    assert start.estimates[0].chunk_steps == COARSE.chunk_steps
+
+
+@pytest.mark.parametrize("call, flag", [
+    (lambda tmp: simulate_impact(BALL, SPEED, Hexahedral(), files=RunFiles(table=tmp / "t.csv")),
+     "--table"),
+    (lambda tmp: simulate_speeds(BALL, [10.0, 20.0], files=RunFiles(csv=tmp / "h.csv")),
+     "--csv"),
+    (lambda tmp: simulate_speeds(BALL, [10.0, 20.0], target="foam-pad"), "--target"),
+    (lambda tmp: simulate_impact(BALL, SPEED, files=RunFiles(plot=tmp / "p.jpg")), "--plot"),
+    (lambda tmp: simulate_impact(BALL, SPEED, Hexahedral(Options3D(slab_depth_growth=1.5))),
+     "--slab-depth-growth"),
+    (lambda tmp: simulate_angles(BALL, SPEED, [10.0, 30.0], files=RunFiles(vtk=tmp / "s.pvd")),
+     "--vtk"),
+    (lambda tmp: simulate_angles(BALL, SPEED, [10.0, 30.0], files=RunFiles(plot=tmp / "p.png")),
+     "--plot: the normalised axes"),
+])
+def test_the_library_runs_refuse_before_anything_runs(call, flag, tmp_path):
+    """What the command line refused is refused by its one call, naming the flag, before any
+    estimate, mesh or compilation."""
+    with pytest.raises(InputError, match=flag):
+        call(tmp_path)
