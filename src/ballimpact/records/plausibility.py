@@ -10,14 +10,12 @@ lists the checks, their thresholds and their overrides.
 
 from __future__ import annotations
 
-import math
-import warnings
-from collections.abc import Collection, Iterable
+from collections.abc import Collection
 
 import numpy as np
 
 from ..checks import CHECKS, check_allow, flag  # noqa: F401 - the names records use
-from ..errors import InputError, InputWarning
+from ..errors import InputError
 
 # --------------------------------------------------------------------------- clipping
 
