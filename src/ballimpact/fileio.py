@@ -107,10 +107,14 @@ def write_table(path: Path, columns: Sequence[str], rows: Iterable[Sequence[Any]
 
 def check_plot_path(path: Path | None, flag: str = "--plot") -> None:
     """Refuse, before a run, a plot path that is not a .png file in an existing folder."""
-    if path is None:
-        return
-    if Path(path).suffix.lower() != ".png":
-        raise InputError(f"{flag}: {path} must be a .png file")
+    check_output_file(path, flag, ".png")
+
+
+def check_output_file(path: Path | None, flag: str, suffix: str) -> None:
+    """Refuse, before a run, an output file that does not end in `suffix` (".csv") or whose
+    folder does not exist."""
+    if path is not None and Path(path).suffix.lower() != suffix:
+        raise InputError(f"{flag}: {path} must be a {suffix} file")
     check_output_folder(path, flag)
 
 

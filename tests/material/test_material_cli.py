@@ -206,3 +206,12 @@ def test_prony_out_needs_a_material(tmp_path, bad_input):
     path.write_text("time_s,relaxation_modulus_ratio\n0,1\n0.1,0.8\n1,0.6\n10,0.5\n100,0.5\n")
     bad_input(["material", "fit", f"{path}:relaxation", "--model", "prony", "--terms", "1",
                "--out", tmp_path / "x.json"], "--out", "not a material", "--merge")
+
+
+def test_prony_plot_is_refused_not_skipped(tmp_path, bad_input):
+    """A Prony fit draws no plot: --plot with it is refused by name (it was silently ignored)."""
+    path = tmp_path / "relax.csv"
+    path.write_text("time_s,relaxation_modulus_ratio\n0,1\n0.1,0.8\n1,0.6\n10,0.5\n100,0.5\n")
+    bad_input(["material", "fit", f"{path}:relaxation", "--model", "prony", "--terms", "1",
+               "--plot", tmp_path / "p.png"], "--plot", "prony")
+    assert not (tmp_path / "p.png").exists()

@@ -26,7 +26,7 @@ from ..errors import InputError, InputWarning
 from ..balls.ball import load_ball
 from ..constitutive import material_from_dict
 from ..checks import check_allow
-from ..fileio import check_output_folder
+from ..fileio import check_output_folder, write_atomic
 from ..balls.checks import check_material_values
 from .units import UNIT_SYSTEMS, UnitSystem, unit_system
 
@@ -314,7 +314,7 @@ def import_abaqus_file(path, units: str | None = None, *, ball: bool = False, al
     out = read_abaqus_file(path, units, ball=ball, allow=allow)
     if out_path is not None:
         try:
-            Path(out_path).write_text(imported_json(out) + "\n")
+            write_atomic(Path(out_path), imported_json(out) + "\n")
         except OSError as error:
             raise InputError(f"--out: cannot write {out_path} ({error.strerror or error})") \
                 from None

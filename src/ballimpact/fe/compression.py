@@ -353,14 +353,12 @@ def compress_ball(ball: str, deflection_m: float, *, rate_m_s: float | None = No
     written (`csv`, `plot`). Raises `InputError` (naming --plot, --csv, or the argument) on bad
     input before anything runs, and what `compress` raises."""
     from ..checks import check_allow
-    from ..fileio import check_output_folder, check_plot_path
+    from ..fileio import check_output_file, check_plot_path
     from .output import plot_curve, write_curve
     from .runs import load_model
 
     check_plot_path(plot_path)
-    check_output_folder(csv_path, "--csv")
-    if csv_path is not None and Path(csv_path).suffix.lower() != ".csv":
-        raise InputError(f"--csv: {csv_path} must be a .csv file")
+    check_output_file(csv_path, "--csv", ".csv")
     allow = check_allow(allow)
     model = load_model(ball, impact_speed_m_s, moduli=moduli, allow=allow)
     options = dataclasses.replace(compression_options(model, deflection_m, element_size_m),

@@ -123,10 +123,10 @@ def _check_fit_options(model: str, *, order: int | None = None, error: str = "ab
                        starts: int | None = None, terms: int | None = None,
                        shift: str | None = None, reference_temperature_c: float | None = None,
                        bulk_relaxation: bool = False, merge: Path | None = None,
-                       out_path: Path | None = None) -> None:
+                       out_path: Path | None = None, plot_path: Path | None = None) -> None:
     """`InputError` naming the flag of `material fit` for a model not in `FIT_MODELS`, an
     error measure, order or start count the model does not take, Prony options without
-    `model` prony, prony without `terms`, a `shift` not in `viscoelastic.SHIFTS`, and a Prony
+    `model` prony, prony with a plot (`plot_path`) or without `terms`, a `shift` not in `viscoelastic.SHIFTS`, and a Prony
     series to be written (`out_path`) without the material it belongs to (`merge`)."""
     from .hyperelastic import ERRORS, MAX_ORDER, OGDEN_MODELS
     from .viscoelastic import SHIFTS
@@ -151,6 +151,9 @@ def _check_fit_options(model: str, *, order: int | None = None, error: str = "ab
         raise InputError(f"{prony_flags[0]}: only with --model prony (a Prony series fit to "
                          "relaxation, creep or DMA tests)")
     if model == "prony":
+        if plot_path is not None:
+            raise InputError("--plot: drawn for the hyperelastic fits; a Prony fit prints its "
+                             "terms and R^2 (leave --plot out with --model prony)")
         if terms is None:
             raise InputError("--model prony needs --terms N (the number of Prony terms)")
         if shift is not None and shift not in SHIFTS:
@@ -170,8 +173,8 @@ def fit_material_files(tests: Sequence[str], model: str, *, compression_positive
     """`ballimpact material fit`: the tests given as FILE:MODE texts (`data.parse_spec`) fitted
     by `fit_material` (options checked by `_check_fit_options` first); with `out_path` the
     material written there (`files.write_material`; a Prony fit: the `merge` material with its
-    terms), with `plot_path` a PNG of data and fit per mode (hyperelastic models only:
-    `plots.plot_fit`). The result's JSON gets the paths written (`out`, `plot`). Raises
+    terms), with `plot_path` a PNG of data and fit per mode (hyperelastic models only, refused
+    for prony: `plots.plot_fit`). The result's JSON gets the paths written (`out`, `plot`). Raises
     `InputError` on bad options or paths (naming the flag), on tests the model cannot fit, and
     when a fitted set that is not a valid ball material would be written."""
     from .data import parse_spec
@@ -179,7 +182,8 @@ def fit_material_files(tests: Sequence[str], model: str, *, compression_positive
 
     _check_fit_options(model, order=order, error=error, starts=starts, terms=terms, shift=shift,
                        reference_temperature_c=reference_temperature_c,
-                       bulk_relaxation=bulk_relaxation, merge=merge, out_path=out_path)
+                       bulk_relaxation=bulk_relaxation, merge=merge, out_path=out_path,
+                       plot_path=plot_path)
     check_plot_path(plot_path)
     check_output_folder(out_path, "--out")
     run = fit_material([parse_spec(text) for text in tests], model,
@@ -193,7 +197,7 @@ def fit_material_files(tests: Sequence[str], model: str, *, compression_positive
                              f"material ({run.unusable})")
         write_material(out_path, run.material)
         run.result["out"] = str(out_path)
-    if plot_path is not None and model != "prony":
+    if plot_path is not None:
         from .plots import plot_fit
 
         run.result["plot"] = str(plot_fit(run.tests, run.fit, plot_path))

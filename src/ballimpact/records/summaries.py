@@ -9,8 +9,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
-from ..fileio import check_output_folder, check_plot_path
+from ..fileio import check_output_file, check_plot_path
 from . import repeats
 from .pipeline import ProcessedImpact
 from .record import ImpactRecord
@@ -36,10 +35,7 @@ def features_of_files(
     `table_csv` and `plot` where written, and the processed records. `InputError`, before
     anything is loaded, for a bad output path, tolerance or nominal speed."""
     check_plot_path(plot_path)
-    if table_path is not None:
-        if table_path.suffix.lower() != ".csv":
-            raise InputError(f"--table: {table_path} must be a .csv file")
-        check_output_folder(table_path, "--table")
+    check_output_file(table_path, "--table", ".csv")
     repeats.check_tolerance(tolerance)
     if nominal_m_s is not None:
         repeats.check_nominal(nominal_m_s)

@@ -15,7 +15,7 @@ from typing import Any, Callable
 
 from .. import __version__
 from ..errors import CheckFailed, InputError, InputWarning, SimulationError
-from ..fileio import check_distinct_files, json_safe, write_atomic
+from ..fileio import check_distinct_files, check_output_folder, json_safe, write_atomic
 from ..progress import progress_bar
 from ..records.pipeline import ProcessedImpact
 from ..records.record import ImpactRecord
@@ -139,8 +139,7 @@ def report_files(files: list[Path], out: Path, *, load: Callable[[Path], ImpactR
     or unknown model and a ball file that is not a ball."""
     if bool(files) == bool(builtin):
         raise InputError("report: give test files or --builtin sample|speeds (one of the two)")
-    if not out.parent.is_dir():
-        raise InputError(f"--out: folder {out.parent} does not exist")
+    check_output_folder(out, "--out")
     if out.exists() and not out.is_dir():
         raise InputError(f"--out: {out} is a file, not a folder")
     if seed < 0:

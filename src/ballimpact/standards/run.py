@@ -9,7 +9,7 @@ from typing import Any
 
 from ..checks import check_allow
 from ..errors import InputError
-from ..fileio import check_output_folder
+from ..fileio import check_output_file
 from .lab import from_records
 from .methods import Method, get_method
 from .model import on_model
@@ -40,9 +40,7 @@ def run_method(method: str | Method, *, paths: Sequence[Path] = (), ball: str | 
     if not paths and ball is None:
         raise InputError(f"{method.name}: give FILES_OR_DIRS (a lab's records) or --ball (a "
                          "ball model)")
-    check_output_folder(table, "--table")
-    if table is not None and Path(table).suffix.lower() != ".csv":
-        raise InputError(f"--table: {table} must be a .csv file")
+    check_output_file(table, "--table", ".csv")
     allow = check_allow(allow)
     if ball is not None:
         if mass_kg is not None:

@@ -17,7 +17,8 @@ import numpy as np
 
 from ..checks import check_allow
 from ..errors import InputError, InputWarning
-from ..fileio import check_distinct_files, check_output_folder, check_plot_path, write_table
+from ..fileio import (check_distinct_files, check_output_file, check_plot_path, write_atomic,
+                      write_table)
 from ..records.pipeline import process
 from ..records.repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
                        group_by_speed, mean_sd, pulse_band)
@@ -180,9 +181,7 @@ def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
                                (ball_path, "--ball-out", ".json")):
         if path is None:
             continue
-        if path.suffix.lower() != suffix:
-            raise InputError(f"{flag}: {path} must be a {suffix} file")
-        check_output_folder(path, flag)
+        check_output_file(path, flag, suffix)
         if path.is_dir():
             raise InputError(f"{flag}: {path} is a folder; give a {suffix} file")
         if path.resolve() in inputs:
@@ -206,7 +205,7 @@ def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
     if "table" in out and table_path is not None:
         out["table_csv"] = write_table(table_path, list(out["table"][0]), out["table"], ".6g")
     if ball_path is not None:
-        ball_path.write_text(json.dumps(found.ball, indent=2))
+        write_atomic(ball_path, json.dumps(found.ball, indent=2))
         out["ball_file"] = str(ball_path)
     if plot_path is not None:
         from .plots import plot_identification
