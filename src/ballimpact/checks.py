@@ -1,7 +1,8 @@
 """How a bad number is refused, everywhere: one message shape,
 "NAME = VALUE: allowed range [LOW, HIGH] UNIT" (an open end in parentheses; "NAME = VALUE:
-expected a finite number in ..." for text, NaN or infinity), with the value shown as the user
-would write it (`shown`); the same shape for a value only warned about,
+expected a finite number in ..." for text, NaN or infinity; "expected an integer in ..." for a
+count that is not a whole number, `check_integer`), with the value shown as the user would write
+it (`shown`); the same shape for a value only warned about,
 "NAME = VALUE: outside the RANGE [LOW, HIGH] UNIT: CONSEQUENCE" (`warn_outside_range`); and the
 checks of specification objects (`check_keys`, `spec_number`)."""
 
@@ -76,6 +77,25 @@ def check_range(name: str, value: Any, low: float = -math.inf, high: float = mat
         raise InputError(range_text(name, value, "allowed range", low, high, low_open,
                                     high_open, unit, note))
     return float(value)
+
+
+def check_integer(name: str, value: Any, low: float, high: float = math.inf, *,
+                  note: str = "", even: bool = False) -> int:
+    """`value` as an int when it is a whole number (an integer, NumPy's too, or a float with no
+    fraction; not a bool, not text) in [low, high] (even with `even`), else `InputError`
+    "name = value: allowed range [low, high]" ("expected an (even) integer in [low, high]" for
+    what is not one), then " (note)" if a note is given (what the count means; "even" leads it
+    for an even count out of range)."""
+    whole = (isinstance(value, numbers.Integral) and not isinstance(value, bool)) or (
+        is_finite_number(value) and float(value).is_integer())
+    if not whole or (even and int(value) % 2):
+        kind = "an even integer" if even else "an integer"
+        raise InputError(f"{name} = {shown(value)}: expected {kind} in "
+                         f"{allowed_range(low, high)}" + (f" ({note})" if note else ""))
+    if not in_range(value, low, high):
+        even_note = "even" + (f"; {note}" if note else "") if even else note
+        raise InputError(range_text(name, value, "allowed range", low, high, note=even_note))
+    return int(value)
 
 
 def warn_outside_range(name: str, value: float, label: str, low: float, high: float, *,

@@ -159,7 +159,7 @@ THREE_D = ["simulate", "--solver", "3d", "--ball", "cricket-universal", "--speed
 
 
 @pytest.mark.parametrize("flags, fragments", [
-    (["--divisions", "0"], ("divisions = 0", "even integer in [4, 64]")),
+    (["--divisions", "0"], ("divisions = 0: allowed range [4, 64] (even)",)),
     (["--divisions", "-2"], ("divisions = -2",)),
     (["--divisions", "7"], ("divisions = 7",)),
     (["--divisions", "66"], ("divisions = 66",)),

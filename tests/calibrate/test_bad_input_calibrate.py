@@ -86,11 +86,13 @@ def test_test_speed_not_a_number(bad_input, record):
 
 
 def test_test_speed_negative(bad_input, record):
-    bad_input(calibrate_argv(record, test=f"{record}:-3"), "the speed must be > 0")
+    bad_input(calibrate_argv(record, test=f"{record}:-3"),
+              "speed = -3: allowed range (0, inf) m/s")
 
 
 def test_test_speed_nan(bad_input, record):
-    bad_input(calibrate_argv(record, test=f"{record}:nan"), "the speed must be > 0")
+    bad_input(calibrate_argv(record, test=f"{record}:nan"),
+              "speed = nan: expected a finite number")
 
 
 def test_test_speed_outside_the_fe_range(bad_input, record, tmp_path):
@@ -114,10 +116,10 @@ def test_test_file_missing(bad_input, record):
 
 # ---- search and stage options ------------------------------------------------------------------
 @pytest.mark.parametrize("extra, fragments", [
-    (["--population", "0"], ["--population 0", "integer >= 4"]),
-    (["--population", "3"], ["--population 3", "integer >= 4"]),
-    (["--generations", "0"], ["--generations 0", "integer >= 1"]),
-    (["--generations", "-2"], ["--generations -2"]),
+    (["--population", "0"], ["--population = 0: allowed range [4, inf)"]),
+    (["--population", "3"], ["--population = 3: allowed range [4, inf) (NSGA-II needs pairs"]),
+    (["--generations", "0"], ["--generations = 0: allowed range [1, inf)"]),
+    (["--generations", "-2"], ["--generations = -2"]),
     (["--method", "nsga3"], ["--method", "invalid choice: 'nsga3'"]),
     (["--objectives", "nrmse,speed"], ["--objectives", "nrmse,speed"]),
     (["--weights", "1,a"], ["--weights", "comma-separated numbers"]),
@@ -126,7 +128,8 @@ def test_test_file_missing(bad_input, record):
     (["--stage", "tests=core"], ["--stage stage1: tests='core' is not a test", "have: ball"]),
     (["--stage", "free=layers.cover.*"], ["matches none of the --free paths"]),
     (["--stage", "name=a", "--stage", "name=a"], ["--stage name=a", "unique"]),
-    (["--method", "gradient", "--max-evaluations", "0"], ["--max-evaluations 0"]),
+    (["--method", "gradient", "--max-evaluations", "0"],
+     ["--max-evaluations = 0: allowed range [1, inf)"]),
     (["--method", "gradient", "--precision", "float32"], ["--precision float32", "float64"]),
 ], ids=lambda v: "_".join(v) if isinstance(v, list) and v and v[0].startswith("--") else None)
 def test_bad_search_and_stage_options(bad_input, record, extra, fragments):

@@ -196,8 +196,8 @@ def test_bad_csv(bad_input, files, tmp_path, name, text, fragments):
 
 def test_bad_options(bad_input, files, tmp_path):
     bad_input(argv(files, csv=tmp_path / "missing.csv"), "missing.csv: no such file")
-    bad_input(argv(files, "--compression-rate-m-s", "-1"), "--compression-rate-m-s",
-              "must be > 0")
+    bad_input(argv(files, "--compression-rate-m-s", "-1"), "--compression-rate-m-s = -1",
+              "allowed range (0, inf) m/s")
     bad_input(argv(files, "--compression-rate-m-s", "500"), "rate_m_s = 500",
               "mm/s given as m/s")
     bad_input(["calibrate", "--ball", files["ball"], "--free", f"{C10}=2e6:6e6"],

@@ -41,9 +41,10 @@ def test_tests_are_named_by_stem_and_the_curves_read_in_si(tmp_path):
 
 
 @pytest.mark.parametrize("options, message", [
-    ({"compression_rate_m_s": -1.0}, "--compression-rate-m-s -1: must be > 0"),
-    ({"compression_rate_m_s": math.inf}, "--compression-rate-m-s inf"),
-    ({"compression_steps": 0}, "--compression-steps 0: must be an integer >= 1"),
+    ({"compression_rate_m_s": -1.0},
+     r"--compression-rate-m-s = -1: allowed range \(0, inf\) m/s \(the platen speed"),
+    ({"compression_rate_m_s": math.inf}, "--compression-rate-m-s = inf"),
+    ({"compression_steps": 0}, r"--compression-steps = 0: allowed range \[1, inf\)$"),
 ])
 def test_bad_compression_options(tmp_path, options, message):
     with pytest.raises(InputError, match=message):

@@ -37,9 +37,9 @@ def test_video_surface_row_outside_the_picture_is_refused_by_name(tmp_path, bad_
     npz = tmp_path / "shot.npz"
     write_frames_npz(npz, render(impact), 5000)
     base = ["video", npz, "--fps", 5000, "--scale-m-per-px", impact.scale_m_per_px]
-    bad_input([*base, "--surface-row", -5], "--surface-row", "-5", "allowed 0")
+    bad_input([*base, "--surface-row", -5], "--surface-row) = -5: allowed range [0, inf) px")
     # known once the frames are read: the picture is 240 rows high
-    bad_input([*base, "--surface-row", 400], "--surface-row", "allowed 0 to 239")
+    bad_input([*base, "--surface-row", 400], "--surface-row) = 400: allowed range [0, 239] px")
 
 
 def test_video_quick_failure_is_one_line_without_progress(tmp_path, bad_input):

@@ -84,7 +84,8 @@ def test_user_bounds_that_exclude_the_truth_cost_fitness(single_params, clean_pu
 @pytest.mark.parametrize("options, message", [
     ({"bounds": {"q": (0, 1)}}, "unknown parameter"),
     ({"bounds": {"alpha": (2.0, 1.0)}}, "bounds.alpha: need low < high"),
-    ({"bounds": {"k": (0.0, 1e8)}}, "bounds.k: searched on a log scale"),
+    ({"bounds": {"k": (0.0, 1e8)}},
+     r"bounds.k low = 0: allowed range \(0, inf\) \(searched on a log scale\)"),
     ({"bounds": {"c": (0, 1)}, "fixed": {"c": 1.0}}, "both bounded and fixed"),
     ({"fixed": {"k": 1.0, "alpha": 1.0, "c": 1.0}}, "nothing to fit"),
     ({"method": "sa"}, "method: must be one of ga, de"),

@@ -81,7 +81,8 @@ def test_bad_input(tmp_path, bad_input):
     bad_input(["material", "fit", UNI, "--model", "foam"], "--model foam", "mooney_rivlin")
     bad_input(["material", "fit", UNI, "--model", "mooney_rivlin", "--order", "2"], "--order",
               "only for")
-    bad_input(["material", "fit", UNI, "--model", "ogden", "--order", "4"], "1 to 3")
+    bad_input(["material", "fit", UNI, "--model", "ogden", "--order", "4"],
+              "--order = 4: allowed range [1, 3] (the number of terms)")
     bad_input(["material", "fit", UNI, "--model", "prony", "--terms", "2"], "prony",
               "stress data")
     bad_input(["material", "fit", f"{relax}:relaxation", "--model", "yeoh"], "relaxation",

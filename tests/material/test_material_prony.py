@@ -262,9 +262,9 @@ R20 = ve.relaxation_ratio(TWO_TERMS, T20)
 
 
 @pytest.mark.parametrize("call, fragments", [
-    (lambda: ve.fit_relaxation(T20, R20, 0), ("terms = 0", "1..10")),
-    (lambda: ve.fit_relaxation(T20, R20, 11), ("terms = 11", "1..10")),
-    (lambda: ve.fit_relaxation(T20, R20, 2.5), ("terms",)),
+    (lambda: ve.fit_relaxation(T20, R20, 0), ("terms = 0: allowed range [1, 10]",)),
+    (lambda: ve.fit_relaxation(T20, R20, 11), ("terms = 11: allowed range [1, 10]",)),
+    (lambda: ve.fit_relaxation(T20, R20, 2.5), ("terms = 2.5: expected an integer in [1, 10]",)),
     (lambda: ve.fit_relaxation(T20[:6], R20[:6], 3), ("6 points", "more than 2 x terms = 6")),
     (lambda: ve.fit_relaxation(T20, R20 * 2e6, 2), ("ratio[0]", "(0, 1.05]", "not the modulus")),
     (lambda: ve.fit_relaxation(T20, -R20, 2), ("ratio[0]",)),

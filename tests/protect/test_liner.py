@@ -119,7 +119,8 @@ def test_the_fe_liner_lowers_the_acceleration_by_the_factor_its_stiffness_implie
 @pytest.mark.parametrize("args, fragments", [
     ((36.0, M_BALL, E_STAR, BACKING, 1.0), ("2 x ball_radius_m = 72", "millimetres")),
     ((R, 160.0, E_STAR, BACKING, 1.0), ("ball_mass_kg = 160.0", "grams")),
-    ((R, M_BALL, 2000.0, BACKING, 1.0), ("ball_modulus_pa = 2000.0", "MPa")),
+    ((R, M_BALL, 2000.0, BACKING, 1.0), ("ball_modulus_pa = 2000: allowed range [10000, inf) Pa",
+                                         "MPa")),
     ((R, M_BALL, E_STAR, 5000.0, 1.0), ("backing_mass_kg = 5000", "grams")),
     ((R, M_BALL, E_STAR, BACKING, -1.0), ("speed_m_s = -1",)),
 ])

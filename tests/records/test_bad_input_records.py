@@ -160,9 +160,10 @@ def frames_npz(tmp_path):
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--gravity-m-s2", 9810], ("--gravity-m-s2",
                                                                           "m/s^2")),
     (["--fps", "inf", "--scale-m-per-px", 0.001], ("fps",)),
-    (["--fps", 5000, "--scale-m-per-px", 0], ("--scale-m-per-px", "> 0")),
+    (["--fps", 5000, "--scale-m-per-px", 0], ("--scale-m-per-px", "(0, inf)")),
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--surface-row", "nan"], ("surface",)),
-    (["--fps", 5000, "--scale-m-per-px", 0.001, "--mass-kg=-0.16"], ("--mass-kg", "> 0")),
+    (["--fps", 5000, "--scale-m-per-px", 0.001, "--mass-kg=-0.16"], ("--mass-kg = -0.16",
+                                                                   "(0, inf) kg")),
     # the mass in grams: named before tracking, not only later by the force record's impulse
     (["--fps", 5000, "--scale-m-per-px", 0.001, "--mass-kg", 160], ("--mass-kg",
                                                                      "looks like grams", "0.16")),

@@ -167,7 +167,7 @@ def test_the_same_test_twice_under_two_spellings(tests_folder, bad_input):
 
 def test_a_negative_seed(tmp_path, bad_input):
     bad_input(report(tmp_path, "--builtin", "sample", "--models", "hertz", "--seed", "-1"),
-              "--seed", ">= 0", "-1")
+              "--seed = -1: allowed range [0, inf)")
 
 
 def test_a_universal_model_that_does_not_exist(tmp_path, bad_input):

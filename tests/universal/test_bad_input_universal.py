@@ -207,7 +207,7 @@ def test_report_closed_loop_flag_without_closed_loop(bad_input):
 def test_report_closed_loop_runs_zero(tmp_path, bad_input):
     fake_study(tmp_path / "s")
     bad_input(["universal", "report", "--closed-loop", tmp_path / "s", "--runs", "0"],
-              "--runs 0", ">= 1")
+              "--runs = 0: allowed range [1, inf)")
 
 
 def test_report_unknown_filter(tmp_path, bad_input):
@@ -258,12 +258,12 @@ def run(folder, *flags):
 
 
 @pytest.mark.parametrize("flags, fragments", [
-    (["--runs", "0"], ["--runs 0", ">= 1"]),
-    (["--runs", "-5"], ["--runs -5"]),
-    (["--workers", "0"], ["--workers 0", ">= 1"]),
-    (["--batch-size", "0"], ["--batch-size 0"]),
-    (["--group-size", "0"], ["--group-size 0", ">= 1"]),
-    (["--seed", "-1"], ["--seed -1", ">= 0"]),
+    (["--runs", "0"], ["--runs = 0: allowed range [1, inf)"]),
+    (["--runs", "-5"], ["--runs = -5"]),
+    (["--workers", "0"], ["--workers = 0: allowed range [1, inf) (Dask processes)"]),
+    (["--batch-size", "0"], ["--batch-size = 0"]),
+    (["--group-size", "0"], ["--group-size = 0", "[1, inf)"]),
+    (["--seed", "-1"], ["--seed = -1: allowed range [0, inf)"]),
     (["--range", "g1=0.5:0.2"], ["g1", "LOW < HIGH", "swapped"]),
     (["--range", "c10_pa=4e6:4e6"], ["c10_pa", "LOW < HIGH"]),
     (["--range", f"impact_speed_m_s=5:{SPEEDS[1] + 10:g}"],
@@ -271,7 +271,7 @@ def run(folder, *flags):
     (["--range", "c01_pa=-5e6:1e6"], ["c01_pa", "mu0"]),
     (["--range", "g1=0.2"], ["--range", "LOW:HIGH"]),
     (["--workers", "2", "--scheduler", "tcp://x:1"], ["--workers", "--scheduler", "give one"]),
-    (["--extend", "0"], ["--extend 0", ">= 1"]),
+    (["--extend", "0"], ["--extend = 0: allowed range [1, inf)"]),
     (["--extend", "10", "--runs", "100"], ["--extend", "--runs", "give one"]),
     (["--extend", "8"], ["--extend", "does not exist"]),
     (["--allow", "ballunits"], ["allow", "ballunits", "ball-units"]),
@@ -389,10 +389,10 @@ def test_train_on_a_batch_of_another_design(tmp_path, bad_input):
 
 
 @pytest.mark.parametrize("flags, fragments", [
-    (["--steps", "10"], ["--steps 10", ">= 100"]),
-    (["--members", "0"], ["--members 0"]),
-    (["--width", "0"], ["--width 0", ">= 1"]),
-    (["--seed", "-1"], ["--seed -1", ">= 0"]),
+    (["--steps", "10"], ["--steps = 10: allowed range [100, inf)"]),
+    (["--members", "0"], ["--members = 0"]),
+    (["--width", "0"], ["--width = 0", "[1, inf)"]),
+    (["--seed", "-1"], ["--seed = -1", "[0, inf)"]),
     (["--noise-augment", "0.7"], ["--noise-augment", "[0, 0.5)"]),
     (["--noise-augment", "2"], ["--noise-augment = 2", "looks like a percentage: use 0.02"]),
 ])

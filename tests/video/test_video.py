@@ -136,7 +136,7 @@ def test_bad_video_input_exits_2(tmp_path, capsys):
     folder = tmp_path / "pngs"
     folder.mkdir()
     cases.append(((folder, "--fps", 5000, "--scale-m-per-px", 0.001), "no images"))
-    cases.append(((late, "--scale-m-per-px", 0.001, "--fps", -5), "--fps = -5.0: must be > 0"))
+    cases.append(((late, "--scale-m-per-px", 0.001, "--fps", -5), "--fps = -5: allowed range (0, inf)"))
     for argv, message in cases:
         code, _, err = run(capsys, "video", *argv)
         assert code == 2, (message, err)

@@ -22,7 +22,7 @@ import numpy as np
 import scipy.linalg
 from threadpoolctl import threadpool_limits
 
-from ..checks import check_range, shown
+from ..checks import check_integer, check_range, shown
 from ..errors import InputError
 from .beam import DEFAULT_ELEMENTS, BeamModel, beam_model
 from .spec import BatSpec, load_bat
@@ -193,8 +193,7 @@ def modes(bat, support: str = "free", pivot_m: float | None = None, grip: Grip |
         pivot_m = check_range("pivot_m", pivot_m, 0.0, bat.length_m, unit="m")
     elif pivot_m is not None:
         raise InputError(f"pivot_m = {shown(pivot_m)}: only for support = 'pivot'")
-    if not isinstance(elements, int) or isinstance(elements, bool) or elements < 4:
-        raise InputError(f"elements = {shown(elements)}: expected a whole number >= 4")
+    elements = check_integer("elements", elements, 4)
     grip = grip.checked(bat) if grip is not None else None
     extra = ([pivot_m] if pivot_m is not None else []) + list(grip.positions_m if grip else [])
     beam = beam_model(bat, elements, extra)
@@ -208,8 +207,7 @@ def modes(bat, support: str = "free", pivot_m: float | None = None, grip: Grip |
     keep = np.ones(beam.dofs, dtype=bool)
     if pivot_m is not None:
         keep[2 * beam.node_index(pivot_m)] = False
-    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= keep.sum():
-        raise InputError(f"count = {shown(count)}: allowed range [1, {int(keep.sum())}] modes")
+    count = check_integer("count", count, 1, int(keep.sum()), note="modes")
     rigid = None
     if grip is None or grip.stiffness_n_m == 0.0:
         # free: translation, then rotation (made about the centre of mass by Gram-Schmidt)

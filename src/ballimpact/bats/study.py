@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_allow
+from ..checks import check_allow, check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_plot_path
 from ..progress import CountProgress, progress_line
@@ -72,10 +72,8 @@ def ball_on_bat(bat, ball, speed_m_s: float, impact_points_m: Sequence[float], *
     allow = check_allow(allow)
     spec = load_bat(bat)
     length = spec.length_m
-    if not speed_m_s > 0:
-        raise InputError(f"--speed-m-s = {speed_m_s:g}: must be > 0 m/s")
-    if bat_speed_m_s < 0:
-        raise InputError(f"--bat-speed-m-s = {bat_speed_m_s:g}: must be >= 0 m/s")
+    check_range("--speed-m-s", speed_m_s, 0.0, low_open=True, unit="m/s")
+    check_range("--bat-speed-m-s", bat_speed_m_s, 0.0, unit="m/s")
     for x in impact_points_m:
         if not 0.0 < x <= length:
             raise InputError(f"--impact-m: {x:g} m is off the bat (0, {length:g}] m from the knob "
@@ -85,11 +83,10 @@ def ball_on_bat(bat, ball, speed_m_s: float, impact_points_m: Sequence[float], *
                          f"from the knob end{_millimetres(pivot_m, length)}")
     if support == "pivot" and pivot_m is None:
         raise InputError("--support pivot: needs --pivot-m")
-    if not MODES_RANGE[0] <= modes <= MODES_RANGE[1]:
-        raise InputError(f"--modes = {modes}: allowed range [{MODES_RANGE[0]}, "
-                         f"{MODES_RANGE[1]}]")
-    if grip is not None and min(grip) < 0:
-        raise InputError(f"--grip = {grip[0]:g}:{grip[1]:g}: stiffness and damping must be >= 0")
+    modes = check_integer("--modes", modes, *MODES_RANGE)
+    if grip is not None:
+        check_range("--grip stiffness", grip[0], 0.0, unit="N/m")
+        check_range("--grip damping", grip[1], 0.0, unit="N s/m")
     ball = collider(ball, speed_m_s + bat_speed_m_s, ball_model=ball_model, allow=allow,
                     announce=progress)
     bm = bat_model(spec, support=support, pivot_m=pivot_m, modes=modes,

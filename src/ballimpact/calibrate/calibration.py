@@ -174,7 +174,7 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
            max_evaluations, population, generations, allow) -> None:
     """Everything that can be checked before the first FE run (errors name the flag)."""
     from ..fe import load_ball
-    from ..checks import check_allow
+    from ..checks import check_allow, check_integer
     from ..fe.speed_range import check_fe_speed
     from .compression import check_against_ball
     from .problem import sub_ball
@@ -193,8 +193,8 @@ def _check(template, tests, bounds, options, objectives, method, stages, decisio
         raise InputError(f"--precision {options.precision}: the gradient refinement needs "
                          "float64 (in float32 round-off over thousands of steps dominates the "
                          "derivatives)")
-    if "gradient" in method and not (isinstance(max_evaluations, int) and max_evaluations >= 1):
-        raise InputError(f"--max-evaluations {max_evaluations}: must be an integer >= 1")
+    if "gradient" in method:
+        check_integer("--max-evaluations", max_evaluations, 1)
     for path, (low, high) in bounds.items():
         free_parameter(template, path, low, high, allow)
     for test in tests:

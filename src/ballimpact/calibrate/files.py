@@ -6,11 +6,11 @@ compression curves read from their CSVs), its results written to the output fold
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ..checks import check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path, json_safe, write_atomic
 from ..records.datasets import PREFIX, is_builtin
@@ -36,8 +36,8 @@ def parse_test(text: str) -> tuple[Path, float | None, str | None]:
         except ValueError:
             raise InputError(f"--test {text}: the speed {speed_text!r} is not a number "
                              "(FILE[:SPEED[:LAYER]])") from None
-        if not (math.isfinite(speed) and speed > 0):
-            raise InputError(f"--test {text}: the speed must be > 0 (m/s)")
+        check_range(f"--test {text}: speed", speed, 0.0, low_open=True, unit="m/s",
+                    note="FILE[:SPEED[:LAYER]]")
     return Path(path), speed, layer or None
 
 
@@ -66,11 +66,11 @@ def calibration_tests(impacts: Sequence[tuple[Path, Any, str | None]],
         names.add(name)
         tests.append(CalibrationTest(name, features, layer))
     rate = compression_rate_m_s
-    if rate is not None and not (math.isfinite(rate) and rate > 0):
-        raise InputError(f"--compression-rate-m-s {rate:g}: must be > 0 (m/s), the platen "
-                         "speed; leave it out for the long-term (fully relaxed) curve")
-    if compression_steps < 1:
-        raise InputError(f"--compression-steps {compression_steps}: must be an integer >= 1")
+    if rate is not None:
+        check_range("--compression-rate-m-s", rate, 0.0, low_open=True, unit="m/s",
+                    note="the platen speed; leave it out for the long-term (fully relaxed) "
+                         "curve")
+    compression_steps = check_integer("--compression-steps", compression_steps, 1)
     for path, layer in compressions:
         path = Path(path)
         deflection, force = read_compression_csv(path)

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_integer
 from ..errors import InputError
 from ..fileio import first_line, replacing, write_atomic, write_table
 from .evaluate import evaluate
@@ -121,7 +122,7 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
-    check_search_options(population, generations)
+    population, generations = check_search_options(population, generations)
     started = time.perf_counter()
     n_obj = len(problem.objectives)
     cache = open_checkpoint(problem, options, seed, population, out, resume)
@@ -175,14 +176,12 @@ def search(problem: CalibrationProblem, options, *, population: int = 24, genera
                         state["fe_runs"], time.perf_counter() - started, name)
 
 
-def check_search_options(population, generations) -> None:
-    """`InputError` naming the flag for a population or a number of generations the search
-    cannot run."""
-    if isinstance(population, bool) or not (isinstance(population, int) and population >= 4):
-        raise InputError(f"--population {population}: must be an integer >= 4 (NSGA-II needs "
-                         "pairs of parents from a population of at least 4)")
-    if isinstance(generations, bool) or not (isinstance(generations, int) and generations >= 1):
-        raise InputError(f"--generations {generations}: must be an integer >= 1")
+def check_search_options(population, generations) -> tuple[int, int]:
+    """(population, generations) as ints, or `InputError` naming the flag for a population or a
+    number of generations the search cannot run."""
+    return (check_integer("--population", population, 4,
+                          note="NSGA-II needs pairs of parents from a population of at least 4"),
+            check_integer("--generations", generations, 1))
 
 
 def _stop_if_all_failed(problem: CalibrationProblem, unit: np.ndarray, failed: list) -> None:

@@ -27,9 +27,17 @@ import sys
 import warnings
 
 
-def _exit_interrupted(hint: str | None = None, open_line: bool = False) -> None:
+def _interrupted(hint: str | None = None) -> str:
+    """The line of an interrupt, on a line of its own (a progress bar may have left one open)."""
+    from ..progress import line_open
+
+    return "\n" * line_open() + "error: interrupted" + (f"; {hint}" if hint else "")
+
+
+def _exit_interrupted(hint: str | None = None) -> None:
     """Ctrl-C in the program: one line on stderr, then the process ends with exit code 130
     without the interpreter's shutdown (XLA's threads may still be compiling)."""
+    line = _interrupted(hint)
     try:
         signal.signal(signal.SIGINT, signal.SIG_IGN)  # a second Ctrl-C: the same end
     except ValueError:  # not the main thread
@@ -40,19 +48,21 @@ def _exit_interrupted(hint: str | None = None, open_line: bool = False) -> None:
         except Exception:  # noqa: BLE001 - a closed pipe: nothing more can reach it
             pass
     try:
-        sys.stderr.write("\n" * open_line + "error: interrupted" + (f"; {hint}" if hint else "")
-                         + "\n")
+        sys.stderr.write(line + "\n")
         sys.stderr.flush()
     except Exception:  # noqa: BLE001
         pass
     os._exit(130)
 
 
+def _exit_running() -> None:
+    """`_exit_interrupted` with the running verb's resume hint, if any."""
+    _exit_interrupted(getattr(_running[-1], "resume_hint", None) if _running else None)
+
+
 def _interrupt_at_once(signum, frame) -> None:
     """The SIGINT handler of the program outside a verb's run: nothing to clean up."""
-    from ..progress import line_open
-
-    _exit_interrupted(open_line=line_open())
+    _exit_interrupted()
 
 
 #: Seconds a verb's clean-up has after Ctrl-C before the program ends regardless: an interrupt
@@ -65,13 +75,7 @@ def _interrupt_with_deadline(signum, frame) -> None:
     that ends the program with exit 130 if it is still running `CLEAN_UP_DEADLINE_S` later."""
     import threading
 
-    from ..progress import line_open
-
-    def overdue() -> None:
-        hint = getattr(_running[-1], "resume_hint", None) if _running else None
-        _exit_interrupted(hint, open_line=line_open())
-
-    timer = threading.Timer(CLEAN_UP_DEADLINE_S, overdue)
+    timer = threading.Timer(CLEAN_UP_DEADLINE_S, _exit_running)
     timer.daemon = True
     timer.start()
     raise KeyboardInterrupt
@@ -96,10 +100,7 @@ def _unraisable(hook):
     run go on; it ends the program there instead (exit 130, the line and the verb's hint)."""
     def unraisable(info):
         if isinstance(info.exc_value, KeyboardInterrupt) or info.exc_type is KeyboardInterrupt:
-            from ..progress import line_open
-
-            hint = getattr(_running[-1], "resume_hint", None) if _running else None
-            _exit_interrupted(hint, open_line=line_open())
+            _exit_running()
         hook(info)
     return unraisable
 
@@ -115,7 +116,7 @@ if _is_program():  # as early as this package allows: the imports below take a w
 from .. import __version__  # noqa: E402
 from ..errors import CheckFailed, InputError, SimulationError  # noqa: E402
 from ..fileio import json_safe  # noqa: E402
-from ..progress import announce_waits, line_open  # noqa: E402
+from ..progress import announce_waits  # noqa: E402
 from .common import Parser  # noqa: E402
 from .simulate import SolverDefaults  # noqa: E402
 
@@ -163,7 +164,7 @@ def main(argv: list[str] | None = None) -> int:
         sys.stdout.flush()  # a closed pipe shows here rather than at the interpreter's exit
     except KeyboardInterrupt:  # outside the verb's run (a handler of one's own, or none)
         if program:
-            _exit_interrupted(open_line=line_open())
+            _exit_interrupted()
         raise
     except BrokenPipeError:
         # Python docs, "Note on SIGPIPE": the reader has gone; point stdout at devnull so that
@@ -198,10 +199,8 @@ def _main(argv: list[str] | None, program: bool = False) -> int:
     except KeyboardInterrupt:
         hint = getattr(args, "resume_hint", None)
         if program:  # the verb's clean-up has run: end here, before the interpreter's shutdown
-            _exit_interrupted(hint, open_line=line_open())
-        # a progress bar may have left its line unfinished: the message starts a line of its own
-        print("\n" * line_open() + "error: interrupted"
-              + (f"; {hint}" if hint else ""), file=sys.stderr)
+            _exit_interrupted(hint)
+        print(_interrupted(hint), file=sys.stderr)
         return 130
     except InputError as error:
         print(f"error: {error}", file=sys.stderr)

@@ -55,10 +55,11 @@ def add_parser(verbs) -> None:
                      help="PNG: the sweet-spot plot (a sweep) or the contact force (one point)")
 
 
-def add_ball_model(parser) -> None:
+def add_ball_model(parser: argparse.ArgumentParser, prefix: str = "") -> None:
+    """`--ball-model` (`bat`; `standard bbcor`, with `prefix` "bbcor: ")."""
     parser.add_argument("--ball-model", choices=("fe", "law"), default="fe",
-                        help="the FE ball itself on the bat's modes (default) or its contact "
-                             "law (faster; hc:... balls are laws)")
+                        help=f"{prefix}the FE ball itself on the bat's modes (default) or its "
+                             "contact law (faster; hc:... balls are laws)")
 
 
 def _numbers(text: str, flag: str, count: int) -> list[float]:
@@ -121,8 +122,8 @@ def _print(out: dict) -> None:
     moi = out["bat_moment_of_inertia_kg_m2"]
     freqs = ", ".join(f"{f:.0f}" for f in out["mode_frequencies_hz"])
     print(f"{out['bat']}: {out['bat_mass_kg']:.3f} kg, centre of mass "
-          f"{out['bat_centre_of_mass_m']:.3f} m, I knob {moi['knob']:.3f} / CM {moi['centre_of_mass']:.4f} kg m^2, "
-          f"{out['support']}; modes {freqs} Hz")
+          f"{out['bat_centre_of_mass_m']:.3f} m, I knob {moi['knob']:.3f} / CM "
+          f"{moi['centre_of_mass']:.4f} kg m^2, {out['support']}; modes {freqs} Hz")
     ball = out["ball"]
     if ball.get("model") == "fe":
         f = ball["fe"]

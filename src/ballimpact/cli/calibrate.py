@@ -10,14 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import (
-    add_processing,
-    add_record_options,
-    assignments,
-    load,
-    process_record,
-    use_compilation_cache,
-)
+from .common import add_processing, assignments, load, process_record, use_compilation_cache
 from .simulate import add_solver_options, solver_options
 
 
@@ -78,7 +71,6 @@ def add_parser(verbs) -> argparse.ArgumentParser:
                    help="continue a stopped search in --out with the same options (designs "
                         "already run are reused; --generations may grow)")
     add_solver_options(p)
-    add_record_options(p)
     add_processing(p)
     return p
 

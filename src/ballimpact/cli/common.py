@@ -17,6 +17,10 @@ from ..records.filters import FILTER_NAMES
 from ..records.loaders import load_record
 from ..records.pipeline import DEFAULT_DAMPING_RATIO, ProcessedImpact, process
 from ..checks import CHECKS
+from ..records.repeats import DEFAULT_SPEED_TOLERANCE
+
+
+#: Flags that mean the same in every verb: each is accepted wherever the other is (one name
 #: everywhere for the user; the verbs keep the name they were written with as `dest`).
 FLAG_ALIASES = (("--impact-speed-m-s", "--speed-m-s"),)
 
@@ -99,7 +103,8 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
                         help="WAV, or a CSV force column in volts: load-cell sensitivity (V/N)")
     parser.add_argument("--amplifier-gain", type=float,
                         help="WAV, or a CSV in volts: amplifier gain (default 1)")
-    parser.add_argument("--full-scale-v", type=float, help="WAV: volts at digital full scale (default 1)")
+    parser.add_argument("--full-scale-v", type=float,
+                        help="WAV: volts at digital full scale (default 1)")
     parser.add_argument("--channel", type=int, help="WAV: channel index (default 0)")
     parser.add_argument("--time-column", metavar="NAME|N",
                         help="CSV: the time column, by header name or 0-based position (as "
@@ -111,8 +116,11 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
 
 
 def add_processing(parser: argparse.ArgumentParser) -> None:
+    """The flags of the verbs that load and process records: `add_record_options`,
+    `add_filtering`, `--json` and `--plot`."""
+    add_record_options(parser)
     add_filtering(parser)
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    add_json(parser)
     parser.add_argument("--plot", type=Path, help="write force-time and force-displacement PNG")
 
 
@@ -142,6 +150,31 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
                         help="a record with several pulses (a bounce, a double hit): take pulse "
                              "N, 1 for the first")
     add_allow(parser)
+
+
+def speed_list(text: str) -> list[float]:
+    """argparse type of --speeds: speeds in m/s separated by commas (`sweep.parse_speeds`; that
+    they are positive is `repeats.check_nominal`'s)."""
+    from ..fe.sweep import parse_speeds
+
+    try:
+        return list(parse_speeds(text))
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def add_speed_grouping(parser: argparse.ArgumentParser) -> None:
+    """`--speeds` and `--speed-tolerance`: how several records group into repeats by speed."""
+    parser.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
+                        help="nominal impact speeds (m/s) to group the records to, e.g. 5,10,20; "
+                             "default: cluster the measured speeds (docs/features.md, repeated "
+                             "tests)")
+    parser.add_argument("--speed-tolerance", type=float, metavar="TOL",
+                        default=DEFAULT_SPEED_TOLERANCE,
+                        help="relative speed tolerance of the grouping: a record within this "
+                             "fraction of a nominal speed; without --speeds, a speed more than "
+                             "this fraction above its group's lowest starts a new group "
+                             f"(default {DEFAULT_SPEED_TOLERANCE})")
 
 
 def add_json(parser: argparse.ArgumentParser) -> None:

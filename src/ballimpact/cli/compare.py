@@ -51,6 +51,8 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _print(out: dict[str, Any]) -> None:
+    from .simulate_text import print_written
+
     reference = out["reference_ball"]
     width = max(12, *(len(b) + 2 for b in out["balls"]))
     print(f"compare: {len(out['balls'])} balls at {len(out['speeds_m_s'])} speed(s), FE on a "
@@ -66,7 +68,5 @@ def _print(out: dict[str, Any]) -> None:
         print(f"{r['impact_speed_m_s']:>10.4g}  {r['ball']:<{width}}{r['cor']:>8.4f}"
               f"{r['peak_force_n'] / 1e3:>9.3f}{r['contact_time_s'] * 1e3:>11.4f}"
               f"{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}{diffs}")
-    for key in ("table", "plot"):
-        if key in out:
-            print(f"{key} written to {out[key]}")
+    print_written(out)
     print(f"{out['wall_time_s']:.2f} s wall")

@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError
 from ..progress import CountProgress
 from .common import add_json, add_allow, use_compilation_cache
 from ..fe.options import COMPRESSION_PENALTY_SCALE
@@ -37,10 +38,21 @@ def add_parser(verbs) -> None:
     compress.add_argument("--impact-speed-m-s", type=float,
                           help="for balls whose constants depend on the impact speed "
                                "(cricket-universal): the speed to take them at (m/s)")
-    compress.add_argument("--element-size-m", type=float, default=SolverDefaults.element_size_m,
-                          help=f"element length on the outer surface away from the platens "
-                               f"(m; default {SolverDefaults.element_size_m:g}); both poles are "
-                               "refined to resolve the platens' contact at the deflection")
+    compress.add_argument("--solver", choices=("axisymmetric", "3d"), default="axisymmetric",
+                          help="the mesh: axisymmetric (default) or 3d (hexahedra, the impact "
+                               "engine's 3D geometry; slower, a check of the same ball in 3D)")
+    compress.add_argument("--element-size-m", type=float,
+                          help=f"axisymmetric: element length on the outer surface away from "
+                               f"the platens (m; default {SolverDefaults.element_size_m:g}); "
+                               "both poles are refined to resolve the platens' contact")
+    compress.add_argument("--divisions", type=int,
+                          help="3d: hexahedra along each 90 degrees of arc (even, 4 to 64; "
+                               "default 16)")
+    compress.add_argument("--pole-grading", type=float,
+                          help="3d: arc spacing at the equator over that at the poles (1 to 40; "
+                               "default: chosen to resolve the platens' contact)")
+    compress.add_argument("--full-model", action="store_true",
+                          help="3d: mesh the whole ball (default: the half, a mirror plane)")
     compress.add_argument("--integration", choices=("reduced", "full"),
                           default=SolverDefaults.integration,
                           help="reduced: one point with hourglass control (default); full: 2x2 "
@@ -59,10 +71,20 @@ def add_parser(verbs) -> None:
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe.compression import compress_ball
 
+    three_d = {"--divisions": args.divisions, "--pole-grading": args.pole_grading,
+               "--full-model": args.full_model or None}
+    given = [flag for flag, value in three_d.items() if value is not None]
+    if args.solver == "3d" and args.element_size_m is not None:
+        raise InputError("--element-size-m: sets the axisymmetric mesh; the 3d mesh is set by "
+                         "--divisions and --pole-grading")
+    if args.solver != "3d" and given:
+        raise InputError(f"{given[0]}: sets the 3d mesh; add --solver 3d")
     use_compilation_cache()
     out = compress_ball(args.ball, args.deflection_m, rate_m_s=args.rate_m_s, steps=args.steps,
-                        impact_speed_m_s=args.impact_speed_m_s,
-                        element_size_m=args.element_size_m, integration=args.integration,
+                        impact_speed_m_s=args.impact_speed_m_s, solver=args.solver,
+                        element_size_m=args.element_size_m or SolverDefaults.element_size_m,
+                        divisions=args.divisions, pole_grading=args.pole_grading,
+                        full_model=args.full_model, integration=args.integration,
                         penalty_scale=args.penalty_scale, moduli=args.moduli, allow=args.allow,
                         csv_path=args.csv, plot_path=args.plot,
                         progress=CountProgress("increment", quiet_s=PROGRESS_AFTER_S))
@@ -75,7 +97,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         print(f"  stiffness at the end {out['end_stiffness_n_m'] / 1e3:.5g} N/mm, secant "
               f"{out['secant_stiffness_n_m'] / 1e3:.5g} N/mm; principal stretches "
               f"{low:.3f}-{high:.3f}")
-        print(f"  {out['elements']} elements, {out['increments']} increments, "
-              f"{out['newton_iterations']} Newton iterations, {out['wall_time_s']:.2f} s wall "
+        print(f"  {out['elements']} elements ({out['geometry']}), {out['increments']} "
+              f"increments, {out['newton_iterations']} Newton iterations, {out['wall_time_s']:.2f} s wall "
               f"({out['compile_time_s']:.2f} s compiling)")
     return out

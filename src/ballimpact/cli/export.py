@@ -63,8 +63,8 @@ def add_parser(verbs) -> None:
         "import-material", help="read ABAQUS material blocks into the ball specification",
         description="Read *MATERIAL blocks (*DENSITY, *HYPERELASTIC MOONEY-RIVLIN / NEO HOOKE / "
                     "YEOH / OGDEN, *HYPERFOAM, *ELASTIC, *VISCOELASTIC TIME=PRONY, MODULI=...) "
-                    "of an ABAQUS input file into our material form (SI). With --ball, a deck written by "
-                    "`ballimpact export` gives back the whole ball specification.")
+                    "of an ABAQUS input file into our material form (SI). With --ball, a deck "
+                    "written by `ballimpact export` gives back the whole ball specification.")
     imp.add_argument("file", type=Path, help="ABAQUS input (.inp)")
     imp.add_argument("--units", choices=tuple(UNIT_SYSTEMS),
                      help="the file's unit system (default: its '** units' header line)")

@@ -10,11 +10,9 @@ from pathlib import Path
 from typing import Any
 
 from ..records import repeats
-from ..errors import InputError
 from ..records.features import FEATURE_NAMES
 from ..records.pipeline import ProcessedImpact
-from ..fe.sweep import parse_speeds
-from .common import add_processing, add_record_options, load, process_record
+from .common import add_processing, add_speed_grouping, load, process_record
 
 
 def add_parser(verbs) -> None:
@@ -29,29 +27,11 @@ def add_parser(verbs) -> None:
     features.add_argument("files", nargs="+", type=Path, metavar="FILE_OR_DIR",
                           help="test records: CSV with unit headers or WAV, or folders of them "
                                "(their *.csv and *.wav files)")
-    add_record_options(features)
     add_processing(features)
     features.add_argument("--table", type=Path,
                           help="write a CSV table, a row per record (file, speed group, every "
                                "feature; units in the column names)")
-    features.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
-                          help="nominal impact speeds (m/s) to group the records to, e.g. "
-                               "5,10,20; default: cluster the measured speeds")
-    features.add_argument("--speed-tolerance", type=float,
-                          default=repeats.DEFAULT_SPEED_TOLERANCE,
-                          help="relative speed tolerance of the grouping: a record within this "
-                               "fraction of a nominal speed; without --speeds, a speed more than "
-                               "this fraction above its group's lowest starts a new group "
-                               f"(default {repeats.DEFAULT_SPEED_TOLERANCE})")
-
-
-def speed_list(text: str) -> list[float]:
-    """argparse type of --speeds: speeds in m/s separated by commas (`sweep.parse_speeds`; that
-    they are positive is `repeats.check_nominal`'s)."""
-    try:
-        return list(parse_speeds(text))
-    except InputError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
+    add_speed_grouping(features)
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
@@ -113,5 +93,6 @@ def print_table(processed: ProcessedImpact) -> None:
     print(f"  rebound speed source: {f.rebound_speed_source}")
     spread = f" +/- {u['impulse_n_s']:.2g}" if u.get("impulse_n_s") else ""
     print(f"  impulse {f.impulse_n_s:.5g}{spread} N s; impulse check: {status}")
-    print(f"  impulse COR {f.impulse_cor:.4f}; max compression {f.max_compression_m * 1e3:.4g} mm; "
-          f"energy lost {f.energy_lost_j:.4g} J; dynamic stiffness {f.dynamic_stiffness_n_m:.4g} N/m")
+    print(f"  impulse COR {f.impulse_cor:.4f}; max compression {f.max_compression_m * 1e3:.4g} "
+          f"mm; energy lost {f.energy_lost_j:.4g} J; dynamic stiffness "
+          f"{f.dynamic_stiffness_n_m:.4g} N/m")

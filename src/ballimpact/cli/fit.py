@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import Any
 
 from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
-from .common import (add_json, add_processing, add_record_options, assignments, load,
-                     process_record, use_compilation_cache)
+from .common import (add_json, add_processing, assignments, load, process_record,
+                     use_compilation_cache)
 
 
 def add_parser(verbs) -> None:
@@ -49,7 +49,6 @@ def add_parser(verbs) -> None:
                      help="weight of the relative contact-time error in the fitness (default 0)")
     fit.add_argument("--table", type=Path,
                      help="with several files: write the speed table CSV (one row per file)")
-    add_record_options(fit)
     add_processing(fit)
     add_tolerance_flags(fit)
 
@@ -108,10 +107,10 @@ def _print_fit(fitted, path: Path, check: dict[str, Any]) -> None:
         unknown = "  not identified" if name in fitted.notes else ""
         print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}{unknown}")
     print(f"  RMSE {fitted.rmse_n:.4g} N, NRMSE {fitted.nrmse:.2%} of the measured peak")
-    print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact {fitted.contact_time_s * 1e3:.4g} "
-          f"ms, COR {fitted.cor:.4f}")
-    print(f"  measured: peak {m['peak_force_n']:.5g} N, contact {m['contact_time_s'] * 1e3:.4g} ms, "
-          f"COR {m['cor']:.4f}")
+    print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact "
+          f"{fitted.contact_time_s * 1e3:.4g} ms, COR {fitted.cor:.4f}")
+    print(f"  measured: peak {m['peak_force_n']:.5g} N, contact "
+          f"{m['contact_time_s'] * 1e3:.4g} ms, COR {m['cor']:.4f}")
     print(f"  model check {verdict_line(check)}")
     if fitted.reproduction:
         print("  note: a reproduction of the thesis' appendix code, not a recommended model")

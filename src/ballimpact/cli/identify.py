@@ -9,27 +9,27 @@ from typing import Any
 
 from ..errors import InputError
 from ..fileio import table_text
-from ..records.repeats import DEFAULT_SPEED_TOLERANCE
 from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
                        verdict_line)
-from .common import add_processing, add_record_options, load, process_record, use_compilation_cache
-from .features import speed_list
+from .common import (add_processing, add_speed_grouping, load, process_record,
+                     use_compilation_cache)
 
 
 def add_parser(verbs) -> None:
     identify = verbs.add_parser(
         "identify", help="universal FE ball (C10, C01, g1, tau1) from measured impacts",
         description="Features of the test -> the universal ball's parameters with 90% "
-                    "intervals (inverse deep ensemble), optionally refined on the forward surrogate -> one "
-                    "FE run of the identified ball compared with the test. Several tests (one "
-                    "per speed) give a table of parameters against speed, like thesis table 7-3. "
-                    "An impact speed outside the model's training speeds is refused (--allow "
-                    "speed-range: a warning); estimates on the edge of the model's training "
-                    "range and intervals clipped by it give warnings. The FE check judges force "
-                    "NRMSE, COR, contact time and peak force together (--max-* flags; the "
-                    "test's own 90%% uncertainty is added to all but the NRMSE). Exit codes: 0 "
-                    "done (the FE check passed), 2 bad input, 1 failed run, 3 the FE check missed a criterion "
-                    "(the result is printed and its files written all the same).")
+                    "intervals (inverse deep ensemble), optionally refined on the forward "
+                    "surrogate -> one FE run of the identified ball compared with the test. "
+                    "Several tests (one per speed) give a table of parameters against speed, "
+                    "like thesis table 7-3. An impact speed outside the model's training speeds "
+                    "is refused (--allow speed-range: a warning); estimates on the edge of the "
+                    "model's training range and intervals clipped by it give warnings. The FE "
+                    "check judges force NRMSE, COR, contact time and peak force together (--max-* "
+                    "flags; the test's own 90%% uncertainty is added to all but the NRMSE). Exit "
+                    "codes: 0 done (the FE check passed), 2 bad input, 1 failed run, 3 the FE "
+                    "check missed a criterion (the result is printed and its files written all "
+                    "the same).")
     identify.add_argument("files", type=Path, nargs="+", metavar="FILE",
                           help="test record(s): CSV with unit headers or WAV")
     identify.add_argument("--model", help="model path (MODEL.json + MODEL.npz); default: the "
@@ -39,7 +39,8 @@ def add_parser(verbs) -> None:
     add_tolerance_flags(identify)
     identify.add_argument("--refine", choices=("none", "surrogate"), default="none",
                           help="least squares on the forward surrogate after the inverse "
-                               "estimate; default none: on held-out runs it made the closed loop worse, see docs/universal.md")
+                               "estimate; default none: on held-out runs it made the closed loop "
+                               "worse, see docs/universal.md")
     identify.add_argument("--table", type=Path, metavar="FILE.csv",
                           help="with several files (one per speed): write the speed table")
     identify.add_argument("--ball-out", type=Path, metavar="FILE.json",
@@ -51,14 +52,7 @@ def add_parser(verbs) -> None:
                                "(0.072 m for the built-in model), with a note when the test's "
                                "mass is not that ball's. Any homogeneous ball maps onto the "
                                "model's by similarity (docs/universal.md)")
-    identify.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
-                          help="nominal impact speeds (m/s) to group repeated tests to; default: "
-                               "cluster the measured speeds (docs/features.md, repeated tests)")
-    identify.add_argument("--speed-tolerance", type=float, metavar="TOL",
-                          default=DEFAULT_SPEED_TOLERANCE,
-                          help="relative speed tolerance of the grouping into repeats (default "
-                               f"{DEFAULT_SPEED_TOLERANCE})")
-    add_record_options(identify)
+    add_speed_grouping(identify)
     add_processing(identify)
 
 

@@ -134,9 +134,8 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
 
 
 def speed_list(text: str) -> float | tuple[float, ...]:
-    """argparse type of `--speed-m-s`: one impact speed (m/s; a float, as the flag was before the
-    sweeps) or a comma-separated list of several (a tuple), each a finite number, none empty or
-    given twice (`sweep.parse_speeds`)."""
+    """argparse type of `--speed-m-s`: one speed (a float, as before the sweeps) or a tuple of
+    several (`sweep.parse_speeds`)."""
     try:
         speeds = parse_speeds(text)
     except InputError as error:
@@ -145,9 +144,8 @@ def speed_list(text: str) -> float | tuple[float, ...]:
 
 
 def angle_list(text: str) -> float | tuple[float, ...]:
-    """argparse type of `--angle-deg`: one angle (deg; a float, checked by the 3D solver as
-    before the sweeps) or a comma-separated list of several (a tuple: an angle sweep,
-    `oblique.sweep.parse_angles`)."""
+    """argparse type of `--angle-deg`: one angle (a float, checked by the 3D solver) or a tuple
+    of several (an angle sweep, `oblique.sweep.parse_angles`)."""
     if "," not in text:
         return finite_float(text)
     from ..oblique.sweep import parse_angles
@@ -164,7 +162,7 @@ def _values(given) -> tuple[float, ...]:
 
 
 def given_speeds(args: argparse.Namespace) -> tuple[float, ...]:
-    """The `--speed-m-s` values (m/s), ascending: one number, or a tuple from `speed_list`."""
+    """The `--speed-m-s` values (m/s), ascending."""
     return tuple(sorted(_values(args.speed_m_s)))
 
 
@@ -172,10 +170,9 @@ def solver_options(args: argparse.Namespace):
     from ..fe import SolverOptions
 
     size = SolverDefaults.element_size_m if args.element_size_m is None else args.element_size_m
-    return SolverOptions(element_size_m=size,
-                         pole_element_size_m=args.pole_element_size_m,
-                         penalty_scale=(SolverDefaults.penalty_scale if args.penalty_scale is None
-                                        else args.penalty_scale), integration=args.integration,
+    penalty = SolverDefaults.penalty_scale if args.penalty_scale is None else args.penalty_scale
+    return SolverOptions(element_size_m=size, pole_element_size_m=args.pole_element_size_m,
+                         penalty_scale=penalty, integration=args.integration,
                          precision=args.precision)
 
 

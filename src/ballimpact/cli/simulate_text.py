@@ -70,9 +70,7 @@ def print_speed_sweep(out: dict[str, Any]) -> None:
               f"{r['contact_time_s'] * 1e3:>11.4f}{r['max_deflection_m'] * 1e3:>11.3f}"
               f"{r['rebound_speed_m_s']:>12.3f}{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}"
               f"{r['energy_balance_error']:>11.1e}")
-    for key in ("table", "plot"):
-        if key in out:
-            print(f"{key} written to {out[key]}")
+    print_written(out)
 
 
 def print_angle_sweep(out: dict[str, Any]) -> None:
@@ -93,6 +91,11 @@ def print_angle_sweep(out: dict[str, Any]) -> None:
           f"{out['pole_grading']:.3g}, penalty scale {out['penalty_scale']:g}), "
           f"{min(steps)}-{max(steps)} steps")
     print(f"  {out['reference_note']}")
+    print_written(out)
+
+
+def print_written(out: dict[str, Any]) -> None:
+    """The files of a sweep (or `compare`) that were written: its table and plot."""
     for key in ("table", "plot"):
         if out.get(key) is not None:
             print(f"{key} written to {out[key]}")

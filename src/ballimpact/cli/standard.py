@@ -1,8 +1,10 @@
 """`ballimpact standard METHOD`: a published ball test method (ASTM F1887 COR, F2845 dynamic
 stiffness, F1888 compression) on a lab's records (per ball mean, SD, count; over the balls) or on
-a ball model (`--ball`: the quantities and the model's cost). docs/standards.md. `standard bbcor
---bat BAT --ball BALL`, a bat's certification, is `standard_bbcor`'s (docs/equipment.md); `standard
-ball`, a ball file calibrated to a specification's COR and compression, `standard_ball`'s."""
+a ball model (`--ball`: the quantities and the model's cost), docs/standards.md. Two more methods:
+`standard bbcor --bat BAT --ball BALL`, a bat's certification (ASTM F2219 / NCAA BBCOR,
+`standards.bbcor`; docs/equipment.md), and `standard ball`, the ball file of a homogeneous ball
+calibrated by FE runs to a specification's COR and compression (`standards.specification`;
+docs/balls.md, "Presets from a specification")."""
 
 from __future__ import annotations
 
@@ -10,11 +12,31 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError
+from ..errors import CheckFailed, InputError
 from ..standards import METHODS, describe_methods, get_method, run_method, stats_text
-from .common import add_json, add_filtering, processing_options, use_compilation_cache
-from . import standard_ball
+from .bat import add_ball_model, ball_of
+from .common import add_filtering, add_json, processing_options, use_compilation_cache
 from .simulate import SolverDefaults
+
+#: the names (lower case) of the two methods that are not `standards.METHODS`
+BBCOR_NAMES = ("bbcor", "f2219", "astm f2219")
+BALL_NAMES = ("ball",)
+#: `standard ball`'s own options (attribute names): the other methods refuse them
+BALL_OPTIONS = ("diameter_m", "cor", "compression_n", "deflection_m", "tau1_s", "name", "out")
+#: the options of the other methods that `standard ball` refuses, with what they are for
+NOT_BALL = (("paths", "FILES_OR_DIRS", "a lab's records"),
+            ("ball", "--ball", "a ball model to test; this method writes one"),
+            ("bat", "--bat", "bbcor's bat"),
+            ("ball_id_pattern", "--ball-id-pattern", "records' ball ids"),
+            ("table", "--table", "the methods' CSV table"))
+#: the options of the ball methods that bbcor refuses, with what they are for
+NOT_BBCOR = (("paths", "FILES_OR_DIRS", "a lab's records"),
+             ("mass_kg", "--mass-kg", "records' mass"),
+             ("ball_id_pattern", "--ball-id-pattern", "records' ball ids"),
+             ("impact_speed_m_s", "--impact-speed-m-s", "the ball methods' speed; bbcor fires "
+                                                        "at its own 136 mph"),
+             ("element_size_m", "--element-size-m", "the ball methods' mesh"),
+             ("table", "--table", "the ball methods' CSV table"))
 
 
 def add_parser(verbs) -> None:
@@ -49,9 +71,7 @@ def add_parser(verbs) -> None:
     standard.add_argument("--bat",
                           help="bbcor: the bat, a preset (baseball-wood-34in, "
                                "baseball-aluminium-bbcor-34in) or a bat file (JSON/TOML)")
-    standard.add_argument("--ball-model", choices=("fe", "law"), default="fe",
-                          help="bbcor: the FE ball itself on the bat's modes (default) or its "
-                               "contact law (faster)")
+    add_ball_model(standard, "bbcor: ")
     standard.add_argument("--mass-kg", type=float,
                           help="ball mass (kg) of every impact record, over its side file's; "
                                "with ball, the ball's")
@@ -70,7 +90,24 @@ def add_parser(verbs) -> None:
                           help="write a CSV: a row per shot, per ball and over all balls")
     add_json(standard)
     add_filtering(standard)
-    standard_ball.add_arguments(standard)
+    # `standard ball`'s own (it takes --mass-kg, --impact-speed-m-s and --element-size-m too)
+    ball = standard.add_argument_group(
+        "ball (a ball file calibrated to a specification's COR and compression)")
+    ball.add_argument("--diameter-m", type=float, help="ball: the ball's diameter (m)")
+    ball.add_argument("--cor", type=float,
+                      help="ball: its COR off a rigid wall at --impact-speed-m-s (default 60 "
+                           "mph), ASTM F1887")
+    ball.add_argument("--compression-n", type=float,
+                      help="ball: its quasi-static compression force (N; 375 lbf = 1668 N) at "
+                           "--deflection-m, ASTM F1888")
+    ball.add_argument("--deflection-m", type=float,
+                      help="ball: the platens' approach of that force (m; default 0.00635, "
+                           "F1888's 0.25 in)")
+    ball.add_argument("--tau1-s", type=float,
+                      help="ball: its Prony relaxation time (s; default 31.6 us x R / 36 mm, "
+                           "the universal model's choice)")
+    ball.add_argument("--name", help="ball: the ball's name (default: the --out file's name)")
+    ball.add_argument("--out", type=Path, help="ball: the ball file to write (.json)")
 
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
@@ -85,16 +122,15 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.method is None:
         raise InputError(f"METHOD: missing; one of {', '.join(METHODS)}, bbcor, ball (or "
                          "--list)")
-    from . import standard_bbcor
-
-    if standard_ball.is_ball(args.method):
-        return standard_ball.run(args)
-    for attribute in standard_ball.OWN_OPTIONS:
+    name = args.method.strip().lower()
+    if name in BALL_NAMES:
+        return _ball(args)
+    for attribute in BALL_OPTIONS:
         if getattr(args, attribute) is not None:
-            raise InputError(f"--{attribute.replace('_', '-')}: only `standard ball` takes it, "
-                             f"not {args.method}")
-    if standard_bbcor.is_bbcor(args.method):
-        return standard_bbcor.run(args)
+            raise InputError(f"{_flag(attribute)}: only `standard ball` takes it, not "
+                             f"{args.method}")
+    if name in BBCOR_NAMES:
+        return _bbcor(args)
     if args.bat is not None:
         raise InputError(f"--bat: only the bbcor method takes a bat, not {args.method}")
     try:
@@ -115,6 +151,59 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     return result
 
 
+def _flag(attribute: str) -> str:
+    return "--" + attribute.replace("_", "-")
+
+
+def _refuse(args: argparse.Namespace, options, method: str, then: str = "") -> None:
+    """`InputError` for the first of `options` (attribute, flag, what for) given to `method`."""
+    for attribute, flag, what in options:
+        if getattr(args, attribute, None) not in (None, []):
+            raise InputError(f"{flag}: not taken by {method} ({what}){then}")
+
+
+def _ball(args: argparse.Namespace) -> dict[str, Any]:
+    from ..progress import progress_line
+    from ..standards.specification import write_specified_ball
+
+    _refuse(args, NOT_BALL, "`standard ball`")
+    for attribute in ("diameter_m", "mass_kg", "cor", "compression_n", "out"):
+        if getattr(args, attribute) is None:
+            raise InputError(f"{_flag(attribute)}: missing; `standard ball` needs --diameter-m, "
+                             "--mass-kg, --cor, --compression-n and --out")
+    use_compilation_cache()
+    out = write_specified_ball(
+        args.out, args.diameter_m, args.mass_kg, args.cor, args.compression_n,
+        compression_deflection_m=args.deflection_m, impact_speed_m_s=args.impact_speed_m_s,
+        tau1_s=args.tau1_s, name=args.name, element_size_m=args.element_size_m,
+        progress=progress_line)
+    if not args.json:
+        print_ball(out)
+    missed = out["check"]["missed"]
+    if missed:  # not written: a ball that does not meet its specification
+        raise CheckFailed(f"the calibration did not close ({'; '.join(missed)}); "
+                          f"{args.out} not written", out)
+    return out
+
+
+def _bbcor(args: argparse.Namespace) -> dict[str, Any]:
+    from ..standards.bbcor import bbcor_certification
+
+    _refuse(args, NOT_BBCOR, "bbcor", "; give --bat and --ball")
+    if args.bat is None:
+        raise InputError("--bat: missing; bbcor needs a bat: a preset (baseball-wood-34in, "
+                         "baseball-aluminium-bbcor-34in) or a bat file")
+    if args.ball is None:
+        raise InputError("--ball: missing; a ball preset or file, or hc:MASS_KG:STIFFNESS:"
+                         "DAMPING_S_M")
+    result = bbcor_certification(args.bat, ball_of(args.ball), ball_model=args.ball_model,
+                                 allow=args.allow, progress=True)
+    if not args.json:
+        print_bbcor(result)
+    if not result["meets_limit"]:  # a certification the bat fails: exit 3, the result printed
+        raise CheckFailed(f"BBCOR {result['bbcor']:.4f} exceeds the limit "
+                          f"{result['limit']:.3f} ({result['designation']})", result)
+    return result
 def print_records(result: dict[str, Any]) -> None:
     """Per ball mean +- SD (n) of each quantity, then the line over the balls."""
     quantities, overall = result["quantities"], result["overall"]
@@ -145,3 +234,39 @@ def print_model(result: dict[str, Any]) -> None:
                   "iterations")
     print(f"  cost: {cost['wall_time_s']:.2f} s wall, {steps}, {cost['elements']} elements "
           f"({cost['element_size_m']:g} m)")
+
+
+def print_ball(out: dict[str, Any]) -> None:
+    from ..records.loaders import LBF_N
+
+    s, p, c = out["specification"], out["params"], out["check"]
+    lbf = s["compression_force_n"] / LBF_N
+    print(f"{out['ball']['name']}: a homogeneous ball of {s['diameter_m'] * 1e3:.2f} mm and "
+          f"{s['mass_kg'] * 1e3:.2f} g calibrated to COR {s['cor']:g} at "
+          f"{s['impact_speed_m_s']:.4g} m/s and {s['compression_force_n']:.4g} N ({lbf:.4g} lbf) "
+          f"at {s['compression_deflection_m'] * 1e3:.3g} mm")
+    print(f"  C10 {p['c10_pa'] / 1e6:.4g} MPa, C01 0, g1 {p['g1']:.4f}, tau1 "
+          f"{p['tau1_s'] * 1e6:.4g} us (long-term moduli, K = 20 mu0 / (1 - g1))")
+    print(f"  FE check ({out['element_size_m'] * 1e3:.3g} mm elements): COR {c['cor']:.4f} "
+          f"({c['cor_error']:+.4f}), compression {c['compression_force_n']:.5g} N "
+          f"({c['compression_relative_error']:+.2%}); DS {c['dynamic_stiffness_n_m']:.4g} N/m, "
+          f"peak force {c['peak_force_n']:.5g} N, contact time {c['contact_time_s'] * 1e3:.3f} ms")
+    print(f"  {out['runs']['impacts']} impacts, {out['runs']['compressions']} compressions, "
+          f"{out['wall_time_s']:.1f} s" + (f"; wrote {out['out']}" if "out" in out else ""))
+
+
+def print_bbcor(out: dict[str, Any]) -> None:
+    """The BBCOR and the limit, the test's figures, the law, the scan."""
+    verdict = "meets it" if out["meets_limit"] else "EXCEEDS it"
+    model = "FE ball" if out["ball"].get("model") == "fe" else "ball law"
+    print(f"{out['designation']} of {out['bat']} with {out['ball']['name']} ({model}): BBCOR "
+          f"{out['bbcor']:.4f} (limit {out['limit']:.3f}: {verdict})")
+    print(f"  ball {out['speed_m_s']:.4g} m/s ({out['ball_speed_mph']:.0f} mph) at the bat at "
+          f"rest, pinned {out['pivot_m']:g} m ({out['pivot_in']:g} in) from the knob; I pivot "
+          f"{out['moi_pivot_kg_m2']:.4f} kg m^2, ball {out['ball_mass_kg']:.4g} kg")
+    print(f"  largest BBCOR at {out['impact_m']:.4f} m from the knob "
+          f"({out['from_barrel_end_m']:.4f} m, {out['from_barrel_end_in']:.2f} in from the barrel "
+          f"end): e_A {out['collision_efficiency']:.4f}, r {out['r']:.4f}; a rigid bat "
+          f"(the ball's COR on a rigid plane) {out['rigid_bbcor']:.4f}")
+    print("  scan, in from the barrel end: "
+          + ", ".join(f"{p['from_barrel_end_in']:.1f} {p['bbcor']:.4f}" for p in out["scan"]))

@@ -174,5 +174,6 @@ def _print_report(metadata: dict) -> None:
     fwd = report["forward"]
     print(f"forward surrogate: force shape RMS {fwd['force_shape_rms_of_peak']['median']:.2%} of "
           f"peak (median), COR error {fwd['cor_absolute_error']['median']:.4f} (median); "
-          f"peak force error {fwd['P6']['median']:.2%}, contact time error {fwd['P1']['median']:.2%}")
+          f"peak force error {fwd['P6']['median']:.2%}, contact time error "
+          f"{fwd['P1']['median']:.2%}")
 

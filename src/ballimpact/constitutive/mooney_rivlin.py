@@ -10,8 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from ..errors import InputError
-from ..checks import spec_number
+from ..checks import check_range, spec_number
 from .base import Material, bulk_from_d1, isochoric_invariants
 
 
@@ -26,11 +25,9 @@ class MooneyRivlin(Material):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if not self.c10_pa + self.c01_pa > 0.0:
-            raise InputError(f"{self.model}: c10_pa + c01_pa must be > 0 (initial shear modulus "
-                             f"2 (C10 + C01)), got {self.c10_pa + self.c01_pa:g}")
-        if self.d1_per_pa < 0.0:
-            raise InputError(f"{self.model}.d1_per_pa = {self.d1_per_pa:g}: allowed range [0, inf)")
+        check_range(f"{self.model}: c10_pa + c01_pa", self.c10_pa + self.c01_pa, 0.0,
+                    low_open=True, unit="Pa", note="initial shear modulus 2 (C10 + C01)")
+        check_range(f"{self.model}.d1_per_pa", self.d1_per_pa, 0.0, unit="1/Pa")
 
     def given_moduli_pa(self) -> tuple[float, float]:
         mu0 = 2.0 * (self.c10_pa + self.c01_pa)

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import InputError
 from .fastmath import cube_root
-from ..checks import check_keys, spec_number
+from ..checks import check_keys, check_range, spec_number
 from .base import Material, Sym, bulk_from_d1
 from .ogden_hyperfoam import principal_power_sum
 
@@ -54,11 +54,9 @@ class Ogden(Material):
         for i, t in enumerate(self.terms):
             if t.alpha == 0.0:
                 raise InputError(f"{self.model}.terms[{i}].alpha: must not be 0")
-        if not sum(t.mu_pa for t in self.terms) > 0.0:
-            raise InputError(f"{self.model}.terms: sum of mu_pa (initial shear modulus) must be "
-                             "> 0")
-        if self.d1_per_pa < 0.0:
-            raise InputError(f"{self.model}.d1_per_pa = {self.d1_per_pa:g}: allowed range [0, inf)")
+        check_range(f"{self.model}.terms: sum of mu_pa", sum(t.mu_pa for t in self.terms), 0.0,
+                    low_open=True, unit="Pa", note="initial shear modulus")
+        check_range(f"{self.model}.d1_per_pa", self.d1_per_pa, 0.0, unit="1/Pa")
 
     def given_moduli_pa(self) -> tuple[float, float]:
         mu0 = sum(t.mu_pa for t in self.terms)

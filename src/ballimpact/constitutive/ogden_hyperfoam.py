@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from .fastmath import power
-from ..checks import check_keys, spec_number
+from ..checks import check_keys, check_range, spec_number
 from .base import Material
 from .spectral import trace_power
 
@@ -73,8 +73,8 @@ class OgdenHyperfoam(Material):
         super().__post_init__()
         if not self.terms:
             raise InputError("ogden_hyperfoam.terms: at least one term is needed")
-        if not sum(t.mu_pa for t in self.terms) > 0.0:
-            raise InputError("ogden_hyperfoam.terms: sum of mu_pa (initial shear modulus) must be > 0")
+        check_range("ogden_hyperfoam.terms: sum of mu_pa", sum(t.mu_pa for t in self.terms), 0.0,
+                    low_open=True, unit="Pa", note="initial shear modulus")
 
     def given_moduli_pa(self) -> tuple[float, float]:
         mu0 = sum(t.mu_pa for t in self.terms)

@@ -50,7 +50,6 @@ not checked (`checked` is False).
 from __future__ import annotations
 
 import functools
-import numbers
 from typing import TYPE_CHECKING, Any
 
 import jax
@@ -58,7 +57,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..errors import InputError
-from ..checks import shown
+from ..checks import check_integer, check_range
 from .base import Material, Sym
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
@@ -145,16 +144,12 @@ def _edge(c10_pa: float, c01_pa: float, mode: str, lo: float, hi: float) -> floa
     return float(np.exp(0.5 * (a + b)))
 
 
-def _check_range(stretch_min: Any, stretch_max: Any, n: Any) -> None:
-    for key, value in (("stretch_min", stretch_min), ("stretch_max", stretch_max)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) \
-                or not np.isfinite(value) or value <= 0.0:
-            raise InputError(f"{key} = {shown(value)}: expected a finite number > 0")
-    if not stretch_max > stretch_min:
-        raise InputError(f"stretch_max = {stretch_max:g}: must be greater than stretch_min = "
-                         f"{stretch_min:g}")
-    if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 2:
-        raise InputError(f"n = {shown(n)}: expected an integer >= 2")
+def _check_stretches(stretch_min: Any, stretch_max: Any, n: Any) -> int:
+    """The stretch interval (0 < stretch_min < stretch_max) and its number of samples `n`
+    (returned as an int) checked by `check_range` and `check_integer`."""
+    check_range("stretch_min", stretch_min, 0.0, low_open=True)
+    check_range("stretch_max", stretch_max, stretch_min, low_open=True, note="above stretch_min")
+    return check_integer("n", n, 2)
 
 
 def mooney_rivlin_drucker(c10_pa: float, c01_pa: float, stretch_min: float, stretch_max: float,
@@ -166,10 +161,9 @@ def mooney_rivlin_drucker(c10_pa: float, c01_pa: float, stretch_min: float, stre
     bisection (to ~1e-15 relative). An interval narrower than the sampling may be missed.
     Returns dicts {"mode", "stretch_from", "stretch_to"} in mode order, then by stretch.
     """
-    _check_range(stretch_min, stretch_max, n)
+    n = _check_stretches(stretch_min, stretch_max, n)
     for key, value in (("c10_pa", c10_pa), ("c01_pa", c01_pa)):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not np.isfinite(value):
-            raise InputError(f"{key} = {shown(value)}: expected a finite number")
+        check_range(key, value)
     grid = np.geomspace(stretch_min, stretch_max, n)
     grid[0], grid[-1] = stretch_min, stretch_max
     out = []
@@ -369,7 +363,7 @@ def drucker_unstable(material: Material, stretch_min: float, stretch_max: float,
     may be missed. Returns dicts {"mode", "stretch_from", "stretch_to"} in mode order, then by
     stretch. `modes`: the modes checked (default all). A linear_elastic material raises
     `InputError` (not checked)."""
-    _check_range(stretch_min, stretch_max, n)
+    n = _check_stretches(stretch_min, stretch_max, n)
     _require_checked(material)
     grid = np.geomspace(stretch_min, stretch_max, n)
     grid[0], grid[-1] = stretch_min, stretch_max
@@ -391,7 +385,7 @@ def stable_range(material: Material, mode: str, stretch_min: float = 0.05,
     """(low, high): the widest Drucker-stable stretch interval of `mode` that contains 1, within
     [stretch_min, stretch_max] (a limit is returned as it is when stable up to it). Sampled at
     `n` log-spaced stretches on each side of 1, the edges bisected as in `drucker_unstable`."""
-    _check_range(stretch_min, stretch_max, n)
+    n = _check_stretches(stretch_min, stretch_max, n)
     if not stretch_min <= 1.0 <= stretch_max:
         raise InputError(f"stretch_min = {stretch_min:g}, stretch_max = {stretch_max:g}: the "
                          "range must contain 1")
@@ -436,7 +430,7 @@ def drucker_warnings(ball: BallModel, stretch_min: float, stretch_max: float,
     """One message per unstable (layer, mode, stretch range) of every checked layer (all but
     linear_elastic), naming its long-term constants (identical ranges for the instantaneous
     ones)."""
-    _check_range(stretch_min, stretch_max, n)
+    n = _check_stretches(stretch_min, stretch_max, n)
     messages = []
     for i, layer in enumerate(ball.layers):
         material = layer.material

@@ -25,7 +25,7 @@ from typing import Any
 import jax
 import numpy as np
 
-from ..checks import shown
+from ..checks import check_integer, check_range, shown
 from ..errors import InputError, InputWarning
 from ..checks import check_allow
 from .speed_range import check_fe_speed
@@ -77,8 +77,7 @@ def _items(conditions) -> list:
             except (TypeError, ValueError):
                 raise InputError(f"impact_speed_m_s = {shown(c)}: expected numbers (m/s) or "
                                  "ImpactCondition") from None
-            if not (math.isfinite(c) and c > 0):
-                raise InputError(f"impact_speed_m_s = {shown(c)}: must be > 0")
+            c = check_range("impact_speed_m_s", c, 0.0, low_open=True, unit="m/s")
         out.append(c)
     if not out:
         raise InputError("conditions: need at least one impact condition")
@@ -325,8 +324,8 @@ def simulate_batch(balls, conditions, options=None, progress=None, group_size: i
     and `options` as `simulate`'s."""
     if on_failure not in ("raise", "return"):
         raise InputError(f"on_failure = {on_failure!r}: allowed 'raise' or 'return'")
-    if group_size is not None and not (isinstance(group_size, int) and group_size >= 1):
-        raise InputError(f"group_size = {group_size!r}: must be an integer >= 1")
+    if group_size is not None:
+        group_size = check_integer("group_size", group_size, 1)
     balls, conditions, geometry, group_size, targets = _prepared(
         balls, conditions, _geometry(geometry, options), target, allow, group_size)
     _warn_unresolved_contact(geometry, balls, conditions)

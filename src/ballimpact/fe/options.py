@@ -6,7 +6,7 @@ import math
 import warnings
 from dataclasses import dataclass
 
-from ..checks import check_metres, check_range, shown
+from ..checks import check_integer, check_metres, check_range, shown
 from ..errors import InputError, InputWarning
 from .hex.mesh import GRADING_RANGE
 
@@ -121,13 +121,7 @@ class ExplicitOptions:
                           InputWarning, stacklevel=4)
         if self.time_limit_s is not None:
             check_range("time_limit_s", self.time_limit_s, 0.0, 10.0, low_open=True)
-        check_count("chunk_steps", self.chunk_steps, 1)
-
-
-def check_count(name: str, value, low: int) -> None:
-    """An integer setting >= `low`, or `InputError` naming it."""
-    if not (isinstance(value, int) and not isinstance(value, bool) and value >= low):
-        raise InputError(f"{name} = {shown(value)}: must be an integer >= {low}")
+        object.__setattr__(self, "chunk_steps", check_integer("chunk_steps", self.chunk_steps, 1))
 
 
 #: `fe.compress`'s platen penalty over the impact solver's: a static solve has no stability
@@ -204,9 +198,8 @@ class Options3D(ExplicitOptions):
     CHOSEN_FROM_CONTACT = ("penalty_scale",)
 
     def __post_init__(self) -> None:
-        if not (isinstance(self.divisions, int) and self.divisions >= 4
-                and self.divisions % 2 == 0 and self.divisions <= 64):
-            raise InputError(f"divisions = {shown(self.divisions)}: must be an even integer in [4, 64]")
+        object.__setattr__(self, "divisions",
+                           check_integer("divisions", self.divisions, 4, 64, even=True))
         if self.pole_grading is not None:
             check_range("pole_grading", self.pole_grading, *GRADING_RANGE)
         if self.contact_elements is not None:
@@ -219,5 +212,5 @@ class Options3D(ExplicitOptions):
             if self.slab_depth_growth is not None:
                 raise InputError("slab_depth_cell_m: applies to the default slab layout; give "
                                  "it or slab_depth_growth, not both")
-        check_count("frames", self.frames, 0)
+        object.__setattr__(self, "frames", check_integer("frames", self.frames, 0))
         super().__post_init__()

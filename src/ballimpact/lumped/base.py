@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import shown
+from ..checks import check_positive, check_range
 from ..errors import InputError
 
 
@@ -114,11 +114,10 @@ class LumpedModel(ABC):
                 raise InputError(f"params: missing {p.name!r} ({p.unit}) for model {self.name!r}")
             value = params.get(p.name, p.default)
             try:
-                finite = np.isfinite(float(value))
+                value = float(value)
             except (TypeError, ValueError):
-                finite = False
-            if not finite:
-                raise InputError(f"params.{p.name}: must be a finite number, got {shown(value)}")
+                pass  # refused below, shown as given
+            check_range(f"params.{p.name}", value)
 
     def full(self, params: dict[str, float]) -> dict[str, float]:
         """`params` with fixed parameters filled in from their defaults."""
@@ -128,9 +127,7 @@ class LumpedModel(ABC):
         """The ball mass a run uses (models with unit masses derive it from them)."""
         if mass_kg is None:
             raise InputError(f"mass_kg: model {self.name!r} needs the ball mass (kg)")
-        if not mass_kg > 0:
-            raise InputError(f"mass_kg: must be > 0, got {shown(mass_kg)}")
-        return float(mass_kg)
+        return check_positive("mass_kg", mass_kg)
 
     @abstractmethod
     def run_batch(

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..checks import shown
+from ..checks import check_integer, check_range, shown
 from ..errors import InputError, InputWarning
 from ..identifiability import identification_notes, standard_errors
 from ..records.pipeline import ProcessedImpact, process
@@ -201,9 +201,9 @@ def search_genes(model: LumpedModel, scale: Scale, bounds: dict | None, fixed: d
             low, high = defaults[p.name]
         if not low < high:
             raise InputError(f"bounds.{p.name}: need low < high, got {shown((low, high))}")
-        if kind in ("log", "stiffness") and low <= 0:
-            raise InputError(f"bounds.{p.name}: searched on a log scale, low must be > 0, "
-                             f"got {shown(low)}")
+        if kind in ("log", "stiffness"):
+            check_range(f"bounds.{p.name} low", low, 0.0, low_open=True,
+                        note="searched on a log scale")
         if kind != "mass_share":
             probe[p.name] = 1.0 if kind == "stiffness" else 0.5 * (low + high)
         genes.append(Gene(p.name, low, high, kind, p.exponent))
@@ -434,13 +434,11 @@ def fit(
     searched = len(model.parameters) + 1  # with the onset; an upper bound when some are fixed
     population = max(32, 4 * searched) if population is None else population
     generations = max(40, 8 * searched) if generations is None else generations
-    for name, value, low in (("population", population, 4), ("generations", generations, 1),
-                             ("seed", seed, 0)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-            raise InputError(f"{name}: must be an integer >= {low}, got {shown(value)}")
+    population = check_integer("population", population, 4)
+    generations = check_integer("generations", generations, 1)
+    seed = check_integer("seed", seed, 0)
     for name, value in (("cor_weight", cor_weight), ("contact_time_weight", contact_time_weight)):
-        if not (np.isfinite(value) and value >= 0):
-            raise InputError(f"{name}: must be >= 0, got {shown(value)}")
+        check_range(name, value, 0.0)
     processed = record if isinstance(record, ProcessedImpact) else process(record, filter=filter)
     features = processed.features
     scale = Scale(features.mass_kg, features.values["P15"], features.values["P1"],

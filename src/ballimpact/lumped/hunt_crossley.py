@@ -7,8 +7,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ..checks import check_positive, check_range, shown
-from ..errors import InputError
+from ..checks import check_positive, check_range
 from .base import Parameter
 from .engine import OdeModel, signed_power
 from .single_element import split
@@ -57,8 +56,7 @@ def _residual(z, cor, s):
 def hunt_crossley_cor(damping_s_m: float, impact_speed_m_s: float) -> float:
     """COR of a Hunt-Crossley impact: the root e of z (1 + e) = ln[(1 + z)/(1 - e z)], z = lambda v."""
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
-    if not (np.isfinite(damping_s_m) and damping_s_m >= 0):
-        raise InputError(f"lambda: must be >= 0 s/m, got {shown(damping_s_m)}")
+    damping_s_m = check_range("lambda", damping_s_m, 0.0, unit="s/m")
     z = damping_s_m * speed
     if z == 0:
         return 1.0
@@ -74,8 +72,7 @@ def hunt_crossley_lambda(cor: float, impact_speed_m_s: float) -> float:
     """The damping factor lambda (s/m) that gives `cor` at `impact_speed_m_s` (for COR near 1,
     lambda -> 3 (1 - e) / (2 v))."""
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
-    if not 0 < cor <= 1 - 1e-6:
-        raise InputError(f"cor: must be in (0, 0.999999], got {shown(cor)}")
+    cor = check_range("cor", cor, 0.0, 1 - 1e-6, low_open=True)
     z_of = lambda s: -np.expm1(-s) / cor  # noqa: E731 - z from s = -ln(1 - e z)
     # the residual is z^2 (1 - e^2)/2 - O(z^3) > 0 below the root, which is near 1.5 (1 - e)
     s_low = -np.log1p(-cor * 0.15 * (1.0 - cor))

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import check_positive, shown
-from ..errors import InputError, SimulationError
+from ..checks import check_integer, check_positive
+from ..errors import SimulationError
 from ..records.record import ImpactRecord
 from .base import BatchResult, LumpedModel
 from .registry import get_model
@@ -84,9 +84,7 @@ def simulate(
     """
     model = get_model(model)
     speed = check_positive("impact_speed_m_s", impact_speed_m_s)
-    if not (isinstance(steps_per_contact, (int, np.integer)) and steps_per_contact >= 50):
-        raise InputError("steps_per_contact: must be an integer >= 50, got "
-                         f"{shown(steps_per_contact)}")
+    steps_per_contact = check_integer("steps_per_contact", steps_per_contact, 50)
     model.check(params, mass_kg)
     mass = model.ball_mass_kg(params, mass_kg)
     result = run_one(model, params, mass, speed, steps_per_contact)

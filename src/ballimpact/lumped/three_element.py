@@ -49,8 +49,8 @@ def validate(params):
         check_range(f"params.k{i}", params[f"k{i}"], 0.0, low_open=True)
         check_range(f"params.alpha{i}", params[f"alpha{i}"], 0.5, 5.0)
         check_range(f"params.c{i}", params[f"c{i}"], 0.0)
-        if not params[f"m{i}"] > 0:
-            raise InputError(f"params.m{i}: unit masses must be > 0 kg, got {params[f'm{i}']!r}")
+        check_range(f"params.m{i}", params[f"m{i}"], 0.0, low_open=True, unit="kg",
+                    note="a unit mass")
 
 
 class _ThreeElement(OdeModel):

@@ -30,12 +30,14 @@ uniaxial tests declared as such (`FILE:compression`): their stretches must stay 
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..checks import range_text
 from ..errors import InputError, InputWarning
 from ..fileio import is_number, read_table
 
@@ -252,10 +254,14 @@ def _fail(test: MaterialTest, row: int, column: str, what: str) -> None:
     raise InputError(f"{test.path}: line {test.lines[row]}, column {column}: {what}")
 
 
-def _positive(test: MaterialTest, quantity: str, column: str, what: str = "must be > 0") -> None:
-    bad = np.flatnonzero(~(test.columns[quantity] > 0))
+def _positive(test: MaterialTest, quantity: str, column: str, note: str = "") -> None:
+    """Every value of `quantity` > 0, else `_fail` at the first row that is not: the file, line
+    and column, then the one message shape of `checks.range_text`."""
+    values = test.columns[quantity]
+    bad = np.flatnonzero(~(values > 0))
     if bad.size:
-        _fail(test, bad[0], column, f"{test.columns[quantity][bad[0]]:g} {what}")
+        _fail(test, bad[0], column, range_text(quantity, values[bad[0]], "allowed range", 0.0,
+                                               math.inf, low_open=True, note=note))
 
 
 def _monotone(test: MaterialTest, quantity: str, column: str) -> None:
@@ -328,7 +334,7 @@ def _check_sign_convention(test: MaterialTest, cols: dict[str, str], declared: s
 def _check_curve(test: MaterialTest, cols: dict[str, str]) -> None:
     stretch_keys = [k for k in ("stretch", "stretch_1", "stretch_2") if k in test.columns]
     for key in stretch_keys:
-        _positive(test, key, cols[key], "is not a stretch (must be > 0; strain must be > -1)")
+        _positive(test, key, cols[key], "a stretch; a strain must be above -1")
     if "stretch" in test.columns:
         _monotone(test, "stretch", cols["stretch"])
         _stress_sign(test, "stretch", "nominal_stress_pa", cols["nominal_stress_pa"])
@@ -340,7 +346,7 @@ def _check_curve(test: MaterialTest, cols: dict[str, str]) -> None:
 
 
 def _check_volumetric(test: MaterialTest, cols: dict[str, str]) -> None:
-    _positive(test, "volume_ratio", cols["volume_ratio"], "is not a volume ratio (must be > 0)")
+    _positive(test, "volume_ratio", cols["volume_ratio"])
     j, p = test.columns["volume_ratio"], test.columns["pressure_pa"]
     bad = np.flatnonzero(((j < 1.0) & ~(p > 0.0)) | ((j > 1.0) & ~(p < 0.0)))
     if bad.size:
@@ -353,7 +359,8 @@ def _check_volumetric(test: MaterialTest, cols: dict[str, str]) -> None:
 def _check_time(test: MaterialTest, cols: dict[str, str]) -> None:
     t = test.columns["time_s"]
     if t[0] < 0:
-        _fail(test, 0, cols["time_s"], f"time {t[0]:g} s: must be >= 0")
+        _fail(test, 0, cols["time_s"], range_text("time_s", t[0], "allowed range", 0.0, math.inf,
+                                                  unit="s"))
     bad = np.flatnonzero(~(np.diff(t) > 0))
     if bad.size:
         _fail(test, bad[0] + 1, cols["time_s"], f"time {t[bad[0] + 1]:g} s after {t[bad[0]]:g} s:"
@@ -363,7 +370,7 @@ def _check_time(test: MaterialTest, cols: dict[str, str]) -> None:
 def _normalised(test: MaterialTest, cols: dict[str, str], raw: str, ratio: str) -> None:
     """A modulus (compliance) column -> its ratio to the first (instantaneous) value."""
     if raw in test.columns:
-        _positive(test, raw, cols[raw], "is negative or zero (moduli and compliances are > 0)")
+        _positive(test, raw, cols[raw], "moduli and compliances are positive")
         test.columns[ratio] = test.columns[raw] / test.columns[raw][0]
         cols[ratio] = cols[raw]
 

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..checks import check_integer
 from ..errors import InputError
 from ..fileio import check_distinct_files, check_output_folder, check_plot_path
 from .data import SIGNED_MODES, STRESS_MODES, VISCOELASTIC_MODES, MaterialTest, base_mode, read_test
@@ -139,10 +140,9 @@ def _check_fit_options(model: str, *, order: int | None = None, error: str = "ab
         if model not in OGDEN_MODELS:
             raise InputError(f"--order {order}: only for {' and '.join(OGDEN_MODELS)} (the "
                              f"number of terms); {model} has a fixed form")
-        if not 1 <= order <= MAX_ORDER:
-            raise InputError(f"--order {order}: allowed 1 to {MAX_ORDER} terms")
-    if starts is not None and starts < 1:
-        raise InputError(f"--starts {starts}: need an integer >= 1")
+        check_integer("--order", order, 1, MAX_ORDER, note="the number of terms")
+    if starts is not None:
+        check_integer("--starts", starts, 1)
     prony_flags = [flag for flag, value in (
         ("--terms", terms), ("--shift", shift),
         ("--reference-temperature-c", reference_temperature_c), ("--merge", merge),

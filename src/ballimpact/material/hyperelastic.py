@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
+from ..checks import check_integer
 from ..errors import InputError, InputWarning
 from ..constitutive import material_from_dict
 from ..identifiability import standard_errors
@@ -122,7 +123,8 @@ def _blocks(tests: list[MaterialTest], error: str, volumetric: bool) -> list[_Bl
     return out
 
 
-def _check_request(tests, model, order, error, starts) -> int:
+def _check_request(tests, model, order, error, starts) -> tuple[int, int]:
+    """The request checked: (order, starts), whole numbers."""
     if model not in MODELS:
         raise InputError(f"model {model!r}: allowed {', '.join(MODELS)}")
     if error not in ERRORS:
@@ -131,10 +133,9 @@ def _check_request(tests, model, order, error, starts) -> int:
         raise InputError(f"order {order}: only for {' and '.join(OGDEN_MODELS)} (their number of "
                          f"terms); {model} has a fixed form")
     order = DEFAULT_ORDER.get(model, 0) if order is None else order
-    if model in OGDEN_MODELS and not (isinstance(order, int) and 1 <= order <= MAX_ORDER):
-        raise InputError(f"order {order}: allowed 1 to {MAX_ORDER} terms")
-    if not (isinstance(starts, int) and starts >= 1):
-        raise InputError(f"starts {starts}: need an integer >= 1")
+    if model in OGDEN_MODELS:
+        order = check_integer("order", order, 1, MAX_ORDER, note="the number of terms")
+    starts = check_integer("starts", starts, 1)
     stress = [t for t in tests if t.deformation != "volumetric"]
     other = [t for t in tests if t.mode not in ("uniaxial", "biaxial", "planar", "volumetric")]
     if other:
@@ -146,7 +147,7 @@ def _check_request(tests, model, order, error, starts) -> int:
     names = [str(t.path) for t in tests]
     if len(set(names)) != len(names):
         raise InputError(f"{names[0]}: the same test is given twice")
-    return order
+    return order, starts
 
 
 def fit_hyperelastic(tests: list[MaterialTest], model: str, order: int | None = None,
@@ -159,7 +160,7 @@ def fit_hyperelastic(tests: list[MaterialTest], model: str, order: int | None = 
     Drucker-unstable inside the stretch range of a test's mode, and when the set is not one a
     ball accepts (`usable` False; e.g. Mooney-Rivlin with C10 + C01 <= 0)."""
     tests = list(tests)
-    order = _check_request(tests, model, order, error, starts)
+    order, starts = _check_request(tests, model, order, error, starts)
     notes: list[str] = []
     volumetric = _blocks(tests, error, True)
     if model in COMPRESSIBLE:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..checks import check_range
 from ..errors import InputError
 from ..constitutive import Material
 from ..constitutive.stability import MODES, checked, drucker_unstable, stable_range
@@ -46,8 +47,9 @@ def stability_report(*, ball=None, material_file=None, speed_m_s: float | None =
 
     if speed_m_s is not None and ball is None:
         raise InputError("--speed-m-s: only with --ball (a material alone is not run)")
-    if speed_m_s is not None and not speed_m_s > 0:
-        raise InputError(f"--speed-m-s {speed_m_s:g}: need an impact speed in m/s > 0")
+    if speed_m_s is not None:
+        check_range("--speed-m-s", speed_m_s, 0.0, low_open=True, unit="m/s",
+                    note="the impact speed")
     if material_file is not None:
         material = material_from_dict(read_material(material_file), str(material_file))
         layers, name = [("material", material)], str(material_file)

@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, nnls
 
-from ..checks import allowed_range, shown
+from ..checks import check_integer, check_range
 from ..errors import InputError, InputWarning
 from ..identifiability import identification_notes, standard_errors
 from .data import RATIO_SLACK
@@ -279,21 +279,17 @@ def _vector(values, name: str, n: int | None = None) -> np.ndarray:
     return a
 
 
-def _check_range(a: np.ndarray, name: str, low: float, high: float, low_open: bool,
-                 hint: str = "") -> None:
-    bad = np.flatnonzero((a <= low if low_open else a < low) | (a > high))
+def _check_each(a: np.ndarray, name: str, low: float, high: float, low_open: bool,
+                note: str = "") -> None:
+    """Every value of `a` in the range, else `check_range`'s `InputError` for the first one
+    outside it, named "name[i]"."""
+    bad = np.flatnonzero(~((a > low if low_open else a >= low) & (a <= high)))
     if bad.size:
-        i = bad[0]
-        raise InputError(f"{name}[{i}] = {shown(a[i])}: allowed range "
-                         f"{allowed_range(low, high, low_open)}{hint}")
+        check_range(f"{name}[{bad[0]}]", a[bad[0]], low, high, low_open=low_open, note=note)
 
 
 def _check_terms(terms: Any, points: int, span_decades: float, what: str) -> int:
-    if isinstance(terms, bool) or not isinstance(terms, (int, np.integer)):
-        raise InputError(f"terms = {terms!r}: expected a whole number in 1..{MAX_TERMS}")
-    terms = int(terms)
-    if not 1 <= terms <= MAX_TERMS:
-        raise InputError(f"terms = {terms}: allowed range 1..{MAX_TERMS}")
+    terms = check_integer("terms", terms, 1, MAX_TERMS)
     if points <= 2 * terms:
         raise InputError(f"{what}: {points} points are too few for {terms} terms "
                          f"(need more than 2 x terms = {2 * terms})")
@@ -307,17 +303,17 @@ def _check_terms(terms: Any, points: int, span_decades: float, what: str) -> int
 def _time_data(time_s, ratio, terms, creep: bool) -> tuple[np.ndarray, np.ndarray, int]:
     t = _vector(time_s, "time_s")
     r = _vector(ratio, "ratio", t.size)
-    _check_range(t, "time_s", 0.0, math.inf, False)
+    _check_each(t, "time_s", 0.0, math.inf, False)
     positive = t[t > 0]
     if np.unique(positive).size < 2:
         raise InputError("time_s: need at least two distinct positive times")
     if creep:
-        _check_range(r, "ratio", 1.0 - RATIO_SLACK, math.inf, False,
-                     "; give J(t)/J(0) (creep compliance over its instantaneous value)")
+        _check_each(r, "ratio", 1.0 - RATIO_SLACK, math.inf, False,
+                    "give J(t)/J(0), the creep compliance over its instantaneous value")
     else:
-        _check_range(r, "ratio", 0.0, 1.0 + RATIO_SLACK, True,
-                     "; give G(t)/G(0) (the modulus over its instantaneous value), not the "
-                     "modulus in Pa")
+        _check_each(r, "ratio", 0.0, 1.0 + RATIO_SLACK, True,
+                    "give G(t)/G(0), the modulus over its instantaneous value, not the "
+                    "modulus in Pa")
     span = math.log10(positive.max() / positive.min())
     n = _check_terms(terms, t.size, span, "time_s")
     return t, r, n
@@ -605,9 +601,9 @@ def fit_dma(frequency_hz, storage_pa, loss_pa, terms: int, *, temperature_c=None
     f = _vector(frequency_hz, "frequency_hz")
     storage = _vector(storage_pa, "storage_pa", f.size)
     loss = _vector(loss_pa, "loss_pa", f.size)
-    _check_range(f, "frequency_hz", 0.0, math.inf, True)
-    _check_range(storage, "storage_pa", 0.0, math.inf, True)
-    _check_range(loss, "loss_pa", 0.0, math.inf, True)
+    _check_each(f, "frequency_hz", 0.0, math.inf, True)
+    _check_each(storage, "storage_pa", 0.0, math.inf, True)
+    _check_each(loss, "loss_pa", 0.0, math.inf, True)
     if shift not in SHIFTS:
         raise InputError(f"shift = {shift!r}: allowed {', '.join(SHIFTS)}")
     if temperature_c is None:
@@ -615,7 +611,7 @@ def fit_dma(frequency_hz, storage_pa, loss_pa, terms: int, *, temperature_c=None
         several = False
     else:
         temps = _vector(temperature_c, "temperature_c", f.size)
-        _check_range(temps, "temperature_c", -KELVIN, math.inf, True)
+        _check_each(temps, "temperature_c", -KELVIN, math.inf, True)
         several = np.unique(temps).size > 1
     if reference_c is None:
         reference = float(np.median(temps))

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import check_range
 from ..errors import InputError
 from ..closedform import hertz_impact
 from .rigid_body import HOMOGENEOUS_K2
@@ -157,10 +158,8 @@ def oblique_impact(sphere: ElasticSphere, normal_speed_m_s: float, tangential_sp
     (contact-point velocity, (steps, conditions)) and `stick_fraction` (the stuck share of the
     contact radius, (steps, conditions)).
     """
-    if not (np.isfinite(normal_speed_m_s) and normal_speed_m_s > 0):
-        raise InputError(f"normal_speed_m_s = {normal_speed_m_s!r}: must be > 0")
-    if not (np.isfinite(friction) and friction > 0):
-        raise InputError(f"friction = {friction!r}: must be > 0")
+    check_range("normal_speed_m_s", normal_speed_m_s, 0.0, low_open=True, unit="m/s")
+    check_range("friction", friction, 0.0, low_open=True)
     v_x0 = np.atleast_1d(np.asarray(tangential_speed_m_s, float))
     w0 = np.broadcast_to(np.asarray(spin_rad_s, float), v_x0.shape).copy()
     R, m, k2 = sphere.radius_m, sphere.mass_kg, sphere.k2
@@ -237,8 +236,9 @@ def normalised_curves(psi, poissons_ratio: float, k2: float = HOMOGENEOUS_K2,
     centre of mass and that of the contact point. They depend on Psi, nu and k^2 only (scaled
     impacts give the same curves; `tests/oblique/test_elastic_reference.py`)."""
     psi = np.atleast_1d(np.asarray(psi, float))
-    if np.any(~np.isfinite(psi)) or np.any(psi <= 0):
-        raise InputError("psi: every value must be > 0")
+    bad = np.flatnonzero(~(np.isfinite(psi) & (psi > 0)))
+    if bad.size:
+        check_range(f"psi[{bad[0]}]", psi[bad[0]], 0.0, low_open=True)
     # any sphere serves (the results are scale-free): a cricket-ball-sized elastic one
     sphere = ElasticSphere(0.036, 0.156, 1e8, poissons_ratio, k2)
     friction = 0.1

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from .. import __version__
+from ..checks import check_integer
 from ..errors import CheckFailed, InputError, InputWarning, SimulationError
 from ..fileio import check_distinct_files, check_output_folder, json_safe, write_atomic
 from ..progress import progress_bar
@@ -142,8 +143,7 @@ def report_files(files: list[Path], out: Path, *, load: Callable[[Path], ImpactR
     check_output_folder(out, "--out")
     if out.exists() and not out.is_dir():
         raise InputError(f"--out: {out} is a file, not a folder")
-    if seed < 0:
-        raise InputError(f"--seed: must be an integer >= 0, got {seed}")
+    seed = check_integer("--seed", seed, 0)
     check_distinct_files(files, "TEST")  # each once, and each with its own speed
     # the generating ball of a built-in set joins the default models
     ball = builtin_ball(builtin) if builtin and models is None else None

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_range
+from ..checks import check_integer, check_range
 from ..errors import InputError
 from ..balls.checks import BALL_RANGES
 from ..fe.speed_range import FE_SPEED_RANGE_M_S
@@ -165,8 +165,7 @@ def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, flo
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: allowed {', '.join(METHODS)}")
-    if not (isinstance(runs, int) and runs >= 1):
-        raise InputError(f"runs = {runs}: need an integer >= 1")
+    runs = check_integer("runs", runs, 1)
     d = len(PARAMETERS)
     if method == "sobol":
         with warnings.catch_warnings():  # balance is best at powers of 2; any count is valid

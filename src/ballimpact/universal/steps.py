@@ -11,7 +11,7 @@ from collections.abc import Callable, Collection
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_fraction
+from ..checks import check_fraction, check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path
 from ..records.filters import check_filter_name
@@ -65,9 +65,9 @@ def run_design(folder: Path, *, template: str | Path | None = None, ranges: dict
                                    ("--batch-size", batch_size, 1, "runs per batch"),
                                    ("--group-size", group_size, 1, "balls per FE group")):
         _at_least(value, flag, low, what)
-    if element_size_m is not None and not element_size_m > 0:
-        raise InputError(f"--element-size-m {element_size_m:g}: need a size in m > 0 "
-                         "(default 1.5e-3)")
+    if element_size_m is not None:
+        check_range("--element-size-m", element_size_m, 0.0, low_open=True, unit="m",
+                    note="default 1.5e-3")
     if extend is not None and runs is not None:
         raise InputError(f"--extend {extend} and --runs {runs}: give one (--runs sets a new "
                          "study's size, --extend adds runs to the study in DIR)")
@@ -174,8 +174,9 @@ def report_model(model: str | Path | None = None, *, study: Path | None = None,
 
 
 def _at_least(value: int | None, flag: str, low: int, what: str) -> None:
-    if value is not None and value < low:
-        raise InputError(f"{flag} {value}: need an integer >= {low} ({what})")
+    """An optional count (None: its default) checked by `check_integer`, `what` as the note."""
+    if value is not None:
+        check_integer(flag, value, low, note=what)
 
 
 def _check_noise_fraction(value: float, flag: str) -> None:

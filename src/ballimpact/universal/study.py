@@ -16,7 +16,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError
 from ..fileio import write_atomic
-from ..checks import check_allow
+from ..checks import check_allow, check_integer
 from . import space
 from .dataset import (
     COLUMNS,
@@ -275,9 +275,8 @@ def _prepare(folder: Path, config: dict[str, Any] | None, resume: bool, extend: 
              workers: int | None, scheduler: str | None) -> dict[str, Any]:
     """`run_study`'s arguments checked and its study opened: the configuration to run (a new
     study's written to `folder`, an extended one's rewritten)."""
-    if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool)
-                                    and workers >= 1):
-        raise InputError(f"--workers {workers}: need an integer >= 1 (Dask processes)")
+    if workers is not None:
+        check_integer("--workers", workers, 1, note="Dask processes")
     if workers is not None and scheduler is not None:
         raise InputError("--workers and --scheduler: give one (a local cluster of N processes, "
                          "or a running scheduler's address)")
@@ -330,8 +329,7 @@ def _extend(folder: Path, config: dict[str, Any] | None, extra: int) -> dict[str
     (the study equals one run with the total from the start). A Latin hypercube's strata depend
     on the number of points: it cannot grow. A partial last batch is run again whole (the same
     runs, recomputed, plus the new ones), so the batches are those of a study of the total."""
-    if not (isinstance(extra, int) and not isinstance(extra, bool) and extra >= 1):
-        raise InputError(f"--extend {extra}: need an integer >= 1 (the number of runs to add)")
+    extra = check_integer("--extend", extra, 1, note="the number of runs to add")
     saved = load_config(folder, "--extend")
     _check_unchanged(config, saved, "--extend", free=("version", "runs"))
     if saved["method"] != "sobol":

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_range
+from ..checks import check_integer, check_range
 from ..errors import InputError
 from ..records.features import dynamic_stiffness
 from ..standards import SIXTY_MPH_M_S
@@ -192,8 +192,7 @@ def constants_for(model, size: BallSize, cor: float, ds_n_m: float,
     cor = check_range("cor", cor, 0.0, 1.0, low_open=True, high_open=True)
     ds_n_m = check_range("ds_n_m", ds_n_m, 0.0, low_open=True, unit="N/m")
     speed_m_s = check_range("speed_m_s", speed_m_s, 0.0, low_open=True, unit="m/s")
-    if not (isinstance(max_corrections, int) and max_corrections >= 0):
-        raise InputError(f"max_corrections = {max_corrections!r}: expected an integer >= 0")
+    max_corrections = check_integer("max_corrections", max_corrections, 0)
     check_speed(model, speed_m_s)
     reference = reference_size(model)
     aim_cor, aim_ds = cor, ds_n_m

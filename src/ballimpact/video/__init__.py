@@ -6,6 +6,7 @@ video`), and `synthetic` videos with known answers."""
 
 from pathlib import Path
 
+from ..checks import check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path
 from .frames import frame_rate, read_frames
@@ -59,8 +60,8 @@ def measure_video(path, *, fps: float | None = None, scale_m_per_px: float | Non
                              "record's name with .json: test1.csv -> test1.json)")
     if mass_kg is not None:
         check_mass(mass_kg)
-    if fps is not None and not fps > 0:
-        raise InputError(f"--fps = {fps!r}: must be > 0")
+    if fps is not None:
+        check_range("--fps", fps, 0.0, low_open=True, note="frames per second")
     # analyse checks the options before it reads or tracks anything
     m, detections = analyse(path, fps, scale_m_per_px=scale_m_per_px,
                             ball_diameter_m=ball_diameter_m, surface_row=surface_row,

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..checks import check_range
 from ..errors import InputError
 from .track import PROFILE_ANGLES, Detection
 
@@ -107,46 +108,34 @@ def check_options(fps: float | None, *, scale_m_per_px: float | None = None,
     rate that is not a positive number (None: from the file), not exactly one scale, a
     non-finite value, a diameter outside `BALL_DIAMETER_RANGE_M` (in mm, most likely), a
     negative surface row, or a gravity above `MAX_GRAVITY_M_S2`."""
-    if fps is not None and not (_is_number(fps) and math.isfinite(fps) and fps > 0):
-        raise InputError(f"fps (--fps) = {fps}: must be a positive number of frames per second")
+    if fps is not None:
+        check_range("fps (--fps)", fps, 0.0, low_open=True, note="frames per second")
     if (scale_m_per_px is None) == (ball_diameter_m is None):
         raise InputError("give exactly one of scale_m_per_px (--scale-m-per-px) or "
                          "ball_diameter_m (--ball-diameter-m)")
     for name, value in (("scale_m_per_px (--scale-m-per-px)", scale_m_per_px),
                         ("ball_diameter_m (--ball-diameter-m)", ball_diameter_m)):
-        if value is not None and not (_is_number(value) and math.isfinite(value) and value > 0):
-            raise InputError(f"{name} = {value}: must be a finite number > 0")
+        if value is not None:
+            check_range(name, value, 0.0, low_open=True)
     low, high = BALL_DIAMETER_RANGE_M
     if ball_diameter_m is not None and not low <= ball_diameter_m <= high:
         slip = (f"looks like millimetres; use {ball_diameter_m / 1e3:g}"
                 if ball_diameter_m > high else "check the unit (metres)")
         raise InputError(f"ball_diameter_m (--ball-diameter-m) {ball_diameter_m:g} m is outside "
                          f"{low:g}..{high:g} m, the sizes of balls: {slip}")
-    if surface_row is not None and not (_is_number(surface_row) and math.isfinite(surface_row)):
-        raise InputError(f"surface_row (--surface-row) = {surface_row}: must be a finite image "
-                         "row (px)")
-    if surface_row is not None and surface_row < 0:
-        raise InputError(f"surface_row (--surface-row) = {surface_row:g}: allowed 0 to the "
-                         "picture's last row (px; rows count down from 0 at the top)")
-    if not (_is_number(gravity_m_s2) and math.isfinite(gravity_m_s2)):
-        raise InputError(f"gravity_m_s2 (--gravity-m-s2) = {gravity_m_s2}: must be a finite "
-                         "number (9.81, or 0 for straight lines)")
-    if abs(gravity_m_s2) > MAX_GRAVITY_M_S2:
-        raise InputError(f"gravity_m_s2 (--gravity-m-s2) {gravity_m_s2:g} m/s^2 is above "
-                         f"{MAX_GRAVITY_M_S2:g}: give it in m/s^2 (9.81), not mm/s^2 or "
-                         "pixels")
-
-
-def _is_number(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+    if surface_row is not None:
+        check_range("surface_row (--surface-row)", surface_row, 0.0, unit="px",
+                    note="up to the picture's last row; rows count down from 0 at the top")
+    check_range("gravity_m_s2 (--gravity-m-s2)", gravity_m_s2, -MAX_GRAVITY_M_S2,
+                MAX_GRAVITY_M_S2, unit="m/s^2",
+                note="9.81, or 0 for straight lines; in m/s^2, not mm/s^2 or pixels")
 
 
 def check_surface_row(surface_row: float | None, height_px: int) -> None:
     """`InputError` for a surface row outside a picture `height_px` rows high."""
-    if surface_row is not None and not 0 <= surface_row <= height_px - 1:
-        raise InputError(f"surface_row (--surface-row) = {surface_row:g}: allowed 0 to "
-                         f"{height_px - 1} (px), the rows of the picture (rows count down from 0 "
-                         "at the top)")
+    if surface_row is not None:
+        check_range("surface_row (--surface-row)", surface_row, 0.0, height_px - 1, unit="px",
+                    note="the rows of the picture; rows count down from 0 at the top")
 
 
 def check_speeds(summary: dict) -> None:
@@ -297,8 +286,7 @@ def check_mass(mass_kg: float) -> float:
     `balls.checks.BALL_RANGES`, else `InputError` (grams typed as kg named as such)."""
     from ..balls.checks import BALL_RANGES
 
-    if not (math.isfinite(mass_kg) and mass_kg > 0):
-        raise InputError(f"--mass-kg = {mass_kg:g}: must be a finite number > 0 (kg)")
+    check_range("--mass-kg", mass_kg, 0.0, low_open=True, unit="kg")
     low, high, _ = BALL_RANGES["mass"]
     if not low <= mass_kg <= high:
         slip = (f"looks like grams; use {mass_kg / 1e3:g}" if mass_kg > high

@@ -16,6 +16,8 @@ import numpy as np
 from ...errors import InputError, InputWarning
 from ...constitutive.stability import drucker_warnings
 from ..backing import PlaneBacking, backing_energies
+from ..platens import PlatenModel, relaxed_hourglass
+from ..steps import cast
 from ..hex.target import Target, check_target_width
 from ..options import ImpactCondition, SolverOptions
 from ..result import ImpactResult, contact_end_time, energy_histories, target_energies
@@ -218,6 +220,43 @@ class Axisymmetric:
 
     def pole_element_m(self, ball) -> float:
         return self.options.pole_element_size_m or self.options.element_size_m
+
+    def for_compression(self, ball, contact_radius_m: float) -> "Axisymmetric":
+        """The geometry of a platen compression (`fe.compress`): the mesh as set (its default
+        for a deflection is `fe.compression.compression_options`), float64, no bulk viscosity."""
+        return Axisymmetric(dataclasses.replace(self.options, precision="float64",
+                                                bulk_viscosity_linear=0.0,
+                                                bulk_viscosity_quadratic=0.0))
+
+    def platen_element_m(self, ball) -> float:
+        """The element size at the platens (the top one is refined only with both_poles)."""
+        o = self.options
+        return (o.pole_element_size_m or o.element_size_m) if o.both_poles else o.element_size_m
+
+    def compression_model(self, ball, kernel: Kernel, relaxed: bool) -> PlatenModel:
+        """The ball between two platens (`fe.platens.PlatenModel`): radial motion held on the
+        axis; `relaxed`: hourglass springs from the long-term shear moduli."""
+        g = kernel.geom
+        params = cast(ball_arrays(ball, g, self.options), np.float64)
+        if relaxed:
+            params = params._replace(hourglass_n_m=relaxed_hourglass(
+                params.hourglass_n_m, ball.layers, g.layer_slices))
+        nodes = np.asarray(g.nodes_m, np.float64)
+        free = np.ones((2, len(nodes)), bool)
+        free[0, nodes[:, 0] <= 0.0] = False  # no radial motion on the axis
+        ones = np.ones(g.n_elements)
+
+        def internal(params, u, mats, dt):
+            f, new_mats, _, _, _, _, J, lam2_min, lam2_max, _ = kernel.internal(
+                params, u, mats, ones, dt)
+            return f, new_mats, J.min(), lam2_min.min(), lam2_max.max()
+
+        height = nodes[:, 1] - nodes[:, 1].min()
+        surface = np.asarray(g.surface_nodes)
+        return PlatenModel(internal=internal, initial_materials=kernel.initial_materials,
+                           params=params, elements=np.asarray(g.elements), free=free, axis=1,
+                           surface=surface, surface_height_m=height[surface],
+                           penalty_n_m=np.asarray(params.penalty_n_m), height_m=height)
 
     def slack(self, target) -> float:
         """The time limit over the Hertz estimate's: a backing's springs or a soft target may

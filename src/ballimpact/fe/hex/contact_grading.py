@@ -38,23 +38,34 @@ def grading_for_contact(ball, normal_speed_m_s: float, divisions: int,
     largest grading, naming the divisions that would."""
     a = hertz_contact_radius_m(ball, normal_speed_m_s)
     wanted = a / elements
-    low, high = GRADING_RANGE
-    radius = ball.outer_radius_m
-    if pole_spacing_m(radius, divisions, low) <= wanted:
-        return low, a
-    if pole_spacing_m(radius, divisions, high) > wanted:
+    grading = grading_for_spacing(ball.outer_radius_m, divisions, wanted)
+    if grading is None:
+        high = GRADING_RANGE[1]
         needed = divisions
-        while needed < 64 and pole_spacing_m(radius, needed, high) > wanted:
+        while needed < 64 and pole_spacing_m(ball.outer_radius_m, needed, high) > wanted:
             needed += 2
         raise InputError(
             f"contact_elements = {elements:g}: the Hertz contact radius {a * 1e3:.3g} mm needs "
             f"a pole spacing of {wanted * 1e3:.3g} mm; {divisions} divisions reach "
-            f"{pole_spacing_m(radius, divisions, high) * 1e3:.3g} mm at the largest grading "
-            f"{high:g} (use divisions >= {needed} or fewer contact elements)")
+            f"{pole_spacing_m(ball.outer_radius_m, divisions, high) * 1e3:.3g} mm at the largest "
+            f"grading {high:g} (use divisions >= {needed} or fewer contact elements)")
+    return grading, a
+
+
+def grading_for_spacing(outer_radius_m: float, divisions: int, spacing_m: float) -> float | None:
+    """The smallest pole grading in `mesh.GRADING_RANGE` whose pole spacing on a ball of
+    `outer_radius_m` (m) is at most `spacing_m` (m) (1 if the uniform mesh's is); None when the
+    largest grading cannot reach it with `divisions`."""
+    low, high = GRADING_RANGE
+    if pole_spacing_m(outer_radius_m, divisions, low) <= spacing_m:
+        return low
+    if pole_spacing_m(outer_radius_m, divisions, high) > spacing_m:
+        return None
     for _ in range(60):  # bisection: the pole spacing falls as the grading grows
         mid = 0.5 * (low + high)
-        low, high = (mid, high) if pole_spacing_m(radius, divisions, mid) > wanted else (low, mid)
-    return high, a
+        low, high = (mid, high) if pole_spacing_m(outer_radius_m, divisions, mid) > spacing_m \
+            else (low, mid)
+    return high
 
 
 def contact_settings(ball, normal_speed_m_s: float, options):

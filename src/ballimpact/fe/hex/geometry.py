@@ -27,14 +27,17 @@ import numpy as np
 
 from ...errors import InputError
 from ..estimates import hertz_series_impact
-from ..options import ImpactCondition, Options3D
+from ..options import COMPRESSION_PENALTY_SCALE, ImpactCondition, Options3D
+from ..platens import PlatenModel, relaxed_hourglass
+from ..steps import cast
 from ..result import ImpactResult, contact_end_time, energy_histories, target_energies
 from ..stable_increment import increment_factor
 from . import kernel as kernel_module
-from .contact_grading import contact_settings, without_contact
+from .contact_grading import contact_settings, grading_for_spacing, without_contact
 from .element import geometry as element_geometry
 from .kernel import HISTORY, HexParams, Kernel
 from .mesh import (
+    GRADING_RANGE,
     HexMesh,
     ball_mesh,
     combine,
@@ -322,6 +325,14 @@ def _frame(kernel: Kernel, params, state) -> dict[str, np.ndarray]:
             "contact_force_n": np.asarray(state.f_contact, np.float64)}
 
 
+#: elements across the platens' Hertz contact radius that `Hexahedral.for_compression` grades the
+#: poles to (the 3D impacts' `contact_grading.DEFAULT_CONTACT_ELEMENTS`): on an elastic sphere
+#: (nu 0.3, D / 2R = 2%) 12 divisions read 1.9% over the axisymmetric reference and 16 divisions
+#: 1.2% under it; 5 elements read further off at 12 divisions (+3.3%: the steeper grading's
+#: cells grow by 1.62 a cell against 1.41) and cost more (docs/materials.md)
+COMPRESSION_CONTACT_ELEMENTS = 3.0
+
+
 @dataclass(frozen=True)
 class Hexahedral:
     """The hexahedral geometry with its settings (`options`: mesh, friction's stick springs,
@@ -410,6 +421,58 @@ class Hexahedral:
     def pole_element_m(self, ball) -> float:
         return pole_spacing_m(ball.outer_radius_m, self.settings.divisions,
                               self.settings.pole_grading)
+
+    def for_compression(self, ball, contact_radius_m: float) -> "Hexahedral":
+        """The geometry of a platen compression (`fe.compress`), the ball's poles at both
+        platens (the O-grid is graded toward every face centre alike): a pole grading left None
+        puts `COMPRESSION_CONTACT_ELEMENTS` (or the options' `contact_elements`) elements across
+        the platens' contact radius `contact_radius_m` (m; the largest grading where the
+        divisions cannot), a penalty left None is `options.COMPRESSION_PENALTY_SCALE`, the half
+        model unless `half` is False; float64, no bulk viscosity."""
+        o = self.options
+        grading = o.pole_grading
+        if grading is None or o.contact_elements is not None:
+            elements = o.contact_elements or COMPRESSION_CONTACT_ELEMENTS
+            grading = grading_for_spacing(ball.outer_radius_m, o.divisions,
+                                          contact_radius_m / elements) or GRADING_RANGE[1]
+        options = replace(o, pole_grading=grading, contact_elements=None,
+                          penalty_scale=(COMPRESSION_PENALTY_SCALE if o.penalty_scale is None
+                                         else o.penalty_scale),
+                          precision="float64", bulk_viscosity_linear=0.0,
+                          bulk_viscosity_quadratic=0.0)
+        return Hexahedral(options, half=o.half is not False)
+
+    def platen_element_m(self, ball) -> float:
+        return self.pole_element_m(ball)
+
+    def compression_model(self, ball, kernel: Kernel, relaxed: bool) -> PlatenModel:
+        """The ball between two platens (`fe.platens.PlatenModel`): the mirror planes x = 0 and
+        y = 0 of the problem hold u_x and u_y (a half model's y = 0 already does), which also
+        removes the rigid motions the frictionless platens leave free; `relaxed`: hourglass
+        springs from the long-term shear moduli. Forces of a half model are doubled."""
+        g = kernel.geom
+        params = cast(model_arrays(ball, None, kernel, self.settings, ImpactCondition(1.0)),
+                      np.float64)
+        if relaxed:
+            params = params._replace(hourglass_n_m=relaxed_hourglass(
+                params.hourglass_n_m, ball.layers, g.group_slices))
+        nodes = np.asarray(g.nodes_m, np.float64)
+        free = np.asarray(kernel.free_dof) > 0
+        for axis in (0, 1):
+            free[axis, np.abs(nodes[:, axis]) <= 1e-9 * ball.outer_radius_m] = False
+        ones = np.ones(g.n_elements)
+
+        def internal(params, u, mats, dt):
+            f, new_mats, J, _, _, _, lam_lo, lam_hi, _ = kernel.internal(params, u, mats,
+                                                                          ones, dt)
+            return f, new_mats, J.min(), lam_lo.min(), lam_hi.max()
+
+        surface = np.asarray(kernel.contact_nodes)
+        return PlatenModel(internal=internal, initial_materials=kernel.initial_materials,
+                           params=params, elements=np.asarray(g.elements), free=free, axis=2,
+                           surface=surface, surface_height_m=nodes[surface, 2],
+                           penalty_n_m=np.asarray(params.penalty_n_m), height_m=nodes[:, 2],
+                           force_factor=2.0 if kernel.half else 1.0)
 
     def slack(self, target) -> float:
         return 1.0 if target is None else 4.0  # a slab lengthens the contact

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...errors import InputError
-from ...checks import shown
+from ...checks import check_integer, check_range
 
 #: corner signs of the reference hexahedron, VTK order (bottom face, then top face)
 HEX_CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -186,19 +186,15 @@ def ball_mesh(layer_radii_m, divisions: int = 16, pole_grading: float = 2.0,
     arc; even), angular spacing graded toward the poles by `pole_grading` (>= 1), shells of
     `surface_thickness_m` at the surface (default: the smallest arc spacing there)."""
     radii = np.asarray(layer_radii_m, dtype=float)
-    if not (isinstance(divisions, int) and divisions >= 4 and divisions % 2 == 0):
-        raise InputError(f"divisions = {shown(divisions)}: must be an even integer >= 4")
-    low, high = GRADING_RANGE
-    if not (math.isfinite(pole_grading) and low <= pole_grading <= high):
-        raise InputError(f"pole_grading = {shown(pole_grading)}: allowed range [{low:g}, {high:g}]")
+    divisions = check_integer("divisions", divisions, 4, even=True)
+    check_range("pole_grading", pole_grading, *GRADING_RANGE)
     outer = radii[-1]
     g = _graded_angles(divisions, pole_grading)
     t = np.tan(g)
     if surface_thickness_m is None:
         surface_thickness_m = pole_spacing_m(outer, divisions, pole_grading)
-    if not (0 < surface_thickness_m < 0.5 * outer):
-        raise InputError(f"surface_thickness_m = {shown(surface_thickness_m)}: allowed range "
-                         f"(0, {0.5 * outer:g})")
+    check_range("surface_thickness_m", surface_thickness_m, 0.0, 0.5 * outer, low_open=True,
+                high_open=True)
     r_blend = min(BLEND_OF_INNERMOST * radii[0], BLEND_OF_OUTER * outer)
     a = CUBE_FRACTION * r_blend
     spheres = _radial_levels(radii, r_blend, surface_thickness_m, np.max(np.diff(g)))
