@@ -317,6 +317,9 @@ def test_cli_3d(tmp_path, capsys):
     (["--deflection-m", "0.002", "--solver", "3d", "--element-size-m", "0.002"],
      ["--element-size-m", "--divisions"]),
     (["--deflection-m", "0.002", "--solver", "3d", "--divisions", "5"], ["divisions = 5"]),
+    (["--deflection-m", "0.002", "--solver", "3d", "--pole-grading", "100"],
+     ["pole_grading = 100", "allowed range [1, 40]"]),
+    (["--deflection-m", "0.002", "--full-model"], ["--full-model", "--solver 3d"]),
 ])
 def test_bad_input(bad_input, argv, fragments):
     bad_input(["compress", "--ball", "cricket-3layer", *argv], *fragments)

@@ -46,9 +46,8 @@ class PlatenModel:
     free: np.ndarray             # bool (dim, n_nodes): the degrees of freedom that move
     axis: int                    # the component normal to the platens
     surface: np.ndarray          # surface node ids (the platens' contact nodes)
-    surface_height_m: np.ndarray  # their heights above the lower platen (south pole at 0)
     penalty_n_m: np.ndarray      # their platen springs (N/m)
-    height_m: np.ndarray         # every node's height above the lower platen
+    height_m: np.ndarray         # every node's height above the lower platen (south pole at 0)
     force_factor: float = 1.0    # model forces -> the ball's (2 for a half model)
 
     @property
@@ -58,6 +57,10 @@ class PlatenModel:
     @property
     def n_nodes(self) -> int:
         return self.free.shape[1]
+
+    @property
+    def surface_height_m(self) -> np.ndarray:
+        return self.height_m[self.surface]
 
 
 def relaxed_hourglass(hourglass_n_m: np.ndarray, layers, slices) -> np.ndarray:
@@ -213,10 +216,11 @@ class PlatenSolver:
         return history_u[-1] + (d_new - d1) / (d1 - d0) * (history_u[-1] - history_u[-2])
 
     def _residual(self, u, mats, dt, deflection):
+        """(free residual, smallest J, the platens' contact (`contact`)) at u."""
         f, _, min_j, _, _ = self.fns["forces"](self.params, jnp.asarray(u), mats, dt)
-        contact, _, f_top, _ = self.contact(u, deflection)
-        r = (np.asarray(f) - contact).reshape(-1)[self.pattern.free]
-        return r, float(min_j), f_top
+        contact = self.contact(u, deflection)
+        r = (np.asarray(f) - contact[0]).reshape(-1)[self.pattern.free]
+        return r, float(min_j), contact
 
     def _tangent(self, u, mats, dt):
         """The sparse tangent d f_int / du (CSR, all degrees of freedom)."""
@@ -236,15 +240,14 @@ class PlatenSolver:
         import scipy.sparse as sp
 
         free = self.pattern.free
+        r, _, contact = self._residual(u, mats, dt, deflection)
         for iteration in range(1, MAX_NEWTON_ITERATIONS + 1):
-            r, _, f_top = self._residual(u, mats, dt, deflection)
+            _, stiffness, f_top, f_bottom = contact
             if not np.all(np.isfinite(r)):
                 return None
             if float(np.max(np.abs(r))) <= max(RESIDUAL_RELATIVE * f_top,
                                                 RESIDUAL_ABSOLUTE * self.force_scale):
-                _, _, f_top, f_bottom = self.contact(u, deflection)
                 return u, iteration - 1, f_top, f_bottom
-            _, stiffness, _, _ = self.contact(u, deflection)
             K = (self._tangent(u, mats, dt) + sp.diags(stiffness.reshape(-1))).tocsr()
             step = solve_symmetric(K[free][:, free].tocsc(), -r)
             if not np.all(np.isfinite(step)):
@@ -255,14 +258,14 @@ class PlatenSolver:
                 trial = u.copy().reshape(-1)
                 trial[free] += alpha * step
                 trial = trial.reshape(u.shape)
-                r_new, min_j, _ = self._residual(trial, mats, dt, deflection)
+                r_new, min_j, contact = self._residual(trial, mats, dt, deflection)
                 if (min_j > 0 and np.all(np.isfinite(r_new))
                         and float(np.dot(r_new, r_new)) < (1.0 - 1e-4 * alpha) * merit):
                     break
                 alpha *= 0.5
             else:
                 return None
-            u = trial
+            u, r = trial, r_new  # the accepted point's residual and contact are the next's
         return None
 
     def commit(self, u: np.ndarray, mats, dt: float):

@@ -255,7 +255,7 @@ class Axisymmetric:
         surface = np.asarray(g.surface_nodes)
         return PlatenModel(internal=internal, initial_materials=kernel.initial_materials,
                            params=params, elements=np.asarray(g.elements), free=free, axis=1,
-                           surface=surface, surface_height_m=height[surface],
+                           surface=surface,
                            penalty_n_m=np.asarray(params.penalty_n_m), height_m=height)
 
     def slack(self, target) -> float:

@@ -470,7 +470,7 @@ class Hexahedral:
         surface = np.asarray(kernel.contact_nodes)
         return PlatenModel(internal=internal, initial_materials=kernel.initial_materials,
                            params=params, elements=np.asarray(g.elements), free=free, axis=2,
-                           surface=surface, surface_height_m=nodes[surface, 2],
+                           surface=surface,
                            penalty_n_m=np.asarray(params.penalty_n_m), height_m=nodes[:, 2],
                            force_factor=2.0 if kernel.half else 1.0)
 
