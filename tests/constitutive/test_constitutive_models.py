@@ -10,6 +10,7 @@ from scipy.optimize import brentq
 
 from ballimpact.errors import InputError
 from ballimpact.constitutive import (
+    MaterialConstants,
     MooneyRivlin,
     OgdenHyperfoam,
     Sym,
@@ -35,7 +36,7 @@ def _diagonal(stretches):
 def _stress(material, stretches):
     """(S_relaxing, S_volumetric) as arrays (S_xx, S_yy, S_zz, S_xy) at principal stretches."""
     with jax.enable_x64(True):
-        consts = {k: jnp.asarray(v) for k, v in material.constants().items()}
+        consts = jax.tree_util.tree_map(jnp.asarray, material.hyperelastic_constants())
         s_dev, s_vol = stress_parts(material.energy, _diagonal(stretches), consts)
         return np.array(s_dev, dtype=float), np.array(s_vol, dtype=float)
 
@@ -58,7 +59,7 @@ def _mooney_rivlin_nominal(c10, c01, k, l1, l2):
 @pytest.mark.parametrize("d1", [0.0, 1e-8])
 def test_mooney_rivlin_uniaxial_stress_matches_closed_form(d1):
     mat = MooneyRivlin(c10_pa=4.72e6, c01_pa=-0.45e6, d1_per_pa=d1)
-    k = mat.hyperelastic_constants()["k_pa"]
+    k = mat.hyperelastic_constants().k_pa
     for l1 in STRETCHES:
         # lateral stretch of uniaxial stress from the closed form, then compare both stresses
         l2 = brentq(lambda x, l1=l1: _mooney_rivlin_nominal(4.72e6, -0.45e6, k, l1, x)[1], 0.3, 3.0,
@@ -74,7 +75,7 @@ def test_mooney_rivlin_incompressible_limit():
     """With a very stiff bulk, the uniaxial nominal stress tends to 2 (l - l^-2)(C10 + C01 / l)."""
     c10, c01 = 4.5e6, -0.5e6
     mat = MooneyRivlin(c10_pa=c10, c01_pa=c01, d1_per_pa=2.0 / (1e7 * 2 * (c10 + c01)))
-    k = mat.hyperelastic_constants()["k_pa"]
+    k = mat.hyperelastic_constants().k_pa
     for l1 in STRETCHES:
         l2 = brentq(lambda x, l1=l1: _mooney_rivlin_nominal(c10, c01, k, l1, x)[1], 0.3, 3.0, xtol=1e-15)
         got = _principal_stress(mat, [l1, l2, l2])[0]
@@ -116,7 +117,7 @@ def test_hyperfoam_tangent_is_finite_at_equal_stretches():
     mat = OgdenHyperfoam(terms=material_from_dict(
         {"model": "ogden_hyperfoam", "terms": [{"mu_pa": 70.3e6, "alpha": 4.0, "nu": 0.0}]}).terms)
     with jax.enable_x64(True):
-        consts = {k: jnp.asarray(v) for k, v in mat.constants().items()}
+        consts = jax.tree_util.tree_map(jnp.asarray, mat.hyperelastic_constants())
 
         def stress(c):
             return jnp.stack(stress_parts(mat.energy, Sym(*c), consts)[0])
@@ -139,10 +140,10 @@ def test_relaxation_after_step_stretch_follows_g_r(model):
     prony = [{"g": 0.41, "k": 0.0, "tau_s": 7e-5}, {"g": 0.2, "k": 0.0, "tau_s": 1e-3}]
     mat = material_from_dict({**model, "prony": prony})
     with jax.enable_x64(True):
-        consts = {k: jnp.asarray(v) for k, v in mat.constants().items()}
+        consts = jax.tree_util.tree_map(jnp.asarray, mat.hyperelastic_constants())
         s_dev = jnp.stack(stress_parts(mat.energy, _diagonal([0.7, 1.1, 1.2]), consts)[0])
         zero = jnp.zeros_like(s_dev)
-        g, tau = consts["prony_g"], consts["prony_tau_s"]
+        g, tau = mat.constants().prony_g, mat.constants().prony_tau_s
         q = prony_update(jnp.zeros((2, 4)), zero, s_dev, g, tau, 1e-12)  # the step
         t, times, relaxing = 1e-12, [], []
         for dt in np.full(60, 5e-5):
@@ -222,3 +223,37 @@ def test_material_errors_carry_the_key_path():
     with pytest.raises(InputError, match=r"ball.layers\[1\].material: .*c10_pa \+ c01_pa"):
         material_from_dict({"model": "mooney_rivlin", "c10_pa": 1e6, "c01_pa": -2e6},
                            where="ball.layers[1].material")
+
+
+@pytest.mark.parametrize("spec", [
+    {"model": "linear_elastic", "youngs_modulus_pa": 1e8, "poissons_ratio": 0.4},
+    {"model": "neo_hookean", "c10_pa": 2e6},
+    {"model": "mooney_rivlin", "c10_pa": 4.72e6, "c01_pa": -0.45e6},
+    {"model": "yeoh", "c10_pa": 3e6, "c20_pa": -1e5, "c30_pa": 1e4},
+    {"model": "ogden", "terms": [{"mu_pa": 4e6, "alpha": 2.0}, {"mu_pa": 2e6, "alpha": -1.5}]},
+    {"model": "ogden_hyperfoam", "terms": [{"mu_pa": 2e6, "alpha": 8.0, "nu": 0.1}]},
+])
+def test_constants_are_typed_and_travel_in_kept_programs(spec):
+    """Every model's constants are a `MaterialConstants` whose `hyperelastic` is the model's own
+    NamedTuple, fields in alphabetical order (they flatten as the dicts they replaced did), and
+    they pass through a serialized `jax.export` program (the FE programs kept on disk)."""
+    material = material_from_dict({**spec, "prony": [{"g": 0.3, "k": 0.0, "tau_s": 1e-4}]})
+    constants = material.constants()
+    assert isinstance(constants, MaterialConstants)
+    assert isinstance(constants.hyperelastic, type(material).Constants)
+    for typed in (constants, constants.hyperelastic):
+        assert list(typed._fields) == sorted(typed._fields)
+    flat = constants.flat()
+    assert set(flat) == set(constants.hyperelastic._fields) | set(constants._fields) - {
+        "hyperelastic"}
+    assert flat["shear_modulus_pa"] == pytest.approx(material.shear_modulus_pa(), rel=1e-15)
+
+    def stress(c, components):
+        s_dev, s_vol = stress_parts(type(material).energy, Sym(*components), c.hyperelastic)
+        return jnp.stack(s_dev) + jnp.stack(s_vol)
+
+    with jax.enable_x64(True):
+        components = tuple(_diagonal([0.8, 1.1, 1.2]))[:4]  # yz, zx left out: the 2D path
+        args = (jax.tree_util.tree_map(jnp.asarray, constants), components)
+        kept = jax.export.deserialize(jax.export.export(jax.jit(stress))(*args).serialize())
+        assert np.array_equal(np.asarray(kept.call(*args)), np.asarray(jax.jit(stress)(*args)))

@@ -22,7 +22,7 @@ STRETCHES = [0.45, 0.7, 0.93, 1.08, 1.5, 2.4, 3.2]
 
 
 def _constants(material):
-    return {k: jnp.asarray(v) for k, v in material.constants().items()}
+    return jax.tree_util.tree_map(jnp.asarray, material.hyperelastic_constants())
 
 
 def _deviatoric_stress(material, stretches):

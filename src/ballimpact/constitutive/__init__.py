@@ -6,7 +6,8 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from .base import MODULI, Material, PronyTerm, Sym, energy_and_stress, stress_parts
+from .base import (MODULI, Material, MaterialConstants, PronyTerm, Sym, energy_and_stress,
+                   stress_parts)
 from .linear_elastic import LinearElastic
 from .mooney_rivlin import MooneyRivlin
 from .neo_hookean import NeoHookean
@@ -29,7 +30,8 @@ def material_from_dict(d: dict, where: str = "material") -> Material:
     return MATERIALS[model].from_dict(d, where)
 
 
-__all__ = ["MATERIALS", "MODULI", "HyperfoamTerm", "LinearElastic", "Material", "MooneyRivlin",
+__all__ = ["MATERIALS", "MODULI", "HyperfoamTerm", "LinearElastic", "Material", "MaterialConstants",
+           "MooneyRivlin",
            "NeoHookean", "Ogden", "OgdenHyperfoam", "OgdenTerm", "PronyTerm", "Sym", "Yeoh",
            "energy_and_stress", "material_from_dict", "prony_update", "relaxation_function",
            "stress_parts"]

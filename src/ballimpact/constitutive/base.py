@@ -22,6 +22,8 @@ from ..errors import InputError
 from .fastmath import cube_root
 
 MODULI = ("long_term", "instantaneous")
+#: an array of constants: NumPy (float64, built on the host) or JAX (in a kernel's precision)
+Array = jax.Array | np.ndarray
 INCOMPRESSIBLE_BULK_TO_SHEAR = 20.0  # D1 = 0: K0 = 20 mu0 (instantaneous), as ABAQUS/Explicit (nu 0.475)
 
 
@@ -52,6 +54,35 @@ def _prony_from(d: dict, where: str) -> tuple[PronyTerm, ...]:
     return tuple(out)
 
 
+def register_constants(cls: type) -> type:
+    """Register a model's typed constants (a NamedTuple with its fields in alphabetical order,
+    as the dict it replaced flattened) with `jax.export`: the FE programs kept on disk
+    (`fe.programs`) serialize their arguments' structure."""
+    jax.export.register_namedtuple_serialization(cls, serialized_name=f"ballimpact.{cls.__name__}")
+    return cls
+
+
+@register_constants
+class MaterialConstants(NamedTuple):
+    """What the FE kernels need of one material (SI, instantaneous moduli): the constants of its
+    energy (`hyperelastic`, the model's own `Material.Constants`), its Prony terms (`prony_g`,
+    `prony_k`, `prony_tau_s` in s; one entry per term) and its initial shear and bulk moduli
+    (Pa; the energy held in the Maxwell branches is measured against them). A pytree that
+    stacks for vmap (balls of one model)."""
+
+    bulk_modulus_pa: Array
+    hyperelastic: NamedTuple
+    prony_g: Array
+    prony_k: Array
+    prony_tau_s: Array
+    shear_modulus_pa: Array
+
+    def flat(self) -> dict[str, Array]:
+        """Every constant by name (the energy's first), as written to result files."""
+        out = dict(self._asdict())
+        return {**out.pop("hyperelastic")._asdict(), **out}
+
+
 @dataclass(frozen=True)
 class Material(ABC):
     """A hyperelastic material with optional Prony viscoelasticity (constants in SI)."""
@@ -61,6 +92,8 @@ class Material(ABC):
 
     model: ClassVar[str]
     keys: ClassVar[tuple[str, ...]]  # the model's own keys in the ball specification
+    #: the typed constants of `energy` (a NamedTuple registered with `register_constants`)
+    Constants: ClassVar[type]
     # Hyperfoam has no deviatoric/volumetric split: its whole stress relaxes with g_i.
     relax_whole_stress: ClassVar[bool] = False
 
@@ -98,8 +131,9 @@ class Material(ABC):
         """Initial shear and bulk moduli (Pa) of the constants as given."""
 
     @abstractmethod
-    def hyperelastic_constants(self) -> dict[str, Any]:
-        """Instantaneous constants of `energy` (SI; arrays for multi-term models)."""
+    def hyperelastic_constants(self) -> NamedTuple:
+        """Instantaneous constants of `energy` (SI; arrays for multi-term models), as the
+        model's `Constants`."""
 
     def shear_modulus_pa(self, instantaneous: bool = True) -> float:
         mu, _ = self.given_moduli_pa()
@@ -115,25 +149,26 @@ class Material(ABC):
         """Instantaneous dilatational (P-wave) modulus K + 4/3 mu, for the stable increment."""
         return self.bulk_modulus_pa() + 4.0 / 3.0 * self.shear_modulus_pa()
 
-    def constants(self) -> dict[str, Any]:
+    def constants(self) -> MaterialConstants:
         """Everything the solver needs, as float64 arrays: a pytree that can be stacked for vmap."""
         n = len(self.prony)
         g = np.array([t.g for t in self.prony], dtype=np.float64).reshape(n)
-        k = np.array([t.k for t in self.prony], dtype=np.float64).reshape(n)
-        if self.relax_whole_stress:
-            k = np.zeros(n)
-        out = {name: np.asarray(v, dtype=np.float64)
-               for name, v in self.hyperelastic_constants().items()}
-        out.update(prony_g=g, prony_k=k,
-                   prony_tau_s=np.array([t.tau_s for t in self.prony], dtype=np.float64).reshape(n),
-                   shear_modulus_pa=np.float64(self.shear_modulus_pa()),
-                   bulk_modulus_pa=np.float64(self.bulk_modulus_pa()))
-        return out
+        k = np.zeros(n) if self.relax_whole_stress else np.array(
+            [t.k for t in self.prony], dtype=np.float64).reshape(n)
+        hyperelastic = self.hyperelastic_constants()
+        return MaterialConstants(
+            bulk_modulus_pa=np.float64(self.bulk_modulus_pa()),
+            hyperelastic=type(hyperelastic)(*(np.asarray(v, dtype=np.float64)
+                                              for v in hyperelastic)),
+            prony_g=g, prony_k=k,
+            prony_tau_s=np.array([t.tau_s for t in self.prony], dtype=np.float64).reshape(n),
+            shear_modulus_pa=np.float64(self.shear_modulus_pa()))
 
     # ---- energy (pure, jnp) ----------------------------------------------------------------
-    energy: ClassVar[Callable[[jax.Array, dict], tuple[jax.Array, jax.Array]]]
-    """energy(C: Sym, constants) -> (W_relaxing, W_volumetric) per unit reference volume (J/m^3),
-    at the instantaneous constants, for right Cauchy-Green tensors given by components."""
+    energy: ClassVar[Callable[[jax.Array, NamedTuple], tuple[jax.Array, jax.Array]]]
+    """energy(C: Sym, constants: Constants) -> (W_relaxing, W_volumetric) per unit reference
+    volume (J/m^3), at the instantaneous constants, for right Cauchy-Green tensors given by
+    components."""
 
     # ---- specification ---------------------------------------------------------------------
     @classmethod
@@ -198,7 +233,7 @@ class Sym(NamedTuple):
                 + 2.0 * (self.xy * other.xy + self.yz * other.yz + self.zx * other.zx))
 
 
-def energy_and_stress(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
+def energy_and_stress(energy, C: Sym, constants: NamedTuple) -> tuple[tuple, tuple]:
     """Energy parts (J/m^3) and second Piola-Kirchhoff stress parts S = 2 dW/dC, as
     ((W_relaxing, S_relaxing), (W_volumetric, S_volumetric)). For C with zero yz and zx
     components (floats: axisymmetric and material-point states) S = (S_xx, S_yy, S_zz, S_xy);
@@ -220,7 +255,7 @@ def energy_and_stress(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
     return part_with_energy(0), part_with_energy(1)
 
 
-def stress_parts(energy, C: Sym, constants: dict) -> tuple[tuple, tuple]:
+def stress_parts(energy, C: Sym, constants: NamedTuple) -> tuple[tuple, tuple]:
     """(S_relaxing, S_volumetric), each (S_xx, S_yy, S_zz, S_xy); see `energy_and_stress`."""
     (_, s_dev), (_, s_vol) = energy_and_stress(energy, C, constants)
     return s_dev, s_vol

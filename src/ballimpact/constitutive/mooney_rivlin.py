@@ -8,10 +8,19 @@ ABAQUS/Explicit does. A negative C01 is allowed (the thesis' sets have one); che
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import NamedTuple
 
 from ..checks import check_range, spec_number
-from .base import Material, bulk_from_d1, isochoric_invariants
+from .base import Array, Material, bulk_from_d1, register_constants, isochoric_invariants
+
+
+@register_constants
+class MooneyRivlinConstants(NamedTuple):
+    """Instantaneous constants of the Mooney-Rivlin energy (Pa)."""
+
+    c01_pa: Array
+    c10_pa: Array
+    k_pa: Array
 
 
 @dataclass(frozen=True)
@@ -22,6 +31,7 @@ class MooneyRivlin(Material):
 
     model = "mooney_rivlin"
     keys = ("c10_pa", "c01_pa", "d1_per_pa")
+    Constants = MooneyRivlinConstants
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -33,15 +43,15 @@ class MooneyRivlin(Material):
         mu0 = 2.0 * (self.c10_pa + self.c01_pa)
         return mu0, bulk_from_d1(self, self.d1_per_pa, mu0)
 
-    def hyperelastic_constants(self) -> dict[str, Any]:
+    def hyperelastic_constants(self) -> MooneyRivlinConstants:
         f = self.deviatoric_factor()
-        return {"c10_pa": self.c10_pa * f, "c01_pa": self.c01_pa * f,
-                "k_pa": self.given_moduli_pa()[1] * self.volumetric_factor()}
+        return MooneyRivlinConstants(c01_pa=self.c01_pa * f, c10_pa=self.c10_pa * f,
+                                     k_pa=self.given_moduli_pa()[1] * self.volumetric_factor())
 
     @staticmethod
     def energy(C, c):
         i1, i2, J = isochoric_invariants(C)
-        return c["c10_pa"] * (i1 - 3.0) + c["c01_pa"] * (i2 - 3.0), 0.5 * c["k_pa"] * (J - 1.0) ** 2
+        return c.c10_pa * (i1 - 3.0) + c.c01_pa * (i2 - 3.0), 0.5 * c.k_pa * (J - 1.0) ** 2
 
     @classmethod
     def _from_keys(cls, d, where, **common):

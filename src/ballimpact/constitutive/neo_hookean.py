@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import NamedTuple
 
 from ..checks import spec_number
-from .base import Material, bulk_from_d1, isochoric_invariants
+from .base import Array, Material, bulk_from_d1, register_constants, isochoric_invariants
+
+
+@register_constants
+class NeoHookeanConstants(NamedTuple):
+    """Instantaneous constants of the neo-Hookean energy (Pa)."""
+
+    c10_pa: Array
+    k_pa: Array
 
 
 @dataclass(frozen=True)
@@ -16,19 +24,20 @@ class NeoHookean(Material):
 
     model = "neo_hookean"
     keys = ("c10_pa", "d1_per_pa")
+    Constants = NeoHookeanConstants
 
     def given_moduli_pa(self) -> tuple[float, float]:
         mu0 = 2.0 * self.c10_pa
         return mu0, bulk_from_d1(self, self.d1_per_pa, mu0)
 
-    def hyperelastic_constants(self) -> dict[str, Any]:
-        return {"c10_pa": self.c10_pa * self.deviatoric_factor(),
-                "k_pa": self.given_moduli_pa()[1] * self.volumetric_factor()}
+    def hyperelastic_constants(self) -> NeoHookeanConstants:
+        return NeoHookeanConstants(c10_pa=self.c10_pa * self.deviatoric_factor(),
+                                   k_pa=self.given_moduli_pa()[1] * self.volumetric_factor())
 
     @staticmethod
     def energy(C, c):
         i1, _, J = isochoric_invariants(C)
-        return c["c10_pa"] * (i1 - 3.0), 0.5 * c["k_pa"] * (J - 1.0) ** 2
+        return c.c10_pa * (i1 - 3.0), 0.5 * c.k_pa * (J - 1.0) ** 2
 
     @classmethod
     def _from_keys(cls, d, where, **common):

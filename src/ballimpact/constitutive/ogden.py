@@ -18,7 +18,7 @@ so the stress is finite at the undeformed state in both.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError
 from .fastmath import cube_root
 from ..checks import check_keys, check_range, spec_number
-from .base import Material, Sym, bulk_from_d1
+from .base import Array, Material, Sym, bulk_from_d1, register_constants
 from .ogden_hyperfoam import principal_power_sum
 
 MAX_TERMS = 6  # as ABAQUS's N
@@ -38,6 +38,16 @@ class OgdenTerm:
     alpha: float
 
 
+@register_constants
+class OgdenConstants(NamedTuple):
+    """Instantaneous constants of the Ogden energy: the terms' exponents `alpha` and moduli
+    `mu_pa` (Pa), one entry per term, and the bulk modulus `k_pa` (Pa)."""
+
+    alpha: Array
+    k_pa: Array
+    mu_pa: Array
+
+
 @dataclass(frozen=True)
 class Ogden(Material):
     terms: tuple[OgdenTerm, ...]
@@ -45,6 +55,7 @@ class Ogden(Material):
 
     model = "ogden"
     keys = ("terms", "d1_per_pa")
+    Constants = OgdenConstants
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -62,11 +73,11 @@ class Ogden(Material):
         mu0 = sum(t.mu_pa for t in self.terms)
         return mu0, bulk_from_d1(self, self.d1_per_pa, mu0)
 
-    def hyperelastic_constants(self) -> dict[str, Any]:
+    def hyperelastic_constants(self) -> OgdenConstants:
         f = self.deviatoric_factor()
-        return {"mu_pa": np.array([t.mu_pa * f for t in self.terms]),
-                "alpha": np.array([t.alpha for t in self.terms]),
-                "k_pa": self.given_moduli_pa()[1] * self.volumetric_factor()}
+        return OgdenConstants(alpha=np.array([t.alpha for t in self.terms]),
+                              k_pa=self.given_moduli_pa()[1] * self.volumetric_factor(),
+                              mu_pa=np.array([t.mu_pa * f for t in self.terms]))
 
     @staticmethod
     def energy(C, c):
@@ -74,12 +85,12 @@ class Ogden(Material):
         scale = 1.0 / cube_root(det)  # J^(-2/3)
         # Cbar keeps the float zeros of an axisymmetric C (so the direct path is taken)
         cbar = Sym(*(v if isinstance(v, float) else scale * v for v in C))
-        mu, alpha = c["mu_pa"], c["alpha"]
+        mu, alpha = c.mu_pa, c.alpha
         w = 0.0
         for i in range(alpha.shape[0]):  # terms (a static count)
             a = alpha[i]
             w = w + 2.0 * mu[i] / a ** 2 * (principal_power_sum(cbar, a / 2.0) - 3.0)
-        return w, 0.5 * c["k_pa"] * (jnp.sqrt(det) - 1.0) ** 2
+        return w, 0.5 * c.k_pa * (jnp.sqrt(det) - 1.0) ** 2
 
     @classmethod
     def _from_keys(cls, d, where, **common):

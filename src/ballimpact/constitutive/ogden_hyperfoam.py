@@ -16,7 +16,7 @@ differentiating an eigendecomposition is singular).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from .fastmath import power
 from ..checks import check_keys, check_range, spec_number
-from .base import Material
+from .base import Array, Material, register_constants
 from .spectral import trace_power
 
 _SERIES_BELOW = 1e-3  # (gap / mean)^2 below which the 4-term series is exact to ~1e-12
@@ -61,12 +61,23 @@ def principal_power_sum(C, p):
     return _pair_power_sum(m, d2, p) + power(C.zz, p)
 
 
+@register_constants
+class OgdenHyperfoamConstants(NamedTuple):
+    """Instantaneous constants of the hyperfoam energy, one entry per term: exponents `alpha`,
+    compressibility `beta` and moduli `mu_pa` (Pa)."""
+
+    alpha: Array
+    beta: Array
+    mu_pa: Array
+
+
 @dataclass(frozen=True)
 class OgdenHyperfoam(Material):
     terms: tuple[HyperfoamTerm, ...]
 
     model = "ogden_hyperfoam"
     keys = ("terms",)
+    Constants = OgdenHyperfoamConstants
     relax_whole_stress = True
 
     def __post_init__(self) -> None:
@@ -80,17 +91,17 @@ class OgdenHyperfoam(Material):
         mu0 = sum(t.mu_pa for t in self.terms)
         return mu0, sum(2.0 * t.mu_pa * (1.0 / 3.0 + t.beta) for t in self.terms)
 
-    def hyperelastic_constants(self) -> dict[str, Any]:
+    def hyperelastic_constants(self) -> OgdenHyperfoamConstants:
         f = self.deviatoric_factor()
-        return {"mu_pa": np.array([t.mu_pa * f for t in self.terms]),
-                "alpha": np.array([t.alpha for t in self.terms]),
-                "beta": np.array([t.beta for t in self.terms])}
+        return OgdenHyperfoamConstants(alpha=np.array([t.alpha for t in self.terms]),
+                                       beta=np.array([t.beta for t in self.terms]),
+                                       mu_pa=np.array([t.mu_pa * f for t in self.terms]))
 
     @staticmethod
     def energy(C, c):
         J = jnp.sqrt(C.det())
         log_j = jnp.log(J)
-        mu, alpha, beta = c["mu_pa"], c["alpha"], c["beta"]
+        mu, alpha, beta = c.mu_pa, c.alpha, c.beta
         w = 0.0
         for i in range(alpha.shape[0]):  # terms (a static count)
             a, b = alpha[i], beta[i]

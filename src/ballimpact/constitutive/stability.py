@@ -50,7 +50,7 @@ not checked (`checked` is False).
 from __future__ import annotations
 
 import functools
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import jax
 import jax.numpy as jnp
@@ -218,13 +218,11 @@ def _check_mode(mode: Any) -> None:
 _MODULUS_KEYS = ("c10_pa", "c01_pa", "c20_pa", "c30_pa", "mu_pa")
 
 
-def _long_term_energy_constants(material: Material) -> dict[str, np.ndarray]:
+def _long_term_energy_constants(material: Material) -> NamedTuple:
     """The constants `energy` takes, with the moduli long-term (instantaneous x (1 - sum g))."""
-    out = dict(material.hyperelastic_constants())
-    for key in _MODULUS_KEYS:
-        if key in out:
-            out[key] = out[key] * (1.0 - material.sum_g)
-    return out
+    out = material.hyperelastic_constants()
+    return out._replace(**{key: getattr(out, key) * (1.0 - material.sum_g)
+                           for key in _MODULUS_KEYS if key in out._fields})
 
 
 def _strain_energy(energy, compressible: bool):
@@ -258,7 +256,7 @@ def _mode_strains(mode: str, e1: np.ndarray, s: np.ndarray) -> np.ndarray:
     return np.stack([e1, e2, s], axis=-1)
 
 
-def _lateral_strains(derivatives, constants: dict, mode: str, e1: np.ndarray) -> np.ndarray:
+def _lateral_strains(derivatives, constants: NamedTuple, mode: str, e1: np.ndarray) -> np.ndarray:
     """Log strains of a hyperfoam mode with the lateral stress zero. The lateral strain s solves
     tau_lat(s) = 0 (tau_2 in uniaxial, = tau_3; else tau_3) by Newton steps kept inside a bracket
     that starts at [-(2|e1| + 1), 2|e1| + 1] (one term: s = -nu e1, |nu| < 1) and shrinks by
@@ -292,7 +290,7 @@ def _lateral_strains(derivatives, constants: dict, mode: str, e1: np.ndarray) ->
 _PAD = 512
 
 
-def _padded_call(fn, constants: dict, x: np.ndarray, *args):
+def _padded_call(fn, constants: NamedTuple, x: np.ndarray, *args):
     """fn(constants, x, *args) on the rows of x, padded to a multiple of `_PAD` rows (so that
     the grid and the edge bisections share one compilation); outputs as float64 arrays."""
     n = x.shape[0]
@@ -300,8 +298,7 @@ def _padded_call(fn, constants: dict, x: np.ndarray, *args):
     padded = np.zeros((size, *x.shape[1:]))
     padded[:n] = x
     with jax.enable_x64(True):
-        c = {k: jnp.asarray(v) for k, v in constants.items()}
-        out = fn(c, jnp.asarray(padded), *args)
+        out = fn(jax.tree_util.tree_map(jnp.asarray, constants), jnp.asarray(padded), *args)
         return jax.tree_util.tree_map(lambda a: np.array(a, dtype=np.float64)[:n], out)
 
 

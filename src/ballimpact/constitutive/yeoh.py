@@ -9,10 +9,20 @@ D1 = 0 means K0 = 20 mu0, as for the other rubber laws (`base.bulk_from_d1`).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import NamedTuple
 
 from ..checks import check_range, spec_number
-from .base import Material, bulk_from_d1, isochoric_invariants
+from .base import Array, Material, bulk_from_d1, register_constants, isochoric_invariants
+
+
+@register_constants
+class YeohConstants(NamedTuple):
+    """Instantaneous constants of the Yeoh energy (Pa)."""
+
+    c10_pa: Array
+    c20_pa: Array
+    c30_pa: Array
+    k_pa: Array
 
 
 @dataclass(frozen=True)
@@ -24,6 +34,7 @@ class Yeoh(Material):
 
     model = "yeoh"
     keys = ("c10_pa", "c20_pa", "c30_pa", "d1_per_pa")
+    Constants = YeohConstants
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -35,17 +46,18 @@ class Yeoh(Material):
         mu0 = 2.0 * self.c10_pa
         return mu0, bulk_from_d1(self, self.d1_per_pa, mu0)
 
-    def hyperelastic_constants(self) -> dict[str, Any]:
+    def hyperelastic_constants(self) -> YeohConstants:
         f = self.deviatoric_factor()
-        return {"c10_pa": self.c10_pa * f, "c20_pa": self.c20_pa * f, "c30_pa": self.c30_pa * f,
-                "k_pa": self.given_moduli_pa()[1] * self.volumetric_factor()}
+        return YeohConstants(c10_pa=self.c10_pa * f, c20_pa=self.c20_pa * f,
+                             c30_pa=self.c30_pa * f,
+                             k_pa=self.given_moduli_pa()[1] * self.volumetric_factor())
 
     @staticmethod
     def energy(C, c):
         i1, _, J = isochoric_invariants(C)
         x = i1 - 3.0
-        w = x * (c["c10_pa"] + x * (c["c20_pa"] + x * c["c30_pa"]))  # Horner
-        return w, 0.5 * c["k_pa"] * (J - 1.0) ** 2
+        w = x * (c.c10_pa + x * (c.c20_pa + x * c.c30_pa))  # Horner
+        return w, 0.5 * c.k_pa * (J - 1.0) ** 2
 
     @classmethod
     def _from_keys(cls, d, where, **common):

@@ -115,7 +115,7 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
         out["material_constants_used"] = [
             {"layer": layer.name, "model": layer.material.model,
              **{k: (v.tolist() if hasattr(v, "tolist") else v)
-                for k, v in layer.material.constants().items()}} for layer in ball.layers]
+                for k, v in layer.material.constants().flat().items()}} for layer in ball.layers]
     if target is not None and hasattr(target, "to_dict"):
         out["target_specification"] = target.to_dict()
         energies = result.energies_j

@@ -17,7 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..constitutive import Sym, energy_and_stress, prony_update
+from ..constitutive import MaterialConstants, Sym, energy_and_stress, prony_update
 from .stable_increment import alternating_start, lanczos_largest, shrunk_increment
 
 #: Lanczos steps for the largest eigenvalue of the assembled system at the start (the estimate
@@ -59,7 +59,7 @@ STATE = {"a": "nodal accelerations (m/s^2)", "d_bv": "bulk-viscous dissipation (
 #: (in the kernel's precision, traced)
 Array = jax.Array | np.ndarray
 #: the fields that are not one array, and their types
-FIELD_TYPES = {"groups": list[dict[str, Array]], "mat": list["PronyState"]}
+FIELD_TYPES = {"groups": list[MaterialConstants], "mat": list["PronyState"]}
 
 
 class PronyState(NamedTuple):
@@ -236,25 +236,25 @@ def material_stresses(slices, energies, constants, C, mats, dt):
     stresses, new_mats, densities = [], [], []
     for (a, b), energy, consts, mat in zip(slices, energies, constants, mats):
         (w_dev, s_dev), (w_vol, s_vol) = energy_and_stress(
-            energy, Sym(*(c[..., a:b] for c in C)), consts)
+            energy, Sym(*(c[..., a:b] for c in C)), consts.hyperelastic)
         s_dev, s_vol = jnp.stack(s_dev), jnp.stack(s_vol)
-        tau = consts["prony_tau_s"]
-        q_dev = prony_update(mat.q_dev, mat.s0_dev, s_dev, consts["prony_g"], tau, dt)
+        tau = consts.prony_tau_s
+        q_dev = prony_update(mat.q_dev, mat.s0_dev, s_dev, consts.prony_g, tau, dt)
         if mat.q_vol.shape[0]:  # bulk relaxation (k_i > 0) in this layer
-            q_vol = prony_update(mat.q_vol, mat.s0_vol, s_vol, consts["prony_k"], tau, dt)
+            q_vol = prony_update(mat.q_vol, mat.s0_vol, s_vol, consts.prony_k, tau, dt)
         else:
             q_vol = mat.q_vol
         # sums over the Prony terms written out (a reduction is a slow pass of its own)
         stresses.append(s_dev + s_vol - sum(q_dev) - sum(q_vol))
         new_mats.append(PronyState(q_dev=q_dev, q_vol=q_vol, s0_dev=s_dev,
                                    s0_vol=s_vol if q_vol.shape[0] else mat.s0_vol))
-        density = ((1.0 - jnp.sum(consts["prony_g"])) * w_dev
-                   + (1.0 - jnp.sum(consts["prony_k"])) * w_vol)
-        density = density + _branch_energy(q_dev, s_dev, consts["prony_g"],
-                                           2.0 * consts["shear_modulus_pa"])
+        density = ((1.0 - jnp.sum(consts.prony_g)) * w_dev
+                   + (1.0 - jnp.sum(consts.prony_k)) * w_vol)
+        density = density + _branch_energy(q_dev, s_dev, consts.prony_g,
+                                           2.0 * consts.shear_modulus_pa)
         if q_vol.shape[0]:
-            density = density + _branch_energy(q_vol, s_vol, consts["prony_k"],
-                                               3.0 * consts["bulk_modulus_pa"])
+            density = density + _branch_energy(q_vol, s_vol, consts.prony_k,
+                                               3.0 * consts.bulk_modulus_pa)
         densities.append(density)
     return tuple(jnp.concatenate(stresses, axis=-1)), new_mats, jnp.concatenate(densities, axis=-1)
 

@@ -18,8 +18,9 @@ Ogden hyperfoam is compressible: its full energy is used, P_i = dW / dl_i, with 
 stretches from zero stress across them (uniaxial: the two lateral stretches, equal; biaxial and
 planar: the thickness stretch) by Newton's method per point in the logarithm of that stretch.
 
-Stresses are in Pa; `constants` are the dict `Material.hyperelastic_constants()` returns (the
-instantaneous constants of the energy), or any pytree of that form (fits differentiate it).
+Stresses are in Pa; `constants` are what `Material.hyperelastic_constants()` returns (the
+instantaneous constants of the energy, the model's typed `Constants`), or a dict of the same
+fields (fits build and differentiate those).
 """
 
 from __future__ import annotations
@@ -52,6 +53,9 @@ def _diag(l1, l2, l3) -> Sym:
 
 
 def _point_energy(model: str, constants, l1, l2, l3, full: bool):
+    typed = MATERIALS[model].Constants
+    if not isinstance(constants, typed):
+        constants = typed(**constants)
     w_dev, w_vol = MATERIALS[model].energy(_diag(l1, l2, l3), constants)
     return w_dev + w_vol if full else w_dev
 
@@ -164,7 +168,7 @@ def material_stress(material: Material, deformation: str, x1, x2=None, *,
         return deformation_stress(material.model, constants, deformation, x1, x2)
     if material.model in COMPRESSIBLE:
         # the whole energy relaxes with g: the same material with long-term constants
-        scaled = dict(constants, mu_pa=np.asarray(constants["mu_pa"]) * (1.0 - material.sum_g))
+        scaled = constants._replace(mu_pa=np.asarray(constants.mu_pa) * (1.0 - material.sum_g))
         return deformation_stress(material.model, scaled, deformation, x1, x2)
     if deformation == "volumetric":  # only the volumetric part acts (isochoric invariants = 3)
         return deformation_stress(material.model, constants, deformation, x1) \

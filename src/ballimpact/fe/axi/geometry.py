@@ -11,6 +11,7 @@ import dataclasses
 import warnings
 from dataclasses import dataclass
 
+import jax
 import numpy as np
 
 from ...errors import InputError, InputWarning
@@ -28,11 +29,15 @@ from .target_mesh import target_mesh
 from .mesh import estimate_mesh, layered_sphere_mesh
 
 
+def constant_shapes(material) -> tuple:
+    """The shapes of a material's constants (its Prony and Ogden terms' counts), as a tuple."""
+    return tuple(np.shape(v) for v in jax.tree_util.tree_leaves(material.constants()))
+
+
 def structure(ball) -> tuple:
     """What a compiled run depends on: radii, material models, Prony terms, bulk relaxation."""
     return tuple((layer.outer_radius_m, type(layer.material), layer.material.sum_k > 0,
-                  tuple((k, np.shape(v)) for k, v in sorted(layer.material.constants().items())))
-                 for layer in ball.layers)
+                  constant_shapes(layer.material)) for layer in ball.layers)
 
 
 def mesh_radii(ball, options: SolverOptions) -> np.ndarray:
@@ -100,8 +105,7 @@ def target_structure(target) -> tuple:
     models, its width and shape, whether it is backed."""
     return (target.half_width_m, target.sphere_radius_m, target.backing is not None,
             tuple((layer.thickness_m, type(layer.material), layer.material.sum_k > 0,
-                   tuple((k, np.shape(v)) for k, v in sorted(layer.material.constants().items())))
-                  for layer in target.layers))
+                   constant_shapes(layer.material)) for layer in target.layers))
 
 
 def backing_of(target, base_kg: float = 0.0) -> PlaneBacking | None:

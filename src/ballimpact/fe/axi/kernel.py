@@ -180,7 +180,7 @@ class Kernel(ChunkedSteps):
         for (a, b), bulk, consts in zip(self.geom.layer_slices, self.bulk_relaxation,
                                         params.groups):
             shape = (4, self.n_points, b - a)  # (S_rr, S_zz, S_hoop, S_rz) at the points
-            n_terms = consts["prony_g"].shape[-1]
+            n_terms = consts.prony_g.shape[-1]
             n_bulk = n_terms if bulk else 0  # without bulk relaxation its states are not kept
             mats.append(PronyState(q_dev=self.zeros((n_terms,) + shape),
                                    q_vol=self.zeros((n_bulk,) + shape),

@@ -192,7 +192,7 @@ class Kernel(ChunkedSteps):
         for (a, b), bulk, consts in zip(self.geom.group_slices, self.bulk_relaxation,
                                         params.groups):
             shape = (6,) + self.point_shape + (b - a,)
-            n_terms = consts["prony_g"].shape[-1]
+            n_terms = consts.prony_g.shape[-1]
             mats.append(PronyState(q_dev=self.zeros((n_terms,) + shape),
                                    q_vol=self.zeros(((n_terms if bulk else 0),) + shape),
                                    s0_dev=self.zeros(shape),
@@ -256,7 +256,8 @@ class Kernel(ChunkedSteps):
         for (a, b), energy, consts, mat in zip(g.group_slices, self.energies, params.groups,
                                                mats):
             (_, s_dev), (_, s_vol) = energy_and_stress(
-                energy, Sym(*(c[..., a:b] for c in right_cauchy_green(F))), consts)
+                energy, Sym(*(c[..., a:b] for c in right_cauchy_green(F))),
+                consts.hyperelastic)
             parts.append(jnp.stack(s_dev) + jnp.stack(s_vol) - jnp.sum(mat.q_dev, axis=0)
                          - jnp.sum(mat.q_vol, axis=0))
         S = jnp.concatenate(parts, axis=-1)
