@@ -215,10 +215,10 @@ def test_bad_options(bad_input, files, tmp_path):
 def test_objectives_apply_to_their_tests():
     """The rule itself: compression to compression tests, the others to impact tests, and the
     defaults by the kinds of test present."""
-    from ballimpact.calibrate.problem import applies, default_objectives
+    from ballimpact.calibrate.problem import CalibrationTest, applies, default_objectives
 
-    class Impact:
-        name, layers, features = "ball", None, object()
+    def Impact():
+        return CalibrationTest("ball", object())
 
     core = comp.CompressionTest("core", np.array([1e-3, 2e-3, 3e-3]), np.array([1., 3., 6.]))
     assert applies("compression", core) and not applies("nrmse", core)

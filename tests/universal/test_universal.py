@@ -12,10 +12,9 @@ from ballimpact.errors import InputError
 from ballimpact.fe import FailedRun, SolverOptions, load_ball, simulate_batch
 from ballimpact.fe.speed_range import FE_SPEED_RANGE_M_S as SPEEDS
 from ballimpact.universal import space
-from ballimpact.universal.dataset import load_dataset
 from ballimpact.universal.model import load_model
 from ballimpact.universal.networks import Architecture, predict, train_ensemble
-from ballimpact.universal.study import make_config, run_study
+from ballimpact.universal.study import load_dataset, make_config, run_study
 
 COARSE = 4e-3  # m: a coarse mesh keeps these studies to seconds
 

@@ -8,7 +8,7 @@ import pytest
 from ballimpact.cli import main
 from ballimpact import fileio
 from ballimpact.universal import study
-from ballimpact.universal.dataset import load_dataset
+from ballimpact.universal.study import load_dataset
 
 COARSE = 4e-3  # m: a coarse mesh keeps these studies to seconds
 SMALL = ["--batch-size", "3", "--element-size-m", COARSE, "--json"]

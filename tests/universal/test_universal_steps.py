@@ -12,7 +12,7 @@ from ballimpact import load_record, process
 from ballimpact.errors import InputError
 from ballimpact.universal import steps
 from ballimpact.universal.by_speed import identify_tests, speed_groups
-from ballimpact.universal.dataset import load_dataset
+from ballimpact.universal.study import load_dataset
 from ballimpact.universal.model import load_model
 
 COARSE = 4e-3  # m: a coarse mesh keeps the study to seconds

@@ -24,7 +24,7 @@ import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -57,6 +57,17 @@ class CompressionTest:
     rate_m_s: float | None = None
     steps: int = DEFAULT_STEPS
     source: str = ""
+    #: the kind of test (`problem.kind_of`)
+    kind: ClassVar[str] = "compression"
+
+    def fe_run(self, ball, options, allow=(), progress=None):
+        """The FE curve of `ball` for this test (`compression_run`; `allow` is the impact
+        tests' and has no check to pass here)."""
+        return compression_run(self, ball, options, progress)
+
+    def check_against(self, ball) -> None:
+        """`check_against_ball`: a curve the tested ball cannot be compressed to is refused."""
+        check_against_ball(self, ball)
 
     @property
     def peak_force_n(self) -> float:
@@ -68,7 +79,7 @@ class CompressionTest:
 
 
 def is_compression(test) -> bool:
-    return isinstance(test, CompressionTest)
+    return test.kind == "compression"
 
 
 def read_compression_csv(path: str | Path) -> tuple[np.ndarray, np.ndarray]:

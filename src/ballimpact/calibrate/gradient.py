@@ -201,16 +201,11 @@ def central_differences(misfit: SmoothMisfit, u: np.ndarray, h: float = 1e-5) ->
 def standard_runs(problem: CalibrationProblem, u: np.ndarray, options) -> list:
     """The FE runs (standard solver) of the design at unit coordinates u, one per test: the
     quasi-static curve (`fe.compress`) of a compression test."""
-    from ..fe import load_ball, simulate
-    from .compression import compression_run, is_compression
+    from ..fe import load_ball
 
     spec = problem.spec(u)
-    runs = []
-    for test in problem.tests:
-        ball = load_ball(sub_ball(spec, test.layers), allow=problem.allow)
-        runs.append(compression_run(test, ball, options) if is_compression(test) else
-                    simulate(ball, test.impact_speed_m_s, options, allow=problem.allow))
-    return runs
+    return [test.fe_run(load_ball(sub_ball(spec, test.layers), allow=problem.allow), options,
+                        allow=problem.allow) for test in problem.tests]
 
 
 def smooth_misfits(problem: CalibrationProblem, options, runs: list) -> list[SmoothMisfit]:

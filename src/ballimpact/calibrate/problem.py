@@ -19,7 +19,7 @@ import difflib
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -36,9 +36,7 @@ DEFAULT_IMPACT_OBJECTIVES = ("nrmse", "cor", "contact_time")
 
 def kind_of(test) -> str:
     """"compression" for a compression test, else "impact"."""
-    from .compression import is_compression
-
-    return "compression" if is_compression(test) else "impact"
+    return test.kind
 
 
 def applies(objective: str, test) -> bool:
@@ -258,6 +256,14 @@ class CalibrationTest:
     name: str
     features: Any
     layers: str | None = None
+    #: the kind of test (`kind_of`; `compression.CompressionTest`'s is "compression")
+    kind: ClassVar[str] = "impact"
+
+    def fe_run(self, ball, options, allow=()):
+        """The FE impact (`fe.simulate`, axisymmetric `options`) of `ball` at the test's speed."""
+        from ..fe import simulate
+
+        return simulate(ball, self.impact_speed_m_s, options, allow=allow)
 
     @property
     def impact_speed_m_s(self) -> float:
@@ -320,9 +326,7 @@ class CalibrationProblem:
         for test in self.tests:
             ball = load_ball(sub_ball(self.template, test.layers), allow=self.allow)
             if kind_of(test) == "compression":
-                from .compression import check_against_ball
-
-                check_against_ball(test, ball)
+                test.check_against(ball)
                 continue
             mass = test.features.mass_kg
             if mass and abs(mass / ball.mass_kg - 1.0) > 0.02:

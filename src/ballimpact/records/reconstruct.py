@@ -4,7 +4,7 @@
 (`edges.fit_edge`), the samples between them smoothed by a cubic smoothing spline whose smoothing
 is chosen from the record itself (the discrepancy principle: no window to pick, and a clean
 record is left as it is), both ends pinned at zero force. The curve is returned as a fine
-piecewise-linear `features.PulseCurve`, so the 19 values come from it exactly as from a
+piecewise-linear `pulse_curve.PulseCurve`, so the 19 values come from it exactly as from a
 simulated pulse.
 
 `bootstrap_uncertainty`: the standard uncertainty of every value from the record's noise by a
@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from .edges import EdgeFit, fit_edge
+from .pulse_curve import PulseCurve
 from .record import ContactWindow, ImpactRecord, rms
 
 #: Points of the curve per sample interval between the edges (the curve is piecewise linear
@@ -70,7 +71,7 @@ UNCERTAINTY_MODEL: dict[str, tuple[float, float]] = {
 
 @dataclass(frozen=True)
 class FittedPulse:
-    """What `fitted_pulse_curve` found: the curve (`features.PulseCurve`, times from the fitted
+    """What `fitted_pulse_curve` found: the curve (`pulse_curve.PulseCurve`, times from the fitted
     contact start), its two `EdgeFit`s and the spline's smoothing parameter (on the unit
     interval, in units of the peak)."""
 
@@ -99,8 +100,6 @@ def fitted_pulse_curve(record: ImpactRecord, window: ContactWindow,
     gives the edges' first guess and the smoothing, so that only the fits run again; `smoothing`
     alone sets the spline's (another record's: a model's pulse smoothed as its test was)."""
     from scipy.interpolate import make_smoothing_spline
-
-    from .features import PulseCurve
 
     start, end = fitted_edges(record, window, like)
     t, f = record.time_s, record.force_n

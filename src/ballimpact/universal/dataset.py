@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from ..comparison import PULSE_RATE_HZ
 from ..errors import InputError
 from ..records.features import FEATURE_NAMES
 from ..fileio import first_line, read_arrays, replacing
@@ -30,7 +29,7 @@ from . import space
 #: normalised time grid of the stored force shapes (t / contact time)
 SHAPE_POINTS = 64
 SHAPE_GRID = np.linspace(0.0, 1.0, SHAPE_POINTS)
-#: the stored pulses: `PULSE_RATE_HZ` (100 kHz) from first contact, 6 ms
+#: the stored pulses: `comparison.PULSE_RATE_HZ` (100 kHz) from first contact, 6 ms
 PULSE_SAMPLES = 600
 #: the dataset's columns, in order
 COLUMNS = ("run_id", "batch", *space.PARAMETERS, "mu0_pa", "status", "reason", "warnings",
@@ -85,7 +84,7 @@ def write_batch(folder: Path, batch: int, rows: list[dict[str, Any]],
         pq.write_table(pa.Table.from_pylist(rows), tmp)
 
 
-def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, dict]:
+def read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, dict]:
     """One finished batch, checked: the columns training reads, the run ids the study's
     configuration gives this batch, and its curves (keys, shapes, no pickles)."""
     import pyarrow as pa
@@ -137,30 +136,3 @@ def _read_batch(folder: Path, batch: int, expected_ids: range) -> tuple[dict, di
 def _span(ids) -> str:
     ids = list(ids)
     return f"{ids[0]}..{ids[-1]}" if ids else "none"
-
-
-def load_dataset(folder: Path, config: dict[str, Any] | None = None
-                 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
-    """All finished batches of a study: (columns, curves), rows sorted by run_id.
-
-    `columns` maps each Parquet column to a NumPy array; `curves` holds `force_shape` and
-    `force_n_100khz` aligned with the rows, plus `shape_grid` and `pulse_time_s`. `config`: the
-    study's configuration (read from `folder` if not given). Every batch is checked against it
-    (`InputError` naming the damaged file)."""
-    from .study import batch_ids, load_config
-
-    folder = Path(folder)
-    if config is None:
-        config = load_config(folder)
-    batches = sorted(done_batches(folder))
-    if not batches:
-        raise InputError(f"{folder}: no finished runs (expected runs/batch-*.parquet; "
-                         "run `ballimpact universal run` first)")
-    parts = [_read_batch(folder, b, batch_ids(config, b)) for b in batches]
-    names = [n for n in COLUMNS if all(n in p[0] for p in parts)]  # one column order
-    columns = {n: np.concatenate([p[0][n] for p in parts]) for n in names}
-    curves = {key: np.concatenate([p[1][key] for p in parts]) for key in ("run_id", *CURVES)}
-    # batches are read in order and hold consecutive run ids: rows are sorted by run id
-    curves["shape_grid"] = SHAPE_GRID
-    curves["pulse_time_s"] = np.arange(PULSE_SAMPLES) / PULSE_RATE_HZ
-    return columns, curves

@@ -137,9 +137,8 @@ def closed_loop(model: UniversalModel, folder, *, runs: int = 60, noise: float =
     from ..fe import FailedRun, SolverOptions, load_ball, simulate_batch
     from ..records.features import extract_features
     from ..comparison import compare, noisy_features, pulse_nrmse
-    from .dataset import load_dataset
     from .identify import estimate
-    from .study import load_config, study_allow
+    from .study import load_config, load_dataset, study_allow
 
     folder = Path(folder)
     config = load_config(folder, "--closed-loop")

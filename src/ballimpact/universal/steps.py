@@ -15,11 +15,10 @@ from ..checks import check_fraction, check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path
 from ..records.filters import check_filter_name
-from .dataset import load_dataset
 from .evaluate import check_study_matches, closed_loop
 from .identify import warn_failed_model
 from .model import UniversalModel, load_model
-from .study import load_config, make_config, run_study
+from .study import load_config, load_dataset, make_config, run_study
 from .training import train
 
 #: failed runs a run's summary lists (`run_design`'s `failures`)

@@ -17,13 +17,15 @@ from .. import __version__
 from ..errors import InputError
 from ..fileio import write_atomic
 from ..checks import check_allow, check_integer
+from ..comparison import PULSE_RATE_HZ
 from . import space
 from .dataset import (
     COLUMNS,
-    PULSE_RATE_HZ,
+    CURVES,
     PULSE_SAMPLES,
     SHAPE_GRID,
     done_batches,
+    read_batch,
     remove_batch,
     remove_temporaries,
     write_batch,
@@ -134,6 +136,31 @@ def batch_ids(config: dict[str, Any], batch: int) -> range:
     """The run ids of batch `batch` of a study."""
     first = batch * config["batch_size"]
     return range(first, min(first + config["batch_size"], config["runs"]))
+
+
+def load_dataset(folder: Path, config: dict[str, Any] | None = None
+                 ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
+    """All finished batches of a study: (columns, curves), rows sorted by run_id.
+
+    `columns` maps each Parquet column to a NumPy array; `curves` holds `force_shape` and
+    `force_n_100khz` aligned with the rows, plus `shape_grid` and `pulse_time_s`. `config`: the
+    study's configuration (read from `folder` if not given). Every batch is checked against it
+    (`InputError` naming the damaged file)."""
+    folder = Path(folder)
+    if config is None:
+        config = load_config(folder)
+    batches = sorted(done_batches(folder))
+    if not batches:
+        raise InputError(f"{folder}: no finished runs (expected runs/batch-*.parquet; "
+                         "run `ballimpact universal run` first)")
+    parts = [read_batch(folder, b, batch_ids(config, b)) for b in batches]
+    names = [n for n in COLUMNS if all(n in p[0] for p in parts)]  # one column order
+    columns = {n: np.concatenate([p[0][n] for p in parts]) for n in names}
+    curves = {key: np.concatenate([p[1][key] for p in parts]) for key in ("run_id", *CURVES)}
+    # batches are read in order and hold consecutive run ids: rows are sorted by run id
+    curves["shape_grid"] = SHAPE_GRID
+    curves["pulse_time_s"] = np.arange(PULSE_SAMPLES) / PULSE_RATE_HZ
+    return columns, curves
 
 
 def samples(config: dict[str, Any]) -> np.ndarray:

@@ -14,7 +14,7 @@ import numpy as np
 from .. import __version__
 from ..errors import InputError, InputWarning
 from . import space
-from .dataset import SHAPE_GRID, load_dataset
+from .dataset import SHAPE_GRID
 from .model import (
     COR_COLUMN,
     FEATURES,
@@ -27,7 +27,7 @@ from .model import (
 )
 from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
 from ..comparison import noisy_features
-from .study import load_config
+from .study import load_config, load_dataset
 
 #: shares of the finished runs: held out for the report (never seen in training or early
 #: stopping), and validation (early stopping and the interval calibration)
