@@ -1,11 +1,12 @@
-"""`fe.sweep.compare_balls` and `fe.sweep.check_balls` (the library side of `ballimpact
+"""`fe.runs.compare_balls` and `fe.sweep.check_balls` (the library side of `ballimpact
 compare`), called from Python; the command's own tests are in tests/fe/test_sweep.py."""
 
 import json
 
 import pytest
 
-from ballimpact.fe.sweep import check_balls, compare_balls
+from ballimpact.fe.runs import compare_balls
+from ballimpact.fe.sweep import check_balls
 from ballimpact.errors import InputError
 from ballimpact.fe import SolverOptions, load_ball
 

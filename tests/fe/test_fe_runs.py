@@ -19,9 +19,8 @@ from ballimpact.fe.runs import (
     simulate_impact,
     simulate_speeds,
     speed_sweep_summary,
-    sweep_json_row,
 )
-from ballimpact.fe.sweep import ROW_KEYS, sweep_row
+from ballimpact.fe.sweep import ROW_KEYS, sweep_json_row, sweep_row
 from ballimpact.oblique.sweep import simulate_angles
 
 COARSE = SolverOptions(element_size_m=4e-3)

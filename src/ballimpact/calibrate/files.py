@@ -6,7 +6,8 @@ compression curves read from their CSVs), its results written to the output fold
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +15,7 @@ from ..checks import check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path, json_safe, write_atomic
 from ..records.datasets import PREFIX, is_builtin
+from ..records.options import RecordOptions
 from .compression import DEFAULT_STEPS, CompressionTest, read_compression_csv
 from .problem import CalibrationTest
 
@@ -93,8 +95,7 @@ def write_results(out: Path, result: dict[str, Any]) -> None:
 
 def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]], options, *,
                          tests: Sequence[str] = (), compressions: Sequence[str] = (),
-                         read_record: Callable[[Path, float | None], Any] | None = None,
-                         process_record: Callable[[Any], Any] | None = None,
+                         record_options: RecordOptions = RecordOptions(),
                          impact_speed_m_s: float | None = None,
                          compression_rate_m_s: float | None = None,
                          compression_steps: int = DEFAULT_STEPS, objectives=None,
@@ -108,14 +109,13 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
     `calibration.calibrate` (the free parameters' `bounds` (SI), the solver `options` and the
     search's arguments as there; checkpoints, and with `resume` the search continued, in the
     folder `out`) against the impact tests `tests` (FILE[:SPEED[:LAYER]], `parse_test`: each
-    read by `read_record(path, speed (m/s) or None)` into an `ImpactRecord` and processed by
-    `process_record(record)` into its `ImpactFeatures`) and the compression curves
-    `compressions` (FILE.csv[:LAYER]; `calibration_tests` with `compression_rate_m_s` (m/s)
-    and `compression_steps`). With `out` the results are written there (`write_results`),
-    with `plot_path` a PNG of the last stage's pulses. Returns (the result of `calibrate`
-    without its stage results, with `ball_file` and `plot` where written; the
-    `StageResult`s). Raises `InputError` (naming the flag) on bad paths, no test, a test
-    without an impact speed, and what `calibrate` raises."""
+    loaded and processed as `record_options` say, SPEED (m/s) over its impact speed) and the
+    compression curves `compressions` (FILE.csv[:LAYER]; `calibration_tests` with
+    `compression_rate_m_s` (m/s) and `compression_steps`). With `out` the results are written
+    there (`write_results`), with `plot_path` a PNG of the last stage's pulses. Returns (the
+    result of `calibrate` without its stage results, with `ball_file` and `plot` where
+    written; the `StageResult`s). Raises `InputError` (naming the flag) on bad paths, no test,
+    a test without an impact speed, and what `calibrate` raises."""
     from ..fe import load_ball
     from .calibration import calibrate
 
@@ -130,11 +130,14 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
                          "or a compression curve)")
     impacts = []
     for text, (path, speed, layer) in zip(tests, [parse_test(text) for text in tests]):
-        record = read_record(path, speed)
+        # the test's own SPEED wins over the side file's and the options' impact speed
+        given = record_options if speed is None else replace(record_options,
+                                                               impact_speed_m_s=speed)
+        record = given.load(path)
         if record.impact_speed_m_s is None:
             raise InputError(f"--test {text}: no impact speed; give it as {path}:SPEED (m/s) "
                              "or in the side file (impact_speed_m_s)")
-        impacts.append((path, process_record(record), layer))
+        impacts.append((path, record_options.process(record).features, layer))
     found = calibration_tests(impacts, [parse_compression(text) for text in compressions],
                               compression_rate_m_s=compression_rate_m_s,
                               compression_steps=compression_steps)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 from typing import Any
-from .common import add_json
+from .common import add_json, print_lines
 
 
 def add_parser(verbs) -> None:
@@ -14,12 +14,10 @@ def add_parser(verbs) -> None:
 
 
 def run_balls(args: argparse.Namespace) -> dict[str, Any]:
+    from ..balls.text import presets_lines
     from ..fe import describe_presets
 
     presets = describe_presets()
     if not args.json:
-        for preset in presets:
-            print(f"{preset['name']}: {preset['description']}")
-            if preset.get("source"):
-                print(f"    source: {preset['source']}")
+        print_lines(presets_lines(presets))
     return {"balls": presets}

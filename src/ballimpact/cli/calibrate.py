@@ -10,7 +10,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import add_processing, assignments, load, process_record, use_compilation_cache
+from .common import (add_processing, assignments, print_lines, record_options,
+                     use_compilation_cache)
 from .simulate import add_solver_options, solver_options
 
 
@@ -112,6 +113,7 @@ def _weights(text: str | None) -> list[float] | None:
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..calibrate.calibration import parse_stage
     from ..calibrate.files import calibrate_from_files
+    from ..calibrate.text import calibration_lines
 
     bounds = assignments(args.free, "--free", bounds=True)
     stages = [parse_stage(s, i) for i, s in enumerate(args.stage or [])] or None
@@ -119,22 +121,13 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         tuple(o.strip() for o in args.objectives.split(",") if o.strip())
     weights = _weights(args.weights)
     options = solver_options(args)
-
-    def read_record(path: Path, speed_m_s: float | None):
-        # a copy: `args` stays the command as given (the resume hint is built from it)
-        given = argparse.Namespace(**vars(args))
-        if speed_m_s is not None:
-            given.impact_speed_m_s = speed_m_s
-        return load(path, given)
-
     use_compilation_cache()
     if "nsga2" in args.method:  # what Ctrl-C (cli.main) adds to its line
         args.resume_hint = (f"resume with: {command_line(args)}" if args.out is not None else
                             "no checkpoint was kept: give --out DIR to be able to --resume")
     result, stage_results = calibrate_from_files(
         args.ball, bounds, options, tests=args.test, compressions=args.compression,
-        read_record=read_record,
-        process_record=lambda record: process_record(record, args).features,
+        record_options=record_options(args),
         impact_speed_m_s=args.impact_speed_m_s, compression_rate_m_s=args.compression_rate_m_s,
         compression_steps=args.compression_steps, objectives=objectives, method=args.method,
         stages=stages, population=args.population, generations=args.generations,
@@ -142,30 +135,5 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         resume=args.resume, max_evaluations=args.max_evaluations, allow=args.allow,
         plot_path=args.plot)
     if not args.json:
-        _print(result, stage_results)
+        print_lines(calibration_lines(result, stage_results))
     return result
-
-
-def _print(result: dict, stage_results: list) -> None:
-    for r in stage_results:
-        d = r.to_dict()
-        print(f"{r.stage.name}: {len(r.problem.free)} free, tests "
-              f"{', '.join(d['tests'])}; {r.fe_runs} FE runs, {r.wall_time_s:.0f} s")
-        if r.decision is not None:
-            print(f"  chosen from {len(d['pareto'])} Pareto designs by {r.decision.reason}")
-        if r.refinement is not None:
-            f = r.refinement
-            print(f"  gradient refinement: misfit {f.start_misfit:.4g} -> {f.misfit:.4g} in "
-                  f"{f.residual_evaluations} misfit and {f.jacobian_evaluations} Jacobian "
-                  f"evaluations ({f.message})")
-        for path, value in r.values.items():
-            extra = ""
-            if r.refinement is not None:
-                extra = f"  +/- {r.refinement.standard_error[path]:.3g} (1 s.e.)"
-                if path in r.refinement.not_identified:
-                    extra += "  not identified"
-            print(f"  {path:<40} {value:12.5g}{extra}")
-        print("  objectives: " + ", ".join(f"{k} {v:.4g}" for k, v in r.objectives.items()))
-    print(f"{result['evaluations']} FE runs in {result['wall_time_s']:.1f} s")
-    if "ball_file" in result:
-        print(f"calibrated ball: {result['ball_file']}")

@@ -8,14 +8,15 @@ import difflib
 import math
 import os
 import sys
+from collections.abc import Callable, Iterable
 from pathlib import Path
-from typing import Any
+from typing import Any, TextIO
 
 from ..errors import InputError
 from ..records.features import DEFAULT_IMPULSE_TOLERANCE, METHODS
 from ..records.filters import FILTER_NAMES
-from ..records.loaders import load_record
-from ..records.pipeline import DEFAULT_DAMPING_RATIO, ProcessedImpact, process
+from ..records.options import LOADING_FIELDS, RecordOptions
+from ..records.pipeline import DEFAULT_DAMPING_RATIO
 from ..checks import CHECKS
 from ..records.repeats import DEFAULT_SPEED_TOLERANCE
 
@@ -125,7 +126,8 @@ def add_processing(parser: argparse.ArgumentParser) -> None:
 
 
 def add_filtering(parser: argparse.ArgumentParser) -> None:
-    """The options of `process_record`: filter, its window, resampling, impulse tolerance."""
+    """The processing flags of `record_options`: filter, its window, resampling, the pulse's
+    method, the load cell, impulse tolerance, pulse, `--allow`."""
     parser.add_argument("--filter", default="none",
                         help=f"one of {', '.join(FILTER_NAMES)}, or cfc<N> (default none)")
     parser.add_argument("--filter-window-s", type=float,
@@ -152,15 +154,21 @@ def add_filtering(parser: argparse.ArgumentParser) -> None:
     add_allow(parser)
 
 
+def parsed(parse: Callable[[str], Any], text: str) -> Any:
+    """`parse(text)` of a library parser, in an argparse type: its `InputError` becomes
+    argparse's error (one line naming the flag, exit 2)."""
+    try:
+        return parse(text)
+    except InputError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def speed_list(text: str) -> list[float]:
     """argparse type of --speeds: speeds in m/s separated by commas (`sweep.parse_speeds`; that
     they are positive is `repeats.check_nominal`'s)."""
     from ..fe.sweep import parse_speeds
 
-    try:
-        return list(parse_speeds(text))
-    except InputError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
+    return list(parsed(parse_speeds, text))
 
 
 def add_speed_grouping(parser: argparse.ArgumentParser) -> None:
@@ -189,27 +197,22 @@ def add_allow(parser: argparse.ArgumentParser) -> None:
                              f"(repeatable): {', '.join(CHECKS)}; see docs/features.md")
 
 
-def load(path: Path, args: argparse.Namespace):
-    return load_record(
-        path, mass_kg=args.mass_kg, impact_speed_m_s=args.impact_speed_m_s,
-        rebound_speed_m_s=args.rebound_speed_m_s, sensitivity_v_per_n=args.sensitivity_v_per_n,
-        amplifier_gain=args.amplifier_gain, full_scale_v=args.full_scale_v, channel=args.channel,
-        time_column=getattr(args, "time_column", None),
-        force_column=getattr(args, "force_column", None))
+def record_options(args: argparse.Namespace) -> RecordOptions:
+    """The record flags (`add_record_options`, `add_filtering`) as one `RecordOptions`; a
+    loading flag the verb does not have (`standard` has few) is None, the loader's default."""
+    loading = {name: getattr(args, name, None) for name in LOADING_FIELDS}
+    return RecordOptions(
+        **loading, filter=args.filter, window_s=args.filter_window_s,
+        resample_hz=args.resample_hz, impulse_tolerance=args.impulse_tolerance, pulse=args.pulse,
+        allow=tuple(args.allow), resonance_hz=args.load_cell_hz, method=args.pulse_method,
+        uncertainty=args.pulse_method == "fit", damping_ratio=args.load_cell_damping)
 
 
-def processing_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The processing flags (`add_filtering`) as the keyword arguments of
-    `records.pipeline.process`."""
-    return {"filter": args.filter, "window_s": args.filter_window_s,
-            "resample_hz": args.resample_hz, "impulse_tolerance": args.impulse_tolerance,
-            "pulse": args.pulse, "allow": args.allow, "resonance_hz": args.load_cell_hz,
-            "method": args.pulse_method, "uncertainty": args.pulse_method == "fit",
-            "damping_ratio": args.load_cell_damping}
-
-
-def process_record(record, args: argparse.Namespace) -> ProcessedImpact:
-    return process(record, **processing_options(args))
+def print_lines(lines: Iterable[str], file: TextIO | None = None) -> None:
+    """Print the lines of a result's text (the library's `*_lines` functions) to stdout, or to
+    `file`."""
+    for line in lines:
+        print(line, file=file)
 
 
 def assignments(items: list[str], flag: str, *, bounds: bool) -> dict[str, Any]:

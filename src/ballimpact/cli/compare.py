@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from .common import add_allow, add_json
+from .common import add_allow, add_json, print_lines
 from .simulate import add_solver_options, given_speeds, solver_options, speed_list, start_run
 
 
@@ -39,34 +39,13 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe.output import RunFiles
-    from ..fe.sweep import compare_balls
+    from ..fe.runs import compare_balls
+    from ..fe.text import comparison_lines
 
     comparison = compare_balls(args.ball, given_speeds(args), solver_options(args),
                                moduli=args.moduli, allow=args.allow,
                                files=RunFiles(table=args.table, plot=args.plot), start=start_run)
     out = comparison.to_dict()
     if not args.json:
-        _print(out)
+        print_lines(comparison_lines(out))
     return out
-
-
-def _print(out: dict[str, Any]) -> None:
-    from .simulate_text import print_written
-
-    reference = out["reference_ball"]
-    width = max(12, *(len(b) + 2 for b in out["balls"]))
-    print(f"compare: {len(out['balls'])} balls at {len(out['speeds_m_s'])} speed(s), FE on a "
-          f"rigid plane; differences from {reference} (COR absolute, others %)")
-    print(f"{'speed m/s':>10}  {'ball':<{width}}{'COR':>8}{'peak kN':>9}{'contact ms':>11}"
-          f"{'stiff MN/m':>11}{'dCOR':>9}{'dpeak %':>9}{'dcontact %':>11}{'dstiff %':>10}")
-    for r in out["comparison"]:
-        same = r["ball"] == reference
-        diffs = (f"{'':>9}{'':>9}{'':>11}{'':>10}" if same else
-                 f"{r['cor_difference']:>+9.4f}{r['peak_force_difference_percent']:>+9.2f}"
-                 f"{r['contact_time_difference_percent']:>+11.2f}"
-                 f"{r['dynamic_stiffness_difference_percent']:>+10.2f}")
-        print(f"{r['impact_speed_m_s']:>10.4g}  {r['ball']:<{width}}{r['cor']:>8.4f}"
-              f"{r['peak_force_n'] / 1e3:>9.3f}{r['contact_time_s'] * 1e3:>11.4f}"
-              f"{r['dynamic_stiffness_n_m'] / 1e6:>11.4g}{diffs}")
-    print_written(out)
-    print(f"{out['wall_time_s']:.2f} s wall")

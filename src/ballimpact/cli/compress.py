@@ -9,7 +9,7 @@ from typing import Any
 
 from ..errors import InputError
 from ..progress import CountProgress
-from .common import add_json, add_allow, use_compilation_cache
+from .common import add_json, add_allow, print_lines, use_compilation_cache
 from ..fe.options import COMPRESSION_PENALTY_SCALE
 from .simulate import SolverDefaults
 
@@ -70,6 +70,7 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe.compression import compress_ball
+    from ..fe.text import compression_lines
 
     three_d = {"--divisions": args.divisions, "--pole-grading": args.pole_grading,
                "--full-model": args.full_model or None}
@@ -89,15 +90,5 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                         csv_path=args.csv, plot_path=args.plot,
                         progress=CountProgress("increment", quiet_s=PROGRESS_AFTER_S))
     if not args.json:
-        curve = (f"at {args.rate_m_s:g} m/s" if args.rate_m_s is not None
-                 else "long-term (relaxed)")
-        low, high = out["principal_stretch_range"]
-        print(f"{out['ball']} compressed by {args.deflection_m * 1e3:.4g} mm between two "
-              f"platens, {curve}: peak force {out['peak_force_n']:.5g} N")
-        print(f"  stiffness at the end {out['end_stiffness_n_m'] / 1e3:.5g} N/mm, secant "
-              f"{out['secant_stiffness_n_m'] / 1e3:.5g} N/mm; principal stretches "
-              f"{low:.3f}-{high:.3f}")
-        print(f"  {out['elements']} elements ({out['geometry']}), {out['increments']} "
-              f"increments, {out['newton_iterations']} Newton iterations, {out['wall_time_s']:.2f} s wall "
-              f"({out['compile_time_s']:.2f} s compiling)")
+        print_lines(compression_lines(out))
     return out

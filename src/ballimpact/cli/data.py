@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 from typing import Any
-from .common import add_json
+from .common import add_json, print_lines
 
 
 def add_parser(verbs) -> None:
@@ -34,20 +34,16 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..records import datasets
+    from ..records.text import datasets_lines
 
     if args.step == "list":
         sets = [d.to_dict() for d in datasets.DATASETS.values()]
         if not args.json:
-            for d in sets:
-                print(f"{d['argument']} ({d['kind']}): {d['description']}")
-                print(f"    source: {d['source']}")
-                print(f"    files:  {', '.join(d['files'])}")
-                print(f"    e.g.    {d['usage']}")
+            print_lines(datasets_lines(sets))
         return {"datasets": sets, "folder": str(datasets.DATA)}
     name = args.name[len(datasets.PREFIX):] if datasets.is_builtin(args.name) else args.name
     written = datasets.copy(name, args.dest, overwrite=args.force)
     if not args.json:
-        for path in written:
-            print(path)
+        print_lines(map(str, written))
     return {"name": datasets.get(name).name, "dest": str(args.dest),
             "files": [str(p) for p in written]}

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from .common import add_json, add_allow
+from .common import add_json, add_allow, print_lines
 
 
 def add_parser(verbs) -> None:
@@ -77,6 +77,7 @@ def add_parser(verbs) -> None:
 
 def run_export(args: argparse.Namespace) -> dict[str, Any]:
     from ..export import export_ball_spec
+    from ..export.text import export_lines, note_lines
 
     out = export_ball_spec(args.ball, args.out, args.format, speed_m_s=args.speed_m_s,
                            angle_deg=args.angle_deg, friction=args.friction,
@@ -85,12 +86,9 @@ def run_export(args: argparse.Namespace) -> dict[str, Any]:
                            approximate=args.approximate, element_size_m=args.element_size_m,
                            divisions=args.divisions, pole_grading=args.pole_grading,
                            half=args.half_model, allow=args.allow)
-    for note in out["notes"]:
-        print(f"note: {note}", file=sys.stderr)
+    print_lines(note_lines(out), file=sys.stderr)
     if not args.json:
-        what = "ball" if out["ball_only"] else "impact deck"
-        print(f"wrote {out['out']}: {args.format} {what} of {out['ball']} ({out['solver']}, "
-              f"{out['nodes']} nodes, {out['elements']} elements, units {out['units']})")
+        print_lines(export_lines(out))
     return out
 
 

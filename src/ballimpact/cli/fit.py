@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import argparse
 import sys
-from functools import partial
 from pathlib import Path
 from typing import Any
 
-from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from, verdict_line
-from .common import (add_json, add_processing, assignments, load, process_record,
+from ..verdict import add_tolerance_flags, raise_if_missed, tolerances_from
+from .common import (add_json, add_processing, assignments, print_lines, record_options,
                      use_compilation_cache)
 
 
@@ -59,71 +58,29 @@ def add_parser(verbs) -> None:
 
 def run_fit(args: argparse.Namespace) -> dict[str, Any]:
     from ..lumped.fit_records import fit_files  # JAX and pymoo: only for the verbs needing them
+    from ..lumped.text import fits_lines, repeats_note_lines
 
     use_compilation_cache()
     fits, result = fit_files(
-        args.files, load=partial(load, args=args), process=partial(process_record, args=args),
-        model=args.model, tolerances=tolerances_from(args), allow=args.allow,
-        table_path=args.table, plot_path=args.plot, method=args.method, seed=args.seed,
-        population=args.population, generations=args.generations, polish=not args.no_polish,
+        args.files, options=record_options(args), model=args.model,
+        tolerances=tolerances_from(args), allow=args.allow, table_path=args.table,
+        plot_path=args.plot, method=args.method, seed=args.seed, population=args.population,
+        generations=args.generations, polish=not args.no_polish,
         bounds=assignments(args.bound, "--bound", bounds=True),
         fixed=assignments(args.fix, "--fix", bounds=False), cor_weight=args.cor_weight,
         contact_time_weight=args.contact_time_weight)
-    if fits.table is not None:
-        _note_repeats(fits.table)
+    print_lines(repeats_note_lines(fits.table), file=sys.stderr)
     if not args.json:
-        for f, file, check in zip(fits.fits, fits.labels, fits.checks):
-            _print_fit(f, Path(file), check)
-        if fits.table is not None:
-            print(fits.table.to_csv(), end="")
-        for group in fits.repeats:
-            spread = ", ".join(f"{k} {group['params_mean'][k]:.5g} +/- {group['params_sd'][k]:.3g}"
-                               for k in group["params_mean"])
-            print(f"repeats at {group['speed_m_s']:g} m/s ({group['count']} tests): {spread}")
+        print_lines(fits_lines(fits))
     raise_if_missed(list(zip(fits.labels, fits.checks)), result, "model check", "the model")
     return result
 
 
-def _note_repeats(table) -> None:
-    """One line on stderr naming the tests repeated at one speed (each keeps its row)."""
-    files: dict[float, list[str]] = {}
-    for speed, file in zip(table.speeds_m_s, table.labels):
-        files.setdefault(speed, []).append(Path(file).name)
-    repeated = [f"{speed:g} m/s: {', '.join(names)}" for speed, names in files.items()
-                if len(names) > 1]
-    if repeated:
-        print(f"note: tests repeated at one speed ({'; '.join(repeated)}) keep one row each; "
-              "the table interpolates between their mean", file=sys.stderr)
-
-
-def _print_fit(fitted, path: Path, check: dict[str, Any]) -> None:
-    m = fitted.measured
-    print(f"{path.name}: {fitted.model} by {fitted.method.upper()} (seed {fitted.seed}), "
-          f"{fitted.evaluations} model runs, {fitted.wall_time_s:.2f} s")
-    for name, value in fitted.params.items():
-        error = fitted.standard_errors.get(name, 0.0)
-        spread = f" +/- {error:.3g}" if error > 0 else " (fixed)" if name not in fitted.bounds \
-            else ""
-        unknown = "  not identified" if name in fitted.notes else ""
-        print(f"  {name:<10} {value:.6g}{spread} {fitted.units[name]}{unknown}")
-    print(f"  RMSE {fitted.rmse_n:.4g} N, NRMSE {fitted.nrmse:.2%} of the measured peak")
-    print(f"  model:    peak {fitted.peak_force_n:.5g} N, contact "
-          f"{fitted.contact_time_s * 1e3:.4g} ms, COR {fitted.cor:.4f}")
-    print(f"  measured: peak {m['peak_force_n']:.5g} N, contact "
-          f"{m['contact_time_s'] * 1e3:.4g} ms, COR {m['cor']:.4f}")
-    print(f"  model check {verdict_line(check)}")
-    if fitted.reproduction:
-        print("  note: a reproduction of the thesis' appendix code, not a recommended model")
-
-
 def run_models(args: argparse.Namespace) -> dict[str, Any]:
     from ..lumped import describe_models
+    from ..lumped.text import models_lines
 
     models = describe_models()
     if not args.json:
-        for model in models:
-            print(f"{model['name']}: {model['summary']}")
-            for name, spec in model["params"].items():
-                fixed = f" (fixed, default {spec['default']:g})" if "default" in spec else ""
-                print(f"    {name:<18} [{spec['unit']}] {spec['description']}{fixed}")
+        print_lines(models_lines(models))
     return {"models": models}

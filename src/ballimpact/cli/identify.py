@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..fileio import table_text
-from ..verdict import (add_tolerance_flags, given_flags, raise_if_missed, tolerances_from,
-                       verdict_line)
-from .common import (add_processing, add_speed_grouping, load, process_record,
+from ..verdict import add_tolerance_flags, given_flags, raise_if_missed, tolerances_from
+from .common import (add_processing, add_speed_grouping, print_lines, record_options,
                      use_compilation_cache)
 
 
@@ -58,6 +55,7 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.by_speed import identify_files
+    from ..universal.text import identification_lines, identified_tests_lines
 
     tolerances = tolerances_from(args)  # a bad tolerance is refused before anything is loaded
     if given_flags(args) and not args.verify:
@@ -66,56 +64,13 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.verify:
         use_compilation_cache()
     found, out = identify_files(
-        args.files, load=partial(load, args=args), process=partial(process_record, args=args),
-        model=args.model, verify=args.verify, refine=args.refine, allow=args.allow,
-        diameter_m=args.ball_diameter_m, nominal_m_s=args.speeds,
-        tolerance=args.speed_tolerance, tolerances=tolerances, table_path=args.table,
-        ball_path=args.ball_out, plot_path=args.plot, each=None if args.json else _print)
+        args.files, options=record_options(args), model=args.model, verify=args.verify,
+        refine=args.refine, allow=args.allow, diameter_m=args.ball_diameter_m,
+        nominal_m_s=args.speeds, tolerance=args.speed_tolerance, tolerances=tolerances,
+        table_path=args.table, ball_path=args.ball_out, plot_path=args.plot,
+        each=None if args.json else lambda path, f: print_lines(identification_lines(path, f)))
     if not args.json:
-        if found.repeats:
-            _print_repeats(found.repeats)
-        if "table" in out:
-            print(table_text(list(out["table"][0]), out["table"], ".6g"), end="")
+        print_lines(identified_tests_lines(found, out))
     raise_if_missed([(path, f.verification) for path, _, f in found.results], out,
                     "FE check", "the identified ball")
     return out
-
-
-def _print_repeats(repeated: list[dict[str, Any]]) -> None:
-    from ..universal.model import TARGET_UNITS
-
-    for group in repeated:
-        print(f"repeats at {group['speed_m_s']:.4g} m/s ({group['count']} tests): mean +/- SD "
-              "of their identifications; the mean pulse's estimate [90% interval]")
-        pulse = group["mean_pulse"]
-        for name, mean in group["params_mean"].items():
-            unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""
-            low, high = pulse["params_interval_90"][name]
-            print(f"  {name:<8} {mean:11.5g} +/- {group['params_sd'][name]:.3g} {unit:<3} "
-                  f"mean pulse {pulse['params'][name]:.5g} [{low:.4g} .. {high:.4g}]")
-
-
-def _print(path: Path, found) -> None:
-    from ..universal.model import TARGET_UNITS
-
-    print(f"{path.name}: universal ball at {found.impact_speed_m_s:g} m/s "
-          f"(refine: {found.refine})")
-    size = found.ball_size
-    print(f"  ball     diameter {size['diameter_m']:g} m ({size['diameter_source']}), mass "
-          f"{size['mass_kg']:g} kg; groups " + ", ".join(f"{k} {v:.4g}"
-                                                          for k, v in found.groups.items()))
-    for name, value in found.params.items():
-        low, high = found.interval_90[name]
-        unit = TARGET_UNITS[name] if TARGET_UNITS[name] != "1" else ""
-        note = (" ON THE TRAINING BOUND" if name in found.at_training_bound else
-                " (clipped to the training range)" if name in found.clipped_to_training_range
-                else "")
-        print(f"  {name:<8} {value:11.5g} {unit:<3} 90% interval {low:.4g} .. {high:.4g}{note}")
-    v = found.verification
-    if v:
-        print(f"  FE check {verdict_line(v)}")
-        print(f"  force NRMSE "
-              f"{v['force_nrmse']:.2%}; COR {v['cor_simulated']:.4f} vs "
-              f"{v['cor_measured']:.4f}; contact time {v['contact_time_simulated_s'] * 1e3:.4g} vs "
-              f"{v['contact_time_measured_s'] * 1e3:.4g} ms; peak {v['peak_force_simulated_n']:.5g}"
-              f" vs {v['peak_force_measured_n']:.5g} N")

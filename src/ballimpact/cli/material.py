@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from .common import add_json, use_compilation_cache
+from .common import add_json, print_lines, use_compilation_cache
 
 
 def add_parser(verbs) -> None:
@@ -109,6 +109,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 # ---- fit ----------------------------------------------------------------------------------------
 def _fit(args: argparse.Namespace) -> dict[str, Any]:
     from ..material.fitting import fit_material_files
+    from ..material.text import fit_lines
 
     run = fit_material_files(
         args.tests, args.model, compression_positive=args.compression_positive,
@@ -116,27 +117,9 @@ def _fit(args: argparse.Namespace) -> dict[str, Any]:
         shift=args.shift, reference_temperature_c=args.reference_temperature_c,
         bulk_relaxation=args.bulk_relaxation, merge=args.merge, out_path=args.out,
         plot_path=args.plot)
-    out = run.result
-    if args.json:
-        return out
-    if args.model == "prony":
-        test = run.tests[0]
-        print(f"Prony series ({len(out['prony'])} terms) fitted to {test.path} ({test.mode}),"
-              f" R^2 = {run.fit.r2:.5f}")
-        for term in out["prony"]:
-            print(f"  g = {term['g']:.5g}  k = {term['k']:.5g}  tau_s = {term['tau_s']:.5g}")
-        return out
-    print(f"{out['model']} fitted to {len(run.tests)} test(s), error {out['error']}")
-    errors = out["standard_errors"]
-    for key, value in out["constants"].items():
-        print(f"  {key:<18} {value:>14.6g}  +/- {errors.get(key, 0.0):.3g}")
-    print("  R^2: " + ", ".join(f"{Path(k).name if k != 'overall' else k} {v:.5f}"
-                                for k, v in out["r2"].items()))
-    for mode, (low, high) in out["stable_range"].items():
-        print(f"  Drucker-stable {mode:<12} stretch {low:.4g} to {high:.4g}")
-    for note in out["notes"]:
-        print(f"  note: {note}")
-    return out
+    if not args.json:
+        print_lines(fit_lines(run))
+    return run.result
 
 
 # ---- ball ---------------------------------------------------------------------------------------
@@ -164,6 +147,7 @@ def _numbers(text: str | None, flag: str, auto: bool = False) -> list | None:
 
 def _ball(args: argparse.Namespace) -> dict[str, Any]:
     from ..material.ball_file import write_ball
+    from ..material.text import ball_file_lines
 
     prony = []
     for text in args.prony:  # [LAYER=]FILE
@@ -176,32 +160,16 @@ def _ball(args: argparse.Namespace) -> dict[str, Any]:
         layer_names=None if args.layer_names is None else [
             n.strip() for n in args.layer_names.split(",")], prony=prony, name=args.name)
     if not args.json:
-        print(f"wrote {args.out}: {out['name']}, {len(out['layers'])} layer(s), diameter "
-              f"{out['diameter_m']:g} m, mass {out['mass_kg']:.5g} kg")
-        for e in out["layers"]:
-            print(f"  {e['name']:<10} to r = {e['outer_radius_m']:g} m, {e['density_kg_m3']:.5g} "
-                  f"kg/m^3, {e['mass_kg']:.4g} kg, {e['model']}"
-                  + (f" + {e['prony_terms']} Prony term(s)" if e["prony_terms"] else ""))
+        print_lines(ball_file_lines(out, args.out))
     return out
 
 
 # ---- check --------------------------------------------------------------------------------------
 def _check(args: argparse.Namespace) -> dict[str, Any]:
     from ..material.stability import stability_report
+    from ..material.text import stability_lines
 
     out = stability_report(ball=args.ball, material_file=args.material, speed_m_s=args.speed_m_s)
-    if args.json:
-        return out
-    print(f"{out['name']}: Drucker-stable stretch ranges")
-    for e in out["layers"]:
-        if not e["checked"]:
-            print(f"  {e['name']} ({e['model']}): not checked")
-            continue
-        for mode, (low, high) in e["stable_range"].items():
-            inside = e.get("inside", {}).get(mode)
-            tag = "" if inside is None else ("  run inside" if inside else "  RUN OUTSIDE")
-            print(f"  {e['name']} ({e['model']}) {mode:<12} {low:.4g} to {high:.4g}{tag}")
-    if "stretch_range" in out:
-        lo, hi = out["stretch_range"]
-        print(f"  run at {out['speed_m_s']:g} m/s reaches stretches {lo:.4g} to {hi:.4g}")
+    if not args.json:
+        print_lines(stability_lines(out))
     return out

@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..verdict import add_tolerance_flags, tolerances_from
-from .common import (add_json, add_filtering, add_record_options, load, process_record,
+from .common import (add_json, add_filtering, add_record_options, print_lines, record_options,
                      use_compilation_cache)
 
 #: for the help only: `report.build.DEFAULT_MODELS` (that package loads JAX and matplotlib)
@@ -49,6 +48,7 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..report.build import raise_if_unmatched, report_files
+    from ..report.text import report_lines
 
     tolerances = tolerances_from(args)
     for flag, value in (("--impact-speed-m-s", args.impact_speed_m_s),
@@ -58,36 +58,11 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                              "has its own: give it in the file's side file (FILE.json with "
                              "impact_speed_m_s and rebound_speed_m_s)")
     use_compilation_cache()
-    result = report_files(args.files, args.out, load=partial(load, args=args),
-                          process=partial(process_record, args=args), builtin=args.builtin,
-                          models=args.models, universal_model=args.universal_model,
-                          seed=args.seed, progress=not args.quiet, allow=args.allow,
-                          tolerances=tolerances)
+    result = report_files(args.files, args.out, options=record_options(args),
+                          builtin=args.builtin, models=args.models,
+                          universal_model=args.universal_model, seed=args.seed,
+                          progress=not args.quiet, allow=args.allow, tolerances=tolerances)
     if not args.json:
-        _print(result)
+        print_lines(report_lines(result))
     raise_if_unmatched(result)
     return result
-
-
-def _print(result: dict[str, Any]) -> None:
-    tables = result["tables"]
-    for key in ("nrmse", "cor_error"):
-        table = tables[key]
-        print(table["title"])
-        print("  " + "".join(f"{c:>20}" for c in table["columns"]))
-        for row in table["rows"]:
-            cells = [f"{row[0]:>20}"] + [_cell(v, key) for v in row[1:]]
-            print("  " + "".join(cells))
-    for model in dict.fromkeys(r["model"] for r in result["runs"]):
-        mine = [r for r in result["runs"] if r["model"] == model]
-        passed = sum(r["check"]["passed"] for r in mine)
-        print(f"  check {model}: passed on {passed} of {len(mine)} tests")
-    for failure in result["failures"]:
-        print(f"failed: {failure['model']} at {failure['test']}: {failure['error']}")
-    print(f"report: {result['report_html']} ({result['wall_time_s']:.1f} s)")
-
-
-def _cell(value: Any, key: str) -> str:
-    if isinstance(value, str):  # "failed"
-        return f"{value:>20}"
-    return f"{value:>20.2%}" if key == "nrmse" else f"{value:>+20.4f}"

@@ -1,19 +1,20 @@
 """`ballimpact simulate`: an FE impact (axisymmetric or 3D), a speed sweep or an angle sweep, and
 the solver flags other verbs share (`add_solver_options`, `SolverDefaults`). The runs are the
 library's (`fe.runs.simulate_impact`, `fe.runs.simulate_speeds`, `oblique.sweep.simulate_angles`);
-here the flags are turned into their arguments, and the text is `simulate_text`'s."""
+here the flags are turned into their arguments, and the text is `fe.text`'s and
+`oblique.text`'s."""
 
 from __future__ import annotations
 
 import argparse
 import sys
-from functools import partial
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
 from ..fe.sweep import parse_speeds
-from .common import add_allow, add_json, finite_float, use_compilation_cache
+from .common import (add_allow, add_json, finite_float, parsed, print_lines,
+                     use_compilation_cache)
 
 
 class SolverDefaults:
@@ -136,10 +137,7 @@ def add_solver_options(parser: argparse.ArgumentParser) -> None:
 def speed_list(text: str) -> float | tuple[float, ...]:
     """argparse type of `--speed-m-s`: one speed (a float, as before the sweeps) or a tuple of
     several (`sweep.parse_speeds`)."""
-    try:
-        speeds = parse_speeds(text)
-    except InputError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
+    speeds = parsed(parse_speeds, text)
     return speeds[0] if len(speeds) == 1 else speeds
 
 
@@ -150,10 +148,7 @@ def angle_list(text: str) -> float | tuple[float, ...]:
         return finite_float(text)
     from ..oblique.sweep import parse_angles
 
-    try:
-        return parse_angles(text)
-    except InputError as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
+    return parsed(parse_angles, text)
 
 
 def _values(given) -> tuple[float, ...]:
@@ -240,7 +235,6 @@ def start_run(cost):
 def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
     from ..fe import Axisymmetric, Hexahedral
     from ..fe.output import RunFiles
-    from . import simulate_text
 
     speeds, angles = given_speeds(args), _values(args.angle_deg)
     _check_solver_flags(args, speeds, angles)
@@ -253,24 +247,27 @@ def run_simulate(args: argparse.Namespace) -> dict[str, Any]:
              "target": args.target}
     if len(angles) > 1:  # several angles: one batched 3D run
         from ..oblique.sweep import simulate_angles
+        from ..oblique.text import angle_sweep_lines
 
         out = simulate_angles(args.ball, speeds[0], angles, Hexahedral(_options_3d(args)),
                               **spins, **common)
-        text = simulate_text.print_angle_sweep
+        lines = angle_sweep_lines(out)
     elif len(speeds) > 1:  # several speeds: one batched axisymmetric run
         from ..fe.runs import simulate_speeds
+        from ..fe.text import speed_sweep_lines
 
         out = simulate_speeds(args.ball, speeds, solver_options(args), target=args.target,
                               **common)
-        text = simulate_text.print_speed_sweep
+        lines = speed_sweep_lines(out)
     else:  # the run of one impact
         from ..fe.runs import simulate_impact
+        from ..fe.text import impact_3d_lines, impact_lines
 
         geometry = (Hexahedral(_options_3d(args)) if three_d
                     else Axisymmetric(solver_options(args)))
         result, out = simulate_impact(args.ball, speeds[0], geometry, angle_deg=angles[0],
                                       **spins, **common)
-        text = partial(simulate_text.print_3d if three_d else simulate_text.print_one, result)
+        lines = (impact_3d_lines if three_d else impact_lines)(result, out)
     if not args.json:
-        text(out)
+        print_lines(lines)
     return out

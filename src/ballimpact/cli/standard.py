@@ -13,9 +13,11 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError
-from ..standards import METHODS, describe_methods, get_method, run_method, stats_text
+from ..standards import METHODS, describe_methods, get_method, run_method
+from ..standards.text import bbcor_lines, method_lines, methods_lines, specified_ball_lines
 from .bat import add_ball_model, ball_of
-from .common import add_filtering, add_json, processing_options, use_compilation_cache
+from .common import (add_filtering, add_json, print_lines, record_options,
+                     use_compilation_cache)
 from .simulate import SolverDefaults
 
 #: the names (lower case) of the two methods that are not `standards.METHODS`
@@ -116,8 +118,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
             raise InputError("--list: give it alone (it lists the methods)")
         methods = describe_methods()
         if not args.json:
-            for entry in methods:
-                print(f"{entry['method']:<18} {entry['designation']:<11} {entry['description']}")
+            print_lines(methods_lines(methods))
         return {"methods": methods}
     if args.method is None:
         raise InputError(f"METHOD: missing; one of {', '.join(METHODS)}, bbcor, ball (or "
@@ -140,14 +141,14 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                          "file from a specification)") from None
     if args.ball is not None:
         use_compilation_cache()
-    options = {k: v for k, v in processing_options(args).items() if k != "allow"}
+    options = {k: v for k, v in record_options(args).processing().items() if k != "allow"}
     result = run_method(method, paths=args.paths, ball=args.ball, mass_kg=args.mass_kg,
                         ball_id_pattern=args.ball_id_pattern,
                         impact_speed_m_s=args.impact_speed_m_s,
                         element_size_m=args.element_size_m, process_options=options,
                         allow=args.allow, table=args.table)
     if not args.json:
-        (print_model if result["source"] == "model" else print_records)(result)
+        print_lines(method_lines(result))
     return result
 
 
@@ -178,7 +179,7 @@ def _ball(args: argparse.Namespace) -> dict[str, Any]:
         tau1_s=args.tau1_s, name=args.name, element_size_m=args.element_size_m,
         progress=progress_line)
     if not args.json:
-        print_ball(out)
+        print_lines(specified_ball_lines(out))
     missed = out["check"]["missed"]
     if missed:  # not written: a ball that does not meet its specification
         raise CheckFailed(f"the calibration did not close ({'; '.join(missed)}); "
@@ -199,74 +200,8 @@ def _bbcor(args: argparse.Namespace) -> dict[str, Any]:
     result = bbcor_certification(args.bat, ball_of(args.ball), ball_model=args.ball_model,
                                  allow=args.allow, progress=True)
     if not args.json:
-        print_bbcor(result)
+        print_lines(bbcor_lines(result))
     if not result["meets_limit"]:  # a certification the bat fails: exit 3, the result printed
         raise CheckFailed(f"BBCOR {result['bbcor']:.4f} exceeds the limit "
                           f"{result['limit']:.3f} ({result['designation']})", result)
     return result
-def print_records(result: dict[str, Any]) -> None:
-    """Per ball mean +- SD (n) of each quantity, then the line over the balls."""
-    quantities, overall = result["quantities"], result["overall"]
-    print(f"{result['designation']} {result['method']}: {overall['shots']} records, "
-          f"{overall['balls']} balls" + (f" ({result['nominal_speed_note']})"
-                                         if "nominal_speed_note" in result else ""))
-    for entry in result["balls"]:
-        parts = [stats_text(entry[key], unit) for key, unit in quantities.items()]
-        if "impact_speed_m_s" in entry:
-            parts.append(f"inbound {stats_text(entry['impact_speed_m_s'], 'm/s')}")
-        print(f"  {entry['ball']:<16} " + "; ".join(parts) + f" (n={entry['count']})")
-    parts = [stats_text(overall[key], unit) for key, unit in quantities.items()]
-    print(f"  {'all balls':<16} " + "; ".join(parts)
-          + f" (mean and SD of {overall['balls']} ball means)")
-
-
-def print_model(result: dict[str, Any]) -> None:
-    """The method's quantities on the model, then its cost."""
-    values, cost = result["result"], result["cost"]
-    parts = [f"{values[key]:.5g}" + (f" {unit}" if unit else "")
-             for key, unit in result["quantities"].items()]
-    where = (f"at {values['impact_speed_m_s']:.4g} m/s" if "impact_speed_m_s" in values
-             else f"at {values['deflection_m'] * 1e3:.3g} mm")
-    print(f"{result['designation']} {result['method']} of {result['ball']} (model) {where}: "
-          + "; ".join(parts))
-    steps = (f"{cost['steps']} steps" if "steps" in cost
-             else f"{cost['increments']} increments, {cost['newton_iterations']} Newton "
-                  "iterations")
-    print(f"  cost: {cost['wall_time_s']:.2f} s wall, {steps}, {cost['elements']} elements "
-          f"({cost['element_size_m']:g} m)")
-
-
-def print_ball(out: dict[str, Any]) -> None:
-    from ..records.loaders import LBF_N
-
-    s, p, c = out["specification"], out["params"], out["check"]
-    lbf = s["compression_force_n"] / LBF_N
-    print(f"{out['ball']['name']}: a homogeneous ball of {s['diameter_m'] * 1e3:.2f} mm and "
-          f"{s['mass_kg'] * 1e3:.2f} g calibrated to COR {s['cor']:g} at "
-          f"{s['impact_speed_m_s']:.4g} m/s and {s['compression_force_n']:.4g} N ({lbf:.4g} lbf) "
-          f"at {s['compression_deflection_m'] * 1e3:.3g} mm")
-    print(f"  C10 {p['c10_pa'] / 1e6:.4g} MPa, C01 0, g1 {p['g1']:.4f}, tau1 "
-          f"{p['tau1_s'] * 1e6:.4g} us (long-term moduli, K = 20 mu0 / (1 - g1))")
-    print(f"  FE check ({out['element_size_m'] * 1e3:.3g} mm elements): COR {c['cor']:.4f} "
-          f"({c['cor_error']:+.4f}), compression {c['compression_force_n']:.5g} N "
-          f"({c['compression_relative_error']:+.2%}); DS {c['dynamic_stiffness_n_m']:.4g} N/m, "
-          f"peak force {c['peak_force_n']:.5g} N, contact time {c['contact_time_s'] * 1e3:.3f} ms")
-    print(f"  {out['runs']['impacts']} impacts, {out['runs']['compressions']} compressions, "
-          f"{out['wall_time_s']:.1f} s" + (f"; wrote {out['out']}" if "out" in out else ""))
-
-
-def print_bbcor(out: dict[str, Any]) -> None:
-    """The BBCOR and the limit, the test's figures, the law, the scan."""
-    verdict = "meets it" if out["meets_limit"] else "EXCEEDS it"
-    model = "FE ball" if out["ball"].get("model") == "fe" else "ball law"
-    print(f"{out['designation']} of {out['bat']} with {out['ball']['name']} ({model}): BBCOR "
-          f"{out['bbcor']:.4f} (limit {out['limit']:.3f}: {verdict})")
-    print(f"  ball {out['speed_m_s']:.4g} m/s ({out['ball_speed_mph']:.0f} mph) at the bat at "
-          f"rest, pinned {out['pivot_m']:g} m ({out['pivot_in']:g} in) from the knob; I pivot "
-          f"{out['moi_pivot_kg_m2']:.4f} kg m^2, ball {out['ball_mass_kg']:.4g} kg")
-    print(f"  largest BBCOR at {out['impact_m']:.4f} m from the knob "
-          f"({out['from_barrel_end_m']:.4f} m, {out['from_barrel_end_in']:.2f} in from the barrel "
-          f"end): e_A {out['collision_efficiency']:.4f}, r {out['r']:.4f}; a rigid bat "
-          f"(the ball's COR on a rigid plane) {out['rigid_bbcor']:.4f}")
-    print("  scan, in from the barrel end: "
-          + ", ".join(f"{p['from_barrel_end_in']:.1f} {p['bbcor']:.4f}" for p in out["scan"]))

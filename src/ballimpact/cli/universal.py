@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from ..progress import progress_bar
-from .common import add_json, add_allow, assignments, use_compilation_cache
+from .common import add_json, add_allow, assignments, print_lines, use_compilation_cache
 
 
 def add_parser(verbs) -> None:
@@ -96,6 +96,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
 
 def _run(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.steps import run_design
+    from ..universal.text import design_lines
 
     use_compilation_cache()
     # Ctrl-C from here on: the command line ends with exit 130 and this line (finished batches
@@ -109,71 +110,32 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
                          resume=args.resume, extend=args.extend, workers=args.workers,
                          scheduler=args.scheduler, progress=progress_bar)
     if not args.json:
-        print(f"{args.dir}: {summary['finished_runs']}/{summary['runs']} runs finished "
-              f"({summary['new_runs']} now, {summary['wall_time_s']:.1f} s), "
-              f"{summary['failed_runs']} failed")
-        for failure in summary["failures"]:
-            print(f"  run {failure['run_id']}: {failure['reason']}")
+        print_lines(design_lines(summary))
     return summary
 
 
 def _train(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.steps import train_model
+    from ..universal.text import trained_lines
 
     use_compilation_cache()
     out = train_model(args.dir, args.out, seed=args.seed, steps=args.steps, width=args.width,
                       members=args.members, noise_augment=args.noise_augment, force=args.force)
     if not args.json:
-        print(f"model written to {out['model_json']} and {out['model_npz']} "
-              f"({out['wall_time_s']:.1f} s)")
-        _print_report(out)
+        print_lines(trained_lines(out))
     return out
 
 
 def _report(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.steps import report_model
+    from ..universal.text import closed_loop_lines, held_out_lines
 
     if args.closed_loop is not None:
         use_compilation_cache()
     out = report_model(args.model, study=args.closed_loop, runs=args.runs, noise=args.noise,
                        filter_name=args.filter, refine=args.refine, plot_path=args.plot,
-                       shown=None if args.json else _print_report)
-    if "closed_loop" in out and not args.json:
-        s = out["closed_loop"]["summary"]
-        print(f"closed loop on {s['runs']} held-out runs (noise {s['noise_of_peak']:.0%} of "
-              f"peak, refine {s['refine']}), {s['failed']} failed:")
-        for key in ("force_nrmse", "cor_error", "contact_time_relative_error",
-                    "peak_force_relative_error"):
-            print(f"  |{key}|: median {s[key]['median']:.4g}, 90th percentile "
-                  f"{s[key]['p90']:.4g}, max {s[key]['max']:.4g}")
-        print("  90% interval coverage: " + ", ".join(
-            f"{k} {v:.0%}" for k, v in s["interval_90_coverage"].items()))
+                       shown=None if args.json else lambda held: print_lines(
+                           held_out_lines(held)))
+    if not args.json:
+        print_lines(closed_loop_lines(out))
     return out
-
-
-def _print_report(metadata: dict) -> None:
-    """The held-out figures of a model (its metadata, or `steps.held_out`'s dict)."""
-    report = metadata["held_out"]
-    print(f"held-out runs: {report['runs']} (never used in training or early stopping)")
-    print(f"{'parameter':<10}{'median err':>12}{'p90 err':>10}{'R^2':>8}{'90% cover':>11}"
-          f"{'width/range':>13}")
-    for name, entry in report["inverse"].items():
-        err = entry["relative_error"] or entry["range_relative_error"]
-        kind = "" if entry["relative_error"] else " (of range)"
-        print(f"{name:<10}{err['median']:>12.2%}{err['p90']:>10.2%}"
-              f"{entry['range_relative_error']['r2']:>8.3f}{entry['interval_90_coverage']:>11.1%}"
-              f"{entry['interval_90_mean_width_of_range']:>13.2f}{kind}")
-    check = metadata.get("held_out_check")
-    if check is not None:
-        print(f"held-out check (R^2 >= {check.get('min_r2', 0.5):g} for "
-              f"{', '.join(check.get('r2', {}))}): "
-              + ("passed" if check["passed"] else "FAILED, written with --force"))
-    change = report["identifiability"]["median_rms_change_standardised"]
-    print("impact change for a 10% step of the range (standardised RMS): " +
-          ", ".join(f"{k} {v:.3f}" for k, v in change.items()))
-    fwd = report["forward"]
-    print(f"forward surrogate: force shape RMS {fwd['force_shape_rms_of_peak']['median']:.2%} of "
-          f"peak (median), COR error {fwd['cor_absolute_error']['median']:.4f} (median); "
-          f"peak force error {fwd['P6']['median']:.2%}, contact time error "
-          f"{fwd['P1']['median']:.2%}")
-

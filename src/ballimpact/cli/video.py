@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from ..progress import progress_line
-from .common import add_json
+from .common import add_json, print_lines
 
 
 def add_parser(verbs) -> None:
@@ -42,6 +42,7 @@ def add_parser(verbs) -> None:
 
 def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..video import measure_video
+    from ..video.text import measurement_lines
 
     out = measure_video(args.file, fps=args.fps, scale_m_per_px=args.scale_m_per_px,
                         ball_diameter_m=args.ball_diameter_m, surface_row=args.surface_row,
@@ -49,13 +50,5 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                         mass_kg=args.mass_kg, source=f"ballimpact video {args.file.name}",
                         plot_path=args.plot, log=progress_line)
     if not args.json:
-        print(f"impact  {out['impact_speed_m_s']:.3f} +- {out['impact_speed_se_m_s']:.3f} m/s at "
-              f"{out['impact_angle_deg']:.2f} +- {out['impact_angle_se_deg']:.2f} deg from the "
-              f"normal ({out['frames_before']} frames)")
-        print(f"rebound {out['rebound_speed_m_s']:.3f} +- {out['rebound_speed_se_m_s']:.3f} m/s at "
-              f"{out['rebound_angle_deg']:.2f} +- {out['rebound_angle_se_deg']:.2f} deg "
-              f"({out['frames_after']} frames); COR {out['cor']:.4f} +- {out['cor_se']:.4f}")
-        print(f"normal to the surface: impact {out['impact_speed_normal_m_s']:.3f} m/s, rebound "
-              f"{out['rebound_speed_normal_m_s']:.3f} m/s"
-              + (f" (the side file's speeds: {args.side_file})" if args.side_file else ""))
+        print_lines(measurement_lines(out))
     return out

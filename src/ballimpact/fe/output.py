@@ -73,8 +73,7 @@ def write_run_files(result, files: RunFiles) -> dict[str, str]:
     if csv is not None:
         written["csv"] = write_history(csv, result.history)
     if table is not None:
-        from .sweep import write_table as write_rows
-        from .runs import sweep_json_row
+        from .sweep import sweep_json_row, write_table as write_rows
 
         written["table"] = write_rows([sweep_json_row(result)], table)
     if vtk is not None:

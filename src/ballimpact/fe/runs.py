@@ -10,6 +10,7 @@ science (rows, tables, figures).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -26,6 +27,16 @@ from .output import RunFiles, write_run_files
 from .speed_range import check_fe_speed
 from .progress import RunEstimate
 from .result import ImpactResult
+from .sweep import (
+    BallComparison,
+    check_balls,
+    compare_rows,
+    run_sweep,
+    sweep_balls,
+    sweep_figure,
+    sweep_json_row,
+    write_table,
+)
 
 #: a run's hook between its estimate and its start: gets the estimate, returns the progress
 #: callback of the run (`fe.RunProgress`) or None
@@ -88,8 +99,6 @@ def run_speed_sweep(spec, speeds_m_s: Sequence[float], options=None, *,
     the cost estimated with the ball of the slowest speed (the longest run) before meshing, then
     `start` (`started`, with `announce`); its progress callback is used when the sweep runs as one vmapped group. Returns
     the `sweep.Sweep`."""
-    from .sweep import run_sweep, sweep_balls
-
     check_sweep_speeds(speeds_m_s, allow)
     balls = sweep_balls(spec, speeds_m_s, moduli=moduli, allow=allow)
     geometry = Axisymmetric(SolverOptions() if options is None else options)
@@ -127,15 +136,6 @@ def impact_summary(result: ImpactResult, ball: BallModel, target=None) -> dict[s
     if backing is not None:
         out["backing"] = backing
     return out
-
-
-def sweep_json_row(result: ImpactResult) -> dict[str, Any]:
-    """A speed sweep's row (`sweep.sweep_row`, SI) with the run's energy balance error, steps and
-    ball name."""
-    from .sweep import sweep_row
-
-    return {**sweep_row(result), "energy_balance_error": result.energy_balance_error,
-            "steps": result.steps, "ball_name": result.ball_name}
 
 
 def speed_sweep_summary(sweep) -> dict[str, Any]:
@@ -236,7 +236,6 @@ def simulate_speeds(spec, speeds_m_s: Sequence[float], options: SolverOptions | 
     `target` and a history file are refused), its JSON object (`speed_sweep_summary`) with the
     row table and the plot of `files` written."""
     from ..plotting import save_and_close
-    from .sweep import sweep_figure, write_table
 
     files.refuse("csv", why="a sweep writes a row per speed with --table (or give one speed)")
     if target is not None:
@@ -256,3 +255,40 @@ def simulate_speeds(spec, speeds_m_s: Sequence[float], options: SolverOptions | 
         figure = sweep_figure([sweep], title=f"{label}: speed sweep (FE, rigid plane)")
         out["plot"] = str(save_and_close(figure, files.plot))
     return out
+
+
+def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=None, *,
+                  moduli: str | None = None, allow=frozenset(), files=None,
+                  start=None) -> BallComparison:
+    """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
+    more, `sweep.check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
+    speeds one batched run (`run_speed_sweep`, `options` a `fe.SolverOptions`, `start` its
+    hook: `fe.runs.Start`), `moduli` overriding every ball's convention: every ball loaded and
+    its run estimated before any runs. `files` (`fe.output.RunFiles`): its `table` (the long
+    table) and `plot` (force-time overlays and the figures against speed) are written, their
+    paths in the result's `written`."""
+    from ..plotting import save_and_close
+    files = RunFiles() if files is None else files
+    files.check()
+    allow = check_allow(allow)
+    specs = check_balls(specs)
+    speeds = tuple(float(s) for s in speeds_m_s)
+    options = SolverOptions() if options is None else options
+    check_sweep_speeds(speeds, allow)
+    slowest = min(range(len(speeds)), key=speeds.__getitem__)
+    for spec in specs:  # a bad ball, or one too large to run, stops the comparison here
+        estimate(sweep_balls(spec, speeds, moduli=moduli, allow=allow)[slowest], speeds, options,
+                 allow=allow)
+    started = time.perf_counter()
+    sweeps = [run_speed_sweep(spec, speeds, options, moduli=moduli, label=spec, allow=allow,
+                              start=start,
+                              announce=f"simulating {spec} at {len(speeds)} speed(s) ...")
+              for spec in specs]
+    comparison = BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
+                                time.perf_counter() - started)
+    if files.table is not None:
+        comparison.written["table"] = write_table(comparison.rows, files.table)
+    if files.plot is not None:
+        figure = sweep_figure(sweeps, overlays=True, title="compare: FE impacts on a rigid plane")
+        comparison.written["plot"] = str(save_and_close(figure, files.plot))
+    return comparison

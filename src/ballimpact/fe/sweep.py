@@ -127,6 +127,13 @@ def sweep_row(result) -> dict[str, float]:
                                                              v))}
 
 
+def sweep_json_row(result) -> dict[str, Any]:
+    """A speed sweep's row (`sweep.sweep_row`, SI) with the run's energy balance error, steps and
+    ball name."""
+    return {**sweep_row(result), "energy_balance_error": result.energy_balance_error,
+            "steps": result.steps, "ball_name": result.ball_name}
+
+
 def differences(row: dict[str, float], reference: dict[str, float]) -> dict[str, float]:
     """`row` against `reference` at the same speed: the COR difference (absolute, row minus
     reference) and the peak force, contact time and dynamic stiffness differences in % of the
@@ -208,49 +215,6 @@ class BallComparison:
                             "mass_kg": s.results[0].mass_kg, "wall_time_s": s.wall_time_s,
                             "rows": s.rows()} for s in self.sweeps],
                 "wall_time_s": self.wall_time_s, **self.written}
-
-
-def compare_balls(specs: Sequence[str], speeds_m_s: Sequence[float], options=None, *,
-                  moduli: str | None = None, allow=frozenset(), files=None,
-                  start=None) -> BallComparison:
-    """Normal FE impacts on a rigid plane of the balls `specs` (presets or ball files, two or
-    more, `check_balls`; the first the reference) at each of `speeds_m_s` (m/s), each ball's
-    speeds one batched run (`runs.run_speed_sweep`, `options` a `fe.SolverOptions`, `start` its
-    hook: `fe.runs.Start`), `moduli` overriding every ball's convention: every ball loaded and
-    its run estimated before any runs. `files` (`fe.output.RunFiles`): its `table` (the long
-    table) and `plot` (force-time overlays and the figures against speed) are written, their
-    paths in the result's `written`."""
-    from ..checks import check_allow
-    from ..plotting import save_and_close
-    from .engine import estimate
-    from .options import SolverOptions
-    from .output import RunFiles
-    from .runs import check_sweep_speeds, run_speed_sweep
-
-    files = RunFiles() if files is None else files
-    files.check()
-    allow = check_allow(allow)
-    specs = check_balls(specs)
-    speeds = tuple(float(s) for s in speeds_m_s)
-    options = SolverOptions() if options is None else options
-    check_sweep_speeds(speeds, allow)
-    slowest = min(range(len(speeds)), key=speeds.__getitem__)
-    for spec in specs:  # a bad ball, or one too large to run, stops the comparison here
-        estimate(sweep_balls(spec, speeds, moduli=moduli, allow=allow)[slowest], speeds, options,
-                 allow=allow)
-    started = time.perf_counter()
-    sweeps = [run_speed_sweep(spec, speeds, options, moduli=moduli, label=spec, allow=allow,
-                              start=start,
-                              announce=f"simulating {spec} at {len(speeds)} speed(s) ...")
-              for spec in specs]
-    comparison = BallComparison(specs, speeds, sweeps, compare_rows(sweeps),
-                                time.perf_counter() - started)
-    if files.table is not None:
-        comparison.written["table"] = write_table(comparison.rows, files.table)
-    if files.plot is not None:
-        figure = sweep_figure(sweeps, overlays=True, title="compare: FE impacts on a rigid plane")
-        comparison.written["plot"] = str(save_and_close(figure, files.plot))
-    return comparison
 
 
 # --------------------------------------------------------------------------- plots

@@ -8,13 +8,14 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ..errors import InputError, InputWarning
 from ..fileio import check_output_folder, check_plot_path, write_atomic
+from ..records.options import RecordOptions
 from ..records.repeats import expand_records
 from ..verdict import Tolerances
 from .base import LumpedModel, Scale
@@ -178,17 +179,16 @@ def fit_records(processed: Sequence, model: str | LumpedModel, labels: Sequence[
     return result
 
 
-def fit_files(paths: Sequence[Path], *, load: Callable[[Path], Any],
-              process: Callable[[Any], Any], model: str | LumpedModel,
+def fit_files(paths: Sequence[Path], *, model: str | LumpedModel,
+              options: RecordOptions = RecordOptions(),
               tolerances: Tolerances = Tolerances(), allow=(), table_path: Path | None = None,
-              plot_path: Path | None = None, **options) -> tuple[RecordFits, dict[str, Any]]:
+              plot_path: Path | None = None, **fit_options) -> tuple[RecordFits, dict[str, Any]]:
     """`fit_records` on the record files of `paths` (`repeats.expand_records`: folders and
-    built-in sets too), each read by `load` (path -> record) and `process` (record -> processed
-    record); `options` are `fit`'s. Writes the speed table (CSV, `table_path`, several files
-    only) and the fit or fits over the tests (PNG, `plot_path`). Returns the fits and the
-    command's result: `RecordFits.to_dict` with `table_csv` and `plot` where written and
-    `wall_time_s`. `InputError`, before anything is loaded, for a bad output path, an unknown
-    model and `table_path` with one file."""
+    built-in sets too), each loaded and processed as `options` say; `fit_options` are `fit`'s.
+    Writes the speed table (CSV, `table_path`, several files only) and the fit or fits over the
+    tests (PNG, `plot_path`). Returns the fits and the command's result: `RecordFits.to_dict`
+    with `table_csv` and `plot` where written and `wall_time_s`. `InputError`, before anything
+    is loaded, for a bad output path, an unknown model and `table_path` with one file."""
     check_plot_path(plot_path)
     check_output_folder(table_path, "--table")
     model = get_model(model)
@@ -196,8 +196,9 @@ def fit_files(paths: Sequence[Path], *, load: Callable[[Path], Any],
     if table_path is not None and len(files) < 2:
         raise InputError("--table: needs several files")
     started = time.perf_counter()
-    fits = fit_records([process(load(path)) for path in files], model,
-                       [str(p) for p in files], tolerances=tolerances, allow=allow, **options)
+    fits = fit_records([options.process(options.load(path)) for path in files], model,
+                       [str(p) for p in files], tolerances=tolerances, allow=allow,
+                       **fit_options)
     result = fits.to_dict()
     if fits.table is not None and table_path is not None:
         write_atomic(table_path, fits.table.to_csv())

@@ -5,31 +5,30 @@ written."""
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from ..fileio import check_output_file, check_plot_path
 from . import repeats
+from .options import RecordOptions
 from .pipeline import ProcessedImpact
-from .record import ImpactRecord
 
 
 def features_of_files(
     paths: Sequence[Path],
     *,
-    load: Callable[[Path], ImpactRecord],
-    process: Callable[[ImpactRecord], ProcessedImpact],
+    options: RecordOptions = RecordOptions(),
     nominal_m_s: Sequence[float] | None = None,
     tolerance: float = repeats.DEFAULT_SPEED_TOLERANCE,
     table_path: Path | None = None,
     plot_path: Path | None = None,
 ) -> tuple[dict[str, Any], list[ProcessedImpact]]:
     """The `features` command on the records of `paths` (`repeats.record_files`: folders too,
-    less the table output), each read by `load` (path -> record) and `process` (record ->
-    processed record): with several, `repeats.summarise_repeats` (grouped to `nominal_m_s`,
-    m/s, or clustered within the relative `tolerance`), with one, `repeats.record_summary` (the
-    record must lie within `tolerance` of a nominal speed). Writes the table, a row per record
+    less the table output), each loaded and processed as `options` say: with several,
+    `repeats.summarise_repeats` (grouped to `nominal_m_s`, m/s, or clustered within the
+    relative `tolerance`), with one, `repeats.record_summary` (the record must lie within
+    `tolerance` of a nominal speed). Writes the table, a row per record
     (`repeats.write_speed_table`, CSV, `table_path`), and the record's pulse, or the groups'
     mean pulses with their bands (PNG, `plot_path`). Returns the result, with `wall_time_s`,
     `table_csv` and `plot` where written, and the processed records. `InputError`, before
@@ -41,7 +40,7 @@ def features_of_files(
         repeats.check_nominal(nominal_m_s)
     files = repeats.record_files(paths, table_path)
     started = time.perf_counter()
-    processed = [process(load(path)) for path in files]
+    processed = [options.process(options.load(path)) for path in files]
     if len(files) > 1:  # a row each, grouped by speed, with per-group means and SDs
         result = repeats.summarise_repeats(processed, files, nominal_m_s, tolerance)
         rows = result["records"]

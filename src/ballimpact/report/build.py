@@ -11,15 +11,14 @@ import json
 import time
 import warnings
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from .. import __version__
 from ..checks import check_integer
 from ..errors import CheckFailed, InputError, InputWarning, SimulationError
 from ..fileio import check_distinct_files, check_output_folder, json_safe, write_atomic
 from ..progress import progress_bar
-from ..records.pipeline import ProcessedImpact
-from ..records.record import ImpactRecord
+from ..records.options import RecordOptions
 from . import figures
 from .inputs import (ReportTest, builtin_ball, builtin_files, builtin_note, check_test_record,
                      label_tests)
@@ -124,16 +123,16 @@ def build_report(tests: list[ReportTest], models: list[ModelSpec], out: Path, *,
     return result
 
 
-def report_files(files: list[Path], out: Path, *, load: Callable[[Path], ImpactRecord],
-                 process: Callable[[ImpactRecord], ProcessedImpact], builtin: str | None = None,
-                 models: str | None = None, universal_model: str | Path | None = None,
+def report_files(files: list[Path], out: Path, *, options: RecordOptions = RecordOptions(),
+                 builtin: str | None = None, models: str | None = None,
+                 universal_model: str | Path | None = None,
                  seed: int = 0, progress: bool = True, allow=(),
                  tolerances=None) -> dict[str, Any]:
     """`build_report` into the folder `out` (its parent must exist) on the test record `files`,
-    each read by `load` (path -> record, which must carry its impact speed and mass,
-    `inputs.check_test_record`) and `process` (record -> processed record), or on the built-in
-    set `builtin` (`inputs.BUILTIN_SETS`; its generating FE ball joins the default models and
-    the page notes that the tests are synthetic). `models`: comma-separated
+    each loaded and processed as `options` say (the record must carry its impact speed and
+    mass, `inputs.check_test_record`), or on the built-in set `builtin` (`inputs.BUILTIN_SETS`;
+    its generating FE ball joins the default models and the page notes that the tests are
+    synthetic). `models`: comma-separated
     (`models.parse_models`; default `DEFAULT_MODELS`), the universal one loaded from
     `universal_model` (None: the built-in model). `InputError`, before anything runs, for both
     or neither of `files` and `builtin`, a bad `out`, `seed` < 0, a file given twice, an empty
@@ -152,7 +151,8 @@ def report_files(files: list[Path], out: Path, *, load: Callable[[Path], ImpactR
                          else DEFAULT_MODELS + (f",{ball}" if ball is not None else ""))
     files = builtin_files(builtin) if builtin else files
     tests = label_tests([str(f) for f in files],
-                        [process(check_test_record(load(path), path, len(files)))
+                        [options.process(check_test_record(options.load(path), path,
+                                                           len(files)))
                          for path in files])
     check_balls(specs, tests[len(tests) // 2].speed_m_s, allow)
     universal = None

@@ -19,6 +19,7 @@ from ..checks import check_allow
 from ..errors import InputError, InputWarning
 from ..fileio import (check_distinct_files, check_output_file, check_plot_path, write_atomic,
                       write_table)
+from ..records.options import RecordOptions
 from ..records.pipeline import process
 from ..records.repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
                        group_by_speed, mean_sd, pulse_band)
@@ -151,8 +152,8 @@ def speed_table_ball(found: list, model, groups: list[float]) -> dict[str, Any]:
         "moduli": template["moduli"], "rows": rows}}
 
 
-def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
-                   process: Callable[[Any], Any], model: str | Path | None = None,
+def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOptions(),
+                   model: str | Path | None = None,
                    verify: bool = True, refine: str = "none", allow: Collection[str] = (),
                    diameter_m: float | None = None,
                    nominal_m_s: Sequence[float] | None = None,
@@ -161,8 +162,8 @@ def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
                    plot_path: Path | None = None,
                    each: Callable[[Any, Identification], None] | None = None
                    ) -> tuple[IdentifiedTests, dict[str, Any]]:
-    """`identify_tests` on the test record `files`, each read by `load` (path -> record) and
-    `process` (record -> processed test), with the universal `model` (a path, None: the
+    """`identify_tests` on the test record `files`, each loaded and processed as `options`
+    say, with the universal `model` (a path, None: the
     built-in one); each impact speed (m/s) is checked against the model's training speeds
     before anything is processed. Writes the speed table (CSV, `table_path`, several files
     only), the identified ball (JSON, `ball_path`) and the tests with the identified balls'
@@ -193,11 +194,11 @@ def identify_files(files: Sequence[Path], *, load: Callable[[Path], Any],
                          "--ball-out")
     allow = check_allow(allow)
     loaded = load_model(model)
-    tests = [load(path) for path in files]
+    tests = [options.load(path) for path in files]
     for path, record in zip(files, tests):  # before any processing or FE run
         if record.impact_speed_m_s is not None:
             check_speed(loaded, record.impact_speed_m_s, allow, f"{path}: ")
-    found = identify_tests([process(record) for record in tests], files, loaded,
+    found = identify_tests([options.process(record) for record in tests], files, loaded,
                            nominal_m_s=nominal_m_s, tolerance=tolerance, verify=verify,
                            refine=refine, allow=allow, diameter_m=diameter_m,
                            tolerances=tolerances, each=each)
