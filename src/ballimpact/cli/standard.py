@@ -141,11 +141,10 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
                          "file from a specification)") from None
     if args.ball is not None:
         use_compilation_cache()
-    options = {k: v for k, v in record_options(args).processing().items() if k != "allow"}
     result = run_method(method, paths=args.paths, ball=args.ball, mass_kg=args.mass_kg,
                         ball_id_pattern=args.ball_id_pattern,
                         impact_speed_m_s=args.impact_speed_m_s,
-                        element_size_m=args.element_size_m, process_options=options,
+                        element_size_m=args.element_size_m, record_options=record_options(args),
                         allow=args.allow, table=args.table)
     if not args.json:
         print_lines(method_lines(result))

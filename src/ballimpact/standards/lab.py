@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +14,7 @@ import numpy as np
 
 from ..errors import InputError, InputWarning
 from ..records.loaders import LBF_N
+from ..records.options import RecordOptions
 from ..balls.checks import check_ball_mass
 from .methods import (INCH_M, Method, ball_id_function, checked_speed, get_method,
                       speed_note)
@@ -21,7 +23,7 @@ from .results import summarise
 
 def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | None = None,
                  ball_of: str | Callable[[Path], str] | None = None,
-                 nominal: float | None = None, process_options: dict | None = None
+                 nominal: float | None = None, options: RecordOptions = RecordOptions()
                  ) -> dict[str, Any]:
     """The method's quantities from a lab's records: `paths` are files or folders (folders give
     their *.csv / *.wav records, `repeats.expand_records`).
@@ -31,7 +33,8 @@ def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | No
     - `ball_of`: the ball id of a file (`ball_id_function`: None, a regex or a callable).
     - `nominal`: another inbound speed (m/s) for the impact methods (reported as such), or None
       for the method's.
-    - `process_options`: keyword arguments of `pipeline.process` (filter, window_s, ...).
+    - `options`: how an impact record is loaded and processed (`records.RecordOptions`; its
+      `mass_kg` replaced by `mass_kg` when given).
 
     Returns {"method", ..., "source": "records", "shots": [...], "balls": [...], "overall"}.
     """
@@ -53,8 +56,9 @@ def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | No
         shots = [_compression_shot(method, path, ball_id(path)) for path in files]
     else:
         speed = method.nominal if nominal is None else checked_speed(nominal)
-        shots = [_impact_shot(method, path, ball_id(path), mass_kg, speed, process_options or {})
-                 for path in files]
+        if mass_kg is not None:
+            options = replace(options, mass_kg=mass_kg)
+        shots = [_impact_shot(method, path, ball_id(path), speed, options) for path in files]
     out = method.to_dict()
     if method.kind == "impact" and nominal is not None:
         out["nominal_speed_m_s"] = float(nominal)
@@ -66,13 +70,10 @@ def from_records(method: str | Method, paths: list[Path], *, mass_kg: float | No
     return out
 
 
-def _impact_shot(method: Method, path: Path, ball: str, mass_kg: float | None,
-                 nominal_m_s: float, options: dict) -> dict[str, Any]:
+def _impact_shot(method: Method, path: Path, ball: str, nominal_m_s: float,
+                 options: RecordOptions) -> dict[str, Any]:
     """One impact record's quantities (its features through `pipeline.process`)."""
-    from ..records.loaders import load_record
-    from ..records.pipeline import process
-
-    record = load_record(path, mass_kg=mass_kg)
+    record = options.load(path)
     if record.mass_kg is None:
         raise InputError(f"{path}: no ball mass; give --mass-kg or mass_kg in its side file "
                          f"{path.with_suffix('.json').name}")
@@ -80,7 +81,7 @@ def _impact_shot(method: Method, path: Path, ball: str, mass_kg: float | None,
     if record.impact_speed_m_s is None:
         raise InputError(f"{path}: no inbound speed; give impact_speed_m_s in its side file "
                          f"{path.with_suffix('.json').name}")
-    features = process(record, **options).features
+    features = options.process(record).features
     v_in = features.values["P15"]
     note = speed_note(method, v_in, str(path), nominal_m_s)
     if note is not None:

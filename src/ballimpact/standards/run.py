@@ -4,12 +4,14 @@ ball model, the inputs checked, with its CSV table."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from ..checks import check_allow
 from ..errors import InputError
 from ..fileio import check_output_file
+from ..records.options import RecordOptions
 from .lab import from_records
 from .methods import Method, get_method
 from .model import on_model
@@ -19,11 +21,11 @@ from .results import write_result_table
 def run_method(method: str | Method, *, paths: Sequence[Path] = (), ball: str | None = None,
                mass_kg: float | None = None, ball_id_pattern: str | None = None,
                impact_speed_m_s: float | None = None, element_size_m: float | None = None,
-               process_options: dict | None = None, allow=(),
+               record_options: RecordOptions = RecordOptions(), allow=(),
                table: Path | None = None) -> dict[str, Any]:
     """`method` on a lab's records, `paths` (files or folders; `from_records` with `mass_kg`
-    (kg), the ball ids by `ball_id_pattern` and `process_options`, the keyword arguments of
-    `pipeline.process` but `allow`), or on a ball model, `ball` (a preset or ball file;
+    (kg), the ball ids by `ball_id_pattern` and `record_options`, how a record is loaded and
+    processed, `records.RecordOptions`, its `allow` replaced by `allow`), or on a ball model, `ball` (a preset or ball file;
     `on_model`, its mesh's element size `element_size_m`, m): one of the two.
     `impact_speed_m_s`: the impact methods run or judged at this speed (m/s) instead of the
     method's. `table`: the result's CSV (`write_result_table`) written there (a .csv file in an
@@ -53,7 +55,7 @@ def run_method(method: str | Method, *, paths: Sequence[Path] = (), ball: str | 
     else:
         result = from_records(method, paths, mass_kg=mass_kg, ball_of=ball_id_pattern,
                               nominal=impact_speed_m_s,
-                              process_options={**(process_options or {}), "allow": allow})
+                              options=replace(record_options, allow=allow))
     if table is not None:
         result["table"] = write_result_table(table, result)
     return result
