@@ -159,6 +159,17 @@ def test_off_speed_records_are_used_with_a_warning_naming_the_file(tmp_path, cap
     assert result["balls"][0]["cor"]["sd"] == 0.0 and result["balls"][0]["count"] == 2
 
 
+def test_a_nominal_speed_keeps_each_records_own_impact_speed(tmp_path, capsys):
+    """--impact-speed-m-s is the method's nominal speed: the shots keep their records' own
+    inbound speeds (side files), and the off-nominal note names the nominal."""
+    speeds = [26.7, 26.9]
+    for k, v in enumerate(speeds, start=1):
+        write_record(tmp_path / f"b-{k}.csv", 0.45, 7000.0, v)
+    result, _ = run_json(capsys, "cor", tmp_path, "--impact-speed-m-s", 26.8)
+    assert [s["impact_speed_m_s"] for s in result["shots"]] == pytest.approx(speeds, rel=1e-12)
+    assert result["nominal_speed_m_s"] == 26.8
+
+
 def test_mass_flag_serves_records_without_a_side_file_mass(tmp_path):
     speeds = [26.7, 26.9]
     for k, v in enumerate(speeds, start=1):

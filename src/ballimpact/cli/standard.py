@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import CheckFailed, InputError
+from ..records.options import RecordOptions
 from ..standards import METHODS, describe_methods, get_method, run_method
 from ..standards.text import bbcor_lines, method_lines, methods_lines, specified_ball_lines
 from .bat import add_ball_model, ball_of
@@ -144,11 +145,17 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     result = run_method(method, paths=args.paths, ball=args.ball, mass_kg=args.mass_kg,
                         ball_id_pattern=args.ball_id_pattern,
                         impact_speed_m_s=args.impact_speed_m_s,
-                        element_size_m=args.element_size_m, record_options=record_options(args),
+                        element_size_m=args.element_size_m, record_options=processing_only(args),
                         allow=args.allow, table=args.table)
     if not args.json:
         print_lines(method_lines(result))
     return result
+
+
+def processing_only(args: argparse.Namespace) -> RecordOptions:
+    """The processing flags alone: `standard`'s --impact-speed-m-s is the method's nominal
+    speed and its --mass-kg goes to `from_records` itself; neither may replace a record's own."""
+    return RecordOptions(**record_options(args).processing())
 
 
 def _flag(attribute: str) -> str:
