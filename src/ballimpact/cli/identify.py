@@ -29,8 +29,10 @@ def add_parser(verbs) -> None:
                     "the same).")
     identify.add_argument("files", type=Path, nargs="+", metavar="FILE",
                           help="test record(s): CSV with unit headers or WAV")
-    identify.add_argument("--model", help="model path (MODEL.json + MODEL.npz); default: the "
-                                          "built-in cricket-ball model")
+    identify.add_argument("--model", help="model path (MODEL.json + MODEL.npz), or "
+                                          "sports-ball-universal-model (any homogeneous solid "
+                                          "ball at 5-60 m/s); default: the built-in "
+                                          "cricket-ball model")
     identify.add_argument("--verify", action=argparse.BooleanOptionalAction, default=True,
                           help="run the identified ball in the FE engine and compare (default)")
     add_tolerance_flags(identify)

@@ -27,9 +27,14 @@ def add_parser(verbs) -> None:
     run.add_argument("--runs", type=int, help="number of runs (default 600)")
     run.add_argument("--seed", type=int, help="random seed of the design (default 0)")
     run.add_argument("--method", choices=("sobol", "lhs"), help="design (default sobol)")
+    run.add_argument("--design", choices=("material", "groups"),
+                     help="design space: material (default; C10, C01, g1, tau1 and the speed "
+                          "on the template) or groups (rho v^2/mu0, C01/C10, g1, tau1 v/R: any "
+                          "homogeneous ball at any speed)")
     run.add_argument("--range", action="append", default=[], metavar="NAME=LOW:HIGH",
                      help="range of c10_pa, c01_pa, g1, tau1_s or impact_speed_m_s in SI "
-                          "(repeatable; defaults: table 6-2, g1 0-0.9, 5-45 m/s)")
+                          "(repeatable; defaults: table 6-2, g1 0-0.9, 5-45 m/s); with --design "
+                          "groups of rho_v2_over_mu0, c01_over_c10, g1 or tau1_v_over_r")
     run.add_argument("--template", help="ball preset or file giving radius, mass and moduli "
                                         "convention (default cricket-universal)")
     run.add_argument("--batch-size", type=int, help="runs per batch: the unit of checkpointing "
@@ -104,7 +109,7 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
     args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
     summary = run_design(args.dir, template=args.template,
                          ranges=assignments(args.range, "--range", bounds=True),
-                         allow=args.allow, runs=args.runs, seed=args.seed, method=args.method,
+                         allow=args.allow, design=args.design, runs=args.runs, seed=args.seed, method=args.method,
                          batch_size=args.batch_size, group_size=args.group_size,
                          element_size_m=args.element_size_m, precision=args.precision,
                          resume=args.resume, extend=args.extend, workers=args.workers,

@@ -12,7 +12,8 @@ import numpy as np
 from ..errors import InputError
 from ..progress import end_line, redraw_line
 from . import space
-from .model import COR_COLUMN, FEATURES, TARGETS, UniversalModel, target_ranges
+from .model import FEATURES, TARGETS, UniversalModel
+from .similarity import BallSize
 
 PERCENTILE = 90
 #: the held-out check a trained model must pass to be written (`held_out_check`): R^2 on the
@@ -24,6 +25,10 @@ PERCENTILE = 90
 #: model that learned nothing (R^2 <= 0: no better than the training mean).
 MIN_HELD_OUT_R2 = 0.5
 CHECKED_INVERSE = ("mu0_pa", "g1")
+#: a study of the groups: rho v^2 / mu0 is mu0 on a given ball at a given speed
+CHECKED_INVERSE_GROUPS = ("rho_v2_over_mu0", "g1")
+#: targets reported by their error relative to the range only (they cross or touch zero)
+RANGE_ONLY = ("c01_pa", "g1", "c01_over_c10")
 CHECKED_FORWARD = ("P1", "P6", "P17")
 
 
@@ -39,28 +44,32 @@ def _errors(true: np.ndarray, pred: np.ndarray, scale: float | None = None) -> d
 
 def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndarray,
                     shapes: np.ndarray, run_ids: np.ndarray) -> tuple[dict, dict]:
-    """Figures on held-out runs: `params` (n, 5) SI incl. speed, `features` (n, 19), `shapes`."""
-    ranges = target_ranges(model.ranges)
-    truth = np.column_stack([params[:, :4], 2 * (params[:, 0] + params[:, 1])])
-    est = model.estimate(features)
+    """Figures on held-out runs: `params` (n, 5) SI incl. speed, `features` (n, 19) SI,
+    `shapes`."""
+    design, size = model.design, model_size(model)
+    ranges = design.target_ranges(model.ranges)
+    truth = design.truth(params, size)
+    inputs = design.inputs(features, size)
+    est = model.estimate(inputs)
     inverse = {}
-    for j, name in enumerate(TARGETS):
+    for j, name in enumerate(design.targets):
         low, high = ranges[name]
         t, p = truth[:, j], est["values"][:, j]
         inside = (est["low"][:, j] <= t) & (t <= est["high"][:, j])
-        entry = {"relative_error": _errors(t, p) if name not in ("c01_pa", "g1") else None,
+        entry = {"relative_error": _errors(t, p) if name not in RANGE_ONLY else None,
                  "range_relative_error": _errors(t, p, high - low),
                  "interval_90_coverage": float(inside.mean()),
                  "interval_90_mean_width_of_range": float(np.mean(est["high"][:, j] - est["low"][:, j])
                                                           / (high - low))}
         inverse[name] = entry
-    fwd = model.simulate(params)
-    forward = {key: _errors(features[:, j], fwd["features"][:, j])
-               for j, key in enumerate(FEATURES) if key != "P15"}
+    fwd = model.simulate(design.forward_rows(params, size))
+    forward = {key: _errors(inputs[:, j], fwd["features"][:, j])
+               for j, key in enumerate(design.features) if key != "P15"}
     shape_rms = np.sqrt(np.mean((fwd["force_shape"] - shapes) ** 2, axis=1))
     forward["force_shape_rms_of_peak"] = {"median": float(np.median(shape_rms)),
                                           f"p{PERCENTILE}": float(np.percentile(shape_rms, PERCENTILE))}
-    cor_error = np.abs(fwd["features"][:, COR_COLUMN] - features[:, COR_COLUMN])
+    cor = design.features.index("P17")
+    cor_error = np.abs(fwd["features"][:, cor] - inputs[:, cor])
     forward["cor_absolute_error"] = {"median": float(np.median(cor_error)),
                                      f"p{PERCENTILE}": float(np.percentile(cor_error, PERCENTILE))}
     report = {"runs": int(len(run_ids)), "inverse": inverse, "forward": forward,
@@ -70,10 +79,17 @@ def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndar
     return report, held
 
 
+def model_size(model: UniversalModel) -> BallSize:
+    """The ball of the model's study (its template)."""
+    template = model.metadata["template"]
+    return BallSize(template["radius_m"], template["mass_kg"])
+
+
 def held_out_check(report: dict[str, Any]) -> dict[str, Any]:
     """Does the model pass its own held-out check? {"passed", "min_r2", "r2": {output: R^2},
     "worst"} from a `held_out_report` (see `MIN_HELD_OUT_R2`). NaN counts as failed."""
-    r2 = {name: report["inverse"][name]["range_relative_error"]["r2"] for name in CHECKED_INVERSE}
+    checked = CHECKED_INVERSE if "mu0_pa" in report["inverse"] else CHECKED_INVERSE_GROUPS
+    r2 = {name: report["inverse"][name]["range_relative_error"]["r2"] for name in checked}
     r2.update({name: report["forward"][name]["r2"] for name in CHECKED_FORWARD})
     r2 = {k: float(v) for k, v in r2.items()}
     worst = min(r2, key=lambda k: r2[k] if math.isfinite(r2[k]) else -math.inf)
@@ -100,8 +116,20 @@ def check_study_matches(model: UniversalModel, config: dict[str, Any], folder: P
 def identifiability(model: UniversalModel, params: np.ndarray, step: float = 0.1) -> dict:
     """How much the impact changes (forward surrogate, standardised features and shape, RMS)
     for a step of `step` of each parameter's range, and for C10 up with C01 down at constant
-    mu0 = 2 (C10 + C01). A direction that barely changes the impact cannot be identified."""
+    mu0 = 2 (C10 + C01) (a study of the groups: a step of each group's range). A direction that
+    barely changes the impact cannot be identified."""
     ranges = model.ranges
+    if model.design.name == "groups":
+        names = list(model.design.forward_inputs)
+        rows = model.design.forward_rows(params, model_size(model))
+        unit = np.clip(space.to_unit(rows, ranges, names), step, 1 - step)
+        base = _standardised_outputs(model, space.from_unit(unit, ranges, names))
+        out = {}
+        for j, name in enumerate(names):
+            moved = space.from_unit(unit + step * np.eye(len(names))[j], ranges, names)
+            change = np.sqrt(np.mean((_standardised_outputs(model, moved) - base) ** 2, axis=1))
+            out[name] = float(np.median(change))
+        return {"step_of_range": step, "median_rms_change_standardised": out}
     names = list(space.PARAMETERS)
     unit = np.clip(space.to_unit(params, ranges), step, 1 - step)
     base = _standardised_outputs(model, space.from_unit(unit, ranges))

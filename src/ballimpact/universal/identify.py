@@ -24,6 +24,7 @@ from . import space
 from ..comparison import compare, features_pulse, pulse_nrmse
 from ..verdict import Tolerances, judge
 from .similarity import BallSize, groups, map_features, map_params, map_ranges
+from .design import param_ranges_from_groups, params_from_groups
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
 
 REFINE = ("none", "surrogate")
@@ -69,7 +70,11 @@ class Identification:
 def check_speed(model: UniversalModel, speed_m_s: float, allow: Collection[str] = (),
                 where: str = "") -> None:
     """The `speed-range` check against the model's training speeds: outside them the inverse
-    ensemble extrapolates in its most influential input, so this is an error unless allowed."""
+    ensemble extrapolates in its most influential input, so this is an error unless allowed.
+    A model of the groups has no speed axis (its ranges are the groups'; the FE check has its
+    own speed check)."""
+    if "impact_speed_m_s" not in model.ranges:
+        return
     low, high = model.ranges["impact_speed_m_s"]
     if not low <= speed_m_s <= high:
         flag("speed-range", f"{where}impact speed {speed_m_s:g} m/s is outside the universal "
@@ -86,11 +91,13 @@ def warn_outside_training_range(model: UniversalModel, values: dict[str, float],
     (`similarity.map_features`), and the warning names both."""
     ranges = model.metadata["feature_range"]
     diameter = 2 * model.metadata["template"]["radius_m"]
-    for key in FEATURES:
+    groups_model = model.design.name == "groups"
+    for key in model.design.features:
         if key == "P15":
             continue
         low, high = ranges[key]
-        mapped = "" if measured is None else (
+        mapped = " (made dimensionless by the test's ball and speed)" if groups_model else \
+            "" if measured is None else (
             f" (the test's {measured[key]:.5g}, mapped onto the model's {diameter:g} m ball)")
         warn_outside_range(f"{where}{key} ({FEATURE_NAMES[key]})", values[key],
                            "model's training range", low, high,
@@ -105,6 +112,9 @@ def estimate(model: UniversalModel, values: dict[str, float], refine: str = "non
     widened where needed to hold it (`_holding`). Every interval holds its estimate."""
     if refine not in REFINE:
         raise InputError(f"refine = {refine!r}: allowed {', '.join(REFINE)}")
+    if model.design.name == "groups":
+        raise InputError("estimate: a model of the groups' design is used through "
+                         "`estimate_groups`")
     x = np.array([[values[k] for k in FEATURES]])
     est = model.estimate(x)
     params = dict(zip(TARGETS, est["values"][0].tolist()))
@@ -120,6 +130,89 @@ def estimate(model: UniversalModel, values: dict[str, float], refine: str = "non
     ranges = target_ranges(model.ranges)
     interval = {k: _holding(interval[k], params[k], shift[k], ranges[k]) for k in TARGETS}
     return params, interval
+
+
+#: the COR difference that counts as much as one standard deviation of every feature together
+#: when the forward surrogate chooses among the inverse ensemble's proposals (`choose_groups`):
+#: a test's COR comes from two speeds and is known far better than its pulse's shape
+COR_SCALE = 0.02
+#: proposals drawn from each ensemble member's Gaussian (seeded: an estimate is repeatable)
+PROPOSALS = 256
+
+
+def choose_groups(model: UniversalModel, x: np.ndarray) -> np.ndarray:
+    """A model of the groups: the groups (unit targets scaled back to SI) that the forward
+    surrogate finds closest to the test, among the inverse ensemble's proposals (its mixture
+    mean, each member's mean, and those of `PROPOSALS` draws from each member's Gaussian that
+    lie inside the model's box). Closest: the
+    mean squared difference of the standardised features plus ((COR difference) / `COR_SCALE`)^2.
+
+    Why: over the groups' box one pulse can come from two relaxation regimes (tau1 shorter or
+    longer than the contact, with g1 to match), and the ensemble's mean of the two lands between
+    them, on a ball that dissipates more than either (closed loop of the material families,
+    docs/universal.md: |COR error| at the 90th percentile 0.05-0.11 from the mean, 0.003-0.018
+    chosen)."""
+    from .networks import member_outputs
+
+    design = model.design
+    z = model.feature_scaler.forward(x).astype(np.float32)
+    means, log_sigmas = (np.asarray(a, np.float64)[:, 0, :]
+                         for a in member_outputs(model.inverse, z))
+    rng = np.random.default_rng(0)
+    draws = model.target_scaler.inverse(np.concatenate(
+        [mu + np.exp(ls) * rng.standard_normal((PROPOSALS, mu.size))
+         for mu, ls in zip(means, log_sigmas)]))
+    # draws outside the model's box are dropped, not clipped onto its bounds (where a loose
+    # parameter's draws would pile up); the means are clipped as `UniversalModel.estimate` does
+    inside = draws[np.all((draws > 0.0) & (draws < 1.0), axis=1)]
+    unit = np.concatenate([np.clip(model.target_scaler.inverse(
+        np.concatenate([means.mean(axis=0)[None], means])), 0.0, 1.0), inside])
+    candidates = space.from_unit(unit, design.target_ranges(model.ranges), design.targets)
+    predicted = model.simulate(candidates)["features"]
+    cor = design.features.index("P17")
+    distance = np.mean((model.feature_scaler.forward(predicted)
+                        - model.feature_scaler.forward(x)) ** 2, axis=1)
+    distance += ((predicted[:, cor] - x[0, cor]) / COR_SCALE) ** 2
+    return candidates[int(np.argmin(distance))]
+
+
+def estimate_groups(model: UniversalModel, values: dict[str, float], size: BallSize,
+                    refine: str = "none") -> dict[str, Any]:
+    """A model of the groups' design: the groups of a test of a ball of `size` from its features
+    (P1..P19, SI) made dimensionless by that ball and the test's speed (`choose_groups`), their
+    90% intervals (the ensemble's, widened where needed to hold the estimate), the ball's
+    constants (`design.params_from_groups`) and their intervals (the corners of the groups'
+    intervals: each constant is monotonic in each group, so every interval holds its estimate),
+    and where the groups sit against the model's ranges."""
+    if refine not in REFINE:
+        raise InputError(f"refine = {refine!r}: allowed {', '.join(REFINE)}")
+    if refine != "none":
+        raise InputError("--refine surrogate: not available for a model of the groups' design "
+                         "(its forward surrogate already chooses its estimate; use --refine "
+                         "none)")
+    design = model.design
+    speed = float(values["P15"])
+    x = design.inputs(np.array([[values[k] for k in FEATURES]]), size)
+    est = model.estimate(x)
+    names = design.targets
+    found = dict(zip(names, choose_groups(model, x).tolist()))
+    ranges = {k: list(v) for k, v in model.ranges.items()}
+    box = {k: _holding([float(lo), float(hi)], found[k], 0.0, ranges[k])
+           for k, lo, hi in zip(names, est["low"][0], est["high"][0])}
+
+    def unit(row):
+        return space.to_unit(np.array([[row[k] for k in names]]), ranges, names)[0]
+
+    at = unit(found)
+    lows, highs = unit({k: v[0] for k, v in box.items()}), unit({k: v[1] for k, v in box.items()})
+    return {"groups": found, "groups_interval_90": box,
+            "params": params_from_groups(found, size, speed),
+            "interval_90": param_ranges_from_groups(box, size, speed),
+            "training_range": param_ranges_from_groups(ranges, size, speed),
+            "group_range": ranges,
+            "at_bound": [k for k, u in zip(names, at) if u <= ON_BOUND or u >= 1 - ON_BOUND],
+            "clipped": [k for k, lo, hi in zip(names, lows, highs)
+                        if lo <= ON_BOUND or hi >= 1 - ON_BOUND]}
 
 
 def _holding(interval: list[float], value: float, shift: float,
@@ -183,9 +276,32 @@ def _bound_words(name: str, value: float, ranges: dict[str, list[float]]) -> str
     return f"{name} at its {side} bound {bound:g}{unit}"
 
 
+def _warn_group_bounds(found: Identification, where: str) -> None:
+    """`warn_bounds` of a model of the groups: the groups are what its range bounds."""
+    if found.at_training_bound:
+        words = ", ".join(_bound_words(k, found.groups[k], found.group_range)
+                          for k in found.at_training_bound)
+        warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
+                      f"{words}; the test lies outside what the model was trained on, the "
+                      "identified ball is the nearest one inside the range, not an estimate of "
+                      "this ball (see the FE check)", InputWarning, stacklevel=4)
+    clipped = [k for k in found.clipped_to_training_range if k not in found.at_training_bound]
+    if clipped:
+        warnings.warn(f"{where}90% interval clipped to the universal model's training range: "
+                      f"{', '.join(clipped)} (of the groups, range "
+                      + ", ".join(f"{k} {found.group_range[k][0]:g}..{found.group_range[k][1]:g}"
+                                  for k in clipped)
+                      + "); values beyond it are excluded by the model's range, not by the test",
+                      InputWarning, stacklevel=4)
+
+
 def warn_bounds(found: Identification, where: str = "") -> None:
     """One warning for estimates on a training bound, one for intervals clipped by one."""
     ranges = found.training_range
+    if any(k in found.group_range and k not in found.params
+           for k in found.at_training_bound + found.clipped_to_training_range):
+        _warn_group_bounds(found, where)
+        return
     if found.at_training_bound:
         words = ", ".join(_bound_words(k, found.params[k], ranges) for k in found.at_training_bound)
         bounded = dict.fromkeys(g for k in found.at_training_bound for g in GROUPS_OF[k])
@@ -282,28 +398,41 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
             warnings.warn(f"{where}size: mass {size.mass_kg:g} kg differs from the test's "
                           f"{mass:g} kg by more than 1%: the test is mapped as a ball of "
                           f"{size.mass_kg:g} kg", InputWarning, stacklevel=2)
-    mapped = map_features(values, size, reference)
-    warn_outside_training_range(model, mapped, where,
-                                None if size == reference else values)
     template = model.metadata["template"]
-    # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
-    # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin
-    # material reads back as its initial shear modulus (`given_moduli_pa`); the mapping scales
-    # C10, C01 and mu0 by one factor, so that stays true on the tested ball
-    ref_params, ref_interval = estimate(model, mapped, refine)
-    params = map_params(ref_params, reference, size)
-    interval = map_ranges(ref_interval, reference, size)
+    if model.design.name == "groups":
+        dimensionless = dict(zip(model.design.features, model.design.inputs(
+            np.array([[values[k] for k in FEATURES]]), size)[0]))
+        warn_outside_training_range(model, dimensionless, where)
+        on_groups = estimate_groups(model, values, size, refine)
+        params, interval = on_groups["params"], on_groups["interval_90"]
+    else:
+        mapped = map_features(values, size, reference)
+        warn_outside_training_range(model, mapped, where,
+                                    None if size == reference else values)
+        # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the
+        # C10 and C01 that `universal_ball_spec` writes unchanged, which is what the ball's
+        # Mooney-Rivlin material reads back as its initial shear modulus (`given_moduli_pa`);
+        # the mapping scales C10, C01 and mu0 by one factor, so that stays true on the ball
+        ref_params, ref_interval = estimate(model, mapped, refine)
+        params = map_params(ref_params, reference, size)
+        interval = map_ranges(ref_interval, reference, size)
     spec = universal_spec(params, size.radius_m, size.density_kg_m3, template["moduli"],
                           "identified-universal")
-    load_ball(spec)  # checked as `simulate --ball` will check it
+    load_ball(spec, allow=allow)  # checked as `simulate --ball` will check it
     result = Identification(params, interval, spec, speed, refine)
-    ranges, result.at_training_bound, result.clipped_to_training_range = \
-        training_bounds(model, ref_params, ref_interval)
-    result.training_range = map_ranges(ranges, reference, size)
+    if model.design.name == "groups":
+        result.training_range = on_groups["training_range"]
+        result.at_training_bound = on_groups["at_bound"]
+        result.clipped_to_training_range = on_groups["clipped"]
+        result.group_range = on_groups["group_range"]
+    else:
+        ranges, result.at_training_bound, result.clipped_to_training_range = \
+            training_bounds(model, ref_params, ref_interval)
+        result.training_range = map_ranges(ranges, reference, size)
+        result.group_range = group_ranges(model, speed)
     result.ball_size = {"diameter_m": 2 * size.radius_m, "mass_kg": size.mass_kg,
                         "density_kg_m3": size.density_kg_m3, "diameter_source": given}
     result.groups = groups(params, size, speed)
-    result.group_range = group_ranges(model, speed)
     warn_bounds(result, where)
     if verify:
         options = options or scaled_options(model, size)

@@ -29,7 +29,8 @@ from .networks import (
     leaves,
     predict,
 )
-from .study import CONFIG_SCHEMA
+from .design import DESIGNS, MATERIAL, Design
+from .study import CONFIG_SCHEMA, GROUP_RANGES_SCHEMA
 
 FORMAT = "ballimpact-universal-model/1"
 FEATURES = tuple(FEATURE_NAMES)  # P1..P19
@@ -37,8 +38,13 @@ COR_COLUMN = FEATURES.index("P17")
 #: what the inverse ensemble predicts: the four parameters and mu0 = 2 (C10 + C01), each in the
 #: unit scale of its range (mu0: the range implied by C10's and C01's)
 TARGETS = (*space.MATERIAL_PARAMETERS, "mu0_pa")
-TARGET_UNITS = {"c10_pa": "Pa", "c01_pa": "Pa", "g1": "1", "tau1_s": "s", "mu0_pa": "Pa"}
+TARGET_UNITS = {"c10_pa": "Pa", "c01_pa": "Pa", "g1": "1", "tau1_s": "s", "mu0_pa": "Pa",
+                "rho_v2_over_mu0": "1", "c01_over_c10": "1", "tau1_v_over_r": "1"}
 BUILTIN = "cricket-universal-model"
+#: the built-in models: the cricket ball's (thesis chapter 6, the default) and the one of every
+#: solid sports ball (a study of the groups, issue 42; docs/universal.md, "A study in the groups")
+SPORTS_BALLS = "sports-ball-universal-model"
+BUILTINS = (BUILTIN, SPORTS_BALLS)
 INTERVAL_LEVEL = 0.9
 
 
@@ -77,8 +83,8 @@ class Scaler:
 
 
 def target_ranges(ranges: dict[str, tuple[float, float]]) -> dict[str, tuple[float, float]]:
-    (c10_lo, c10_hi), (c01_lo, c01_hi) = ranges["c10_pa"], ranges["c01_pa"]
-    return {**ranges, "mu0_pa": (2 * (c10_lo + c01_lo), 2 * (c10_hi + c01_hi))}
+    """The material design's target ranges (`Design.target_ranges`)."""
+    return MATERIAL.target_ranges(ranges)
 
 
 @dataclass
@@ -97,6 +103,12 @@ class UniversalModel:
         return {k: tuple(v) for k, v in self.metadata["ranges"].items()}
 
     @property
+    def design(self) -> Design:
+        """What the model learns from and predicts (`design.Design`): its study's design space
+        ("material" for models trained before the groups' design)."""
+        return DESIGNS[self.metadata.get("design_space", "material")]
+
+    @property
     def feature_method(self) -> str:
         """How the model's noisy training copies were described (`extract_features(method=)`):
         its inputs from a measured test are described the same way (`identify`). Models
@@ -112,27 +124,32 @@ class UniversalModel:
 
     # -- inverse ---------------------------------------------------------------------------------
     def estimate(self, features: np.ndarray, level: float = INTERVAL_LEVEL) -> dict[str, np.ndarray]:
-        """Parameters (SI) and their `level` intervals from feature rows (n, 19) in SI."""
+        """Targets (`design.targets`, SI) and their `level` intervals from rows of the inverse's
+        inputs (`design.inputs`: the 19 features in SI for a material design)."""
         z = self.feature_scaler.forward(np.atleast_2d(features))
         mean, sigma = (np.asarray(a, np.float64) for a in predict(self.inverse, z.astype(np.float32)))
         half = gaussian_interval_scale(level) * self.interval_scale * sigma
-        ranges = target_ranges(self.ranges)
+        targets = self.design.targets
+        ranges = self.design.target_ranges(self.ranges)
         unit = [np.clip(self.target_scaler.inverse(v), 0.0, 1.0)
                 for v in (mean, mean - half, mean + half)]
-        values, low, high = (space.from_unit(u, ranges, TARGETS) for u in unit)
+        values, low, high = (space.from_unit(u, ranges, targets) for u in unit)
         return {"values": values, "low": low, "high": high}
 
     # -- forward ---------------------------------------------------------------------------------
     def forward_inputs(self, params_si: np.ndarray) -> np.ndarray:
-        """Rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s) -> the forward ensemble's inputs."""
-        return (space.to_unit(np.atleast_2d(params_si), self.ranges) - 0.5) / np.sqrt(1 / 12)
+        """Rows of `design.forward_inputs` (material: c10_pa, c01_pa, g1, tau1_s,
+        impact_speed_m_s; groups: the four groups) -> the forward ensemble's inputs."""
+        names = self.design.forward_inputs
+        return (space.to_unit(np.atleast_2d(params_si), self.ranges, names) - 0.5) \
+            / np.sqrt(1 / 12)
 
     def simulate(self, params_si: np.ndarray) -> dict[str, np.ndarray]:
-        """Forward surrogate: features (n, 19) in SI, force shape (n, 64) and their sigmas
-        (in standardised units)."""
+        """Forward surrogate: the design's features (material: P1..P19 in SI; groups: the 18
+        dimensionless ones), force shape (n, 64) and their sigmas (in standardised units)."""
         mean, sigma = (np.asarray(a, np.float64) for a in
                        predict(self.forward, self.forward_inputs(params_si).astype(np.float32)))
-        n = len(FEATURES)
+        n = len(self.design.features)
         return {"features": self.feature_scaler.inverse(mean[:, :n]),
                 "force_shape": self.shape_scaler.inverse(mean[:, n:]),
                 "sigma_standardised": sigma}
@@ -171,31 +188,41 @@ def _architecture(n_in: int, n_out: int) -> dict[str, Any]:
             "depth": space.count(1, 16), "members": space.count(1, 64)}
 
 
-#: what MODEL.json must hold (keys outside it are free: versions, training figures, ...)
-METADATA_SCHEMA: dict[str, Any] = {
-    "ranges": CONFIG_SCHEMA["ranges"], "template": CONFIG_SCHEMA["template"],
-    "study": {k: CONFIG_SCHEMA[k] for k in ("runs", "seed", "method", "element_size_m",
-                                            "precision", "integration")},
-    "features": _equal(list(FEATURES)), "targets": _equal(list(TARGETS)),
-    "shape_grid_points": _equal(SHAPE_POINTS),
-    "feature_range": {k: (space.is_pair, "[low, high] with low <= high") for k in FEATURES},
-    "architecture": {"inverse": _architecture(len(FEATURES), len(TARGETS)),
-                     "forward": _architecture(len(space.PARAMETERS), len(FEATURES) + SHAPE_POINTS)},
-    "runs": (lambda v: isinstance(v, dict), "an object of run counts"),
-    "held_out": {
-        "runs": space.count(1, 10**9),
-        "inverse": {t: {"range_relative_error": _FIGURES, "interval_90_coverage": _NUMBER,
-                        "interval_90_mean_width_of_range": _NUMBER,
-                        "relative_error": (lambda v: v is None or (
-                            isinstance(v, dict) and all(space.is_number(v.get(k), False)
-                                                        for k in _FIGURES)),
-                            "null or {median, p90, r2}")} for t in TARGETS},
-        "forward": {k: {"median": _NUMBER} for k in ("force_shape_rms_of_peak",
-                                                     "cor_absolute_error", "P1", "P6")},
-        "identifiability": {"median_rms_change_standardised": (
-            lambda v: isinstance(v, dict) and all(space.is_number(x, False) for x in v.values()),
-            "an object of numbers")}},
-}
+def metadata_schema(design: Design) -> dict[str, Any]:
+    """What MODEL.json must hold for a model of `design` (keys outside it are free: versions,
+    training figures, ...)."""
+    features, targets = design.features, design.targets
+    return {
+        "ranges": GROUP_RANGES_SCHEMA if design.name == "groups" else CONFIG_SCHEMA["ranges"],
+        "template": CONFIG_SCHEMA["template"],
+        "study": {k: CONFIG_SCHEMA[k] for k in ("runs", "seed", "method", "element_size_m",
+                                                "precision", "integration")},
+        "features": _equal(list(features)), "targets": _equal(list(targets)),
+        "shape_grid_points": _equal(SHAPE_POINTS),
+        "feature_range": {k: (space.is_pair, "[low, high] with low <= high") for k in features},
+        "architecture": {"inverse": _architecture(len(features), len(targets)),
+                         "forward": _architecture(len(design.forward_inputs),
+                                                  len(features) + SHAPE_POINTS)},
+        "runs": (lambda v: isinstance(v, dict), "an object of run counts"),
+        "held_out": {
+            "runs": space.count(1, 10**9),
+            "inverse": {t: {"range_relative_error": _FIGURES, "interval_90_coverage": _NUMBER,
+                            "interval_90_mean_width_of_range": _NUMBER,
+                            "relative_error": (lambda v: v is None or (
+                                isinstance(v, dict) and all(space.is_number(v.get(k), False)
+                                                            for k in _FIGURES)),
+                                "null or {median, p90, r2}")} for t in targets},
+            "forward": {k: {"median": _NUMBER} for k in ("force_shape_rms_of_peak",
+                                                         "cor_absolute_error", "P1", "P6")},
+            "identifiability": {"median_rms_change_standardised": (
+                lambda v: isinstance(v, dict)
+                and all(space.is_number(x, False) for x in v.values()),
+                "an object of numbers")}},
+    }
+
+
+#: the material design's schema (models trained before the groups' design)
+METADATA_SCHEMA = metadata_schema(MATERIAL)
 
 
 def check_metadata(metadata: Any, where: str) -> dict[str, Any]:
@@ -205,7 +232,11 @@ def check_metadata(metadata: Any, where: str) -> dict[str, Any]:
                          f"{type(metadata).__name__}, expected an object)")
     if metadata.get("format") != FORMAT:
         raise InputError(f"{where}: format {metadata.get('format')!r}, expected {FORMAT}")
-    space.check_fields(metadata, METADATA_SCHEMA, where)
+    name = metadata.get("design_space", "material")
+    if name not in DESIGNS:
+        raise InputError(f"{where}: 'design_space' = {json.dumps(name)[:40]}: expected "
+                         f"{' or '.join(DESIGNS)}")
+    space.check_fields(metadata, metadata_schema(DESIGNS[name]), where)
     check = metadata.get("held_out_check")
     if check is not None and not (isinstance(check, dict)
                                   and isinstance(check.get("passed"), bool)):
@@ -216,9 +247,11 @@ def check_metadata(metadata: Any, where: str) -> dict[str, Any]:
 
 def expected_arrays(metadata: dict[str, Any]) -> dict[str, tuple[tuple[int, ...], str]]:
     """Every array of MODEL.npz: name -> (shape, dtype kinds), from the checked metadata."""
-    n_t, n_held = len(TARGETS), metadata["held_out"]["runs"]
+    design = DESIGNS[metadata.get("design_space", "material")]
+    n_t, n_held = len(design.targets), metadata["held_out"]["runs"]
     out: dict[str, tuple[tuple[int, ...], str]] = {}
-    for prefix, n in (("feature", len(FEATURES)), ("target", n_t), ("shape", SHAPE_POINTS)):
+    for prefix, n in (("feature", len(design.features)), ("target", n_t),
+                      ("shape", SHAPE_POINTS)):
         out.update({f"{prefix}_log": ((n,), "b"), f"{prefix}_mean": ((n,), "f"),
                     f"{prefix}_std": ((n,), "f")})
     out["interval_scale"] = ((n_t,), "f")
@@ -266,16 +299,18 @@ def file_pair(path: str | Path) -> tuple[Path, Path]:
 
 
 def model_paths(name_or_path: str | Path | None) -> tuple[Path, Path]:
-    """(MODEL.npz, MODEL.json) of the built-in model (None or "cricket-universal-model") or of
+    """(MODEL.npz, MODEL.json) of a built-in model (`BUILTINS`; None: the cricket ball's) or of
     a path (`file_pair`)."""
-    if name_or_path is None or str(name_or_path) == BUILTIN:
-        base = resources.files("ballimpact") / "data" / BUILTIN
+    name = BUILTIN if name_or_path is None else str(name_or_path)
+    if name in BUILTINS:
+        base = resources.files("ballimpact") / "data" / name
         return Path(str(base) + ".npz"), Path(str(base) + ".json")
     return file_pair(name_or_path)
 
 
 def load_model(name_or_path: str | Path | None = None) -> UniversalModel:
-    """The built-in model (None or "cricket-universal-model"), or MODEL(.json|.npz) files.
+    """A built-in model (None or "cricket-universal-model"; "sports-ball-universal-model"), or
+    MODEL(.json|.npz) files.
 
     Both files are validated before use (`check_metadata`, `read_arrays`, `check_arrays`): a
     damaged, truncated or tampered file gives `InputError` naming the file and what is wrong.

@@ -31,7 +31,31 @@ PARAMETERS: dict[str, tuple[float, float, str]] = {
     "impact_speed_m_s": (5.0, 45.0, "m/s"),
 }
 MATERIAL_PARAMETERS = ("c10_pa", "c01_pa", "g1", "tau1_s")
-LOG_SCALED = ("tau1_s",)
+#: The design space of a study in the dimensionless groups (`similarity.GROUPS`), the box that
+#: covers solid sports balls at 5-60 m/s as far as the FE engine reaches (docs/universal.md,
+#: "A study in the groups"): rho v^2 / mu0 from hard hockey and golf cores at 5 m/s (2e-4) to
+#: the softest ball the engine runs without crushing its elements (0.25; at 0.3 an elastic ball
+#: stops unstable), C01 / C10 and g1 as the thesis' table 6-2 gives them on a cricket ball,
+#: tau1 v / R over three decades around the contact time (t_c v / R 0.06-1.4).
+GROUP_PARAMETERS: dict[str, tuple[float, float, str]] = {
+    "rho_v2_over_mu0": (2.0e-4, 0.25, "1"),
+    "c01_over_c10": (-0.25, 0.25, "1"),
+    "g1": (0.0, 0.9, "1"),
+    "tau1_v_over_r": (5.0e-4, 1.0, "1"),
+}
+#: hard limits of each group's range: the FE engine's (rho v^2 / mu0 above 0.3 crushes the
+#: elements of an elastic ball) and the materials' (C01 / C10 > -1: mu0 > 0)
+GROUP_ALLOWED: dict[str, tuple[float, float]] = {
+    "rho_v2_over_mu0": (1e-6, 0.3), "c01_over_c10": (-0.9, 1.0), "g1": (0.0, 0.99),
+    "tau1_v_over_r": (1e-6, 100.0)}
+_GROUP_NOTES = {"rho_v2_over_mu0": "above 0.3 the FE engine crushes an elastic ball's elements",
+                "c01_over_c10": "mu0 = 2 C10 (1 + C01 / C10) must stay positive",
+                "g1": "the relaxing fraction of the modulus",
+                "tau1_v_over_r": "tau1 against the time to cross the ball"}
+#: the design spaces of a study: the material constants and speed on its template ball, or the
+#: dimensionless groups (speed chosen per run, `run_speed`)
+DESIGN_SPACES = ("material", "groups")
+LOG_SCALED = ("tau1_s", "rho_v2_over_mu0", "tau1_v_over_r")
 #: hard limits of each range (physics, or the FE solver's checked speeds: a study must not
 #: stop at its first run outside them)
 ALLOWED: dict[str, tuple[float, float]] = {
@@ -83,6 +107,48 @@ def check_ranges(ranges: dict[str, Any], allow: Collection[str] = ()
              f"{2 * softest:g} Pa, outside the shear moduli of sports balls (from {low_mu:g} "
              "Pa; values in MPa where Pa are expected?)", check_allow(allow))
     return out
+
+
+def check_group_ranges(ranges: dict[str, Any]) -> dict[str, tuple[float, float]]:
+    """`GROUP_PARAMETERS`' ranges updated by `ranges` (name -> (low, high)), checked against
+    `GROUP_ALLOWED`."""
+    out = {name: (low, high) for name, (low, high, _) in GROUP_PARAMETERS.items()}
+    for name, value in ranges.items():
+        if name not in GROUP_PARAMETERS:
+            raise InputError(f"range {name!r}: unknown in a study of the groups; allowed "
+                             f"{', '.join(GROUP_PARAMETERS)}")
+        try:
+            low, high = (float(v) for v in value)
+        except (TypeError, ValueError):
+            raise InputError(f"range {name}: expected LOW:HIGH numbers, got {value!r}") from None
+        if not (math.isfinite(low) and math.isfinite(high) and low < high):
+            raise InputError(f"range {name} = {low:g}:{high:g}: need finite LOW < HIGH")
+        for end, bound in (("LOW", low), ("HIGH", high)):
+            check_range(f"range {name} {end}", bound, *GROUP_ALLOWED[name],
+                        note=_GROUP_NOTES[name])
+        out[name] = (low, high)
+    return out
+
+
+def run_speed(rho_v2_over_mu0: np.ndarray | float) -> np.ndarray:
+    """The impact speed (m/s) a run of the groups' design is made at: one at which a
+    cricket-sized ball's contact lasts about 1 ms (t_c ~ 2.3 (R / v) (rho v^2 / mu0)^0.4), within
+    5-60 m/s. Any speed gives the same dimensionless pulse (`similarity`); this one keeps the
+    pulse well sampled at 100 kHz, as the noisy training copies are."""
+    return np.clip(0.036 * 2.3 * np.asarray(rho_v2_over_mu0, np.float64) ** 0.4 / 1e-3,
+                   5.0, 60.0)
+
+
+def params_from_groups(points: np.ndarray, radius_m: float, density_kg_m3: float
+                       ) -> np.ndarray:
+    """Rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s) of a ball of `radius_m` and
+    `density_kg_m3` from rows of `GROUP_PARAMETERS`' groups, each at its `run_speed`."""
+    points = np.atleast_2d(np.asarray(points, np.float64))
+    inertia, ratio, g1, tau = points.T
+    speed = run_speed(inertia)
+    mu0 = density_kg_m3 * speed ** 2 / inertia
+    c10 = mu0 / (2.0 * (1.0 + ratio))
+    return np.column_stack([c10, ratio * c10, g1, tau * radius_m / speed, speed])
 
 
 def is_number(value: Any, finite: bool = True) -> bool:
@@ -157,23 +223,24 @@ def from_unit(unit: np.ndarray, ranges: dict[str, tuple[float, float]],
     return out
 
 
-def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, float]]) -> np.ndarray:
-    """`runs` points (rows: c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s in SI) of a scrambled
-    Sobol sequence or a Latin hypercube, seeded. The same (runs, seed, method, ranges) always
-    gives the same points."""
+def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, float]],
+           names=tuple(PARAMETERS)) -> np.ndarray:
+    """`runs` points (rows: `names`, by default c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s in
+    SI) of a scrambled Sobol sequence or a Latin hypercube, seeded. The same (runs, seed, method,
+    ranges) always gives the same points."""
     from scipy.stats import qmc
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: allowed {', '.join(METHODS)}")
     runs = check_integer("runs", runs, 1)
-    d = len(PARAMETERS)
+    d = len(names)
     if method == "sobol":
         with warnings.catch_warnings():  # balance is best at powers of 2; any count is valid
             warnings.simplefilter("ignore", UserWarning)
             unit = qmc.Sobol(d, scramble=True, seed=seed).random(runs)
     else:
         unit = qmc.LatinHypercube(d, seed=seed).random(runs)
-    return from_unit(unit, ranges)
+    return from_unit(unit, ranges, names)
 
 
 def universal_ball_spec(params: dict[str, float], template: dict[str, Any],

@@ -26,26 +26,31 @@ LISTED_FAILURES = 20
 
 
 def design_config(*, template: str | Path | None = None, ranges: dict | None = None,
-                  allow: Collection[str] = (), stored: bool = False,
+                  allow: Collection[str] = (), stored: bool = False, design: str | None = None,
                   **settings: Any) -> dict[str, Any] | None:
     """The configuration `run_design` gets. A new study (`stored` False): `make_config` with
     `template` (default cricket-universal), `ranges`, `allow` and `settings` (None values left
-    out). A stored study (resumed or extended): only what is given, to be compared with what the
-    study holds (`make_config`'s values of the given keys), or None when nothing is given."""
+    out; `design`: the design space, default "material"). A stored study (resumed or extended):
+    only what is given, to be compared with what the study holds (`make_config`'s values of the
+    given keys), or None when nothing is given."""
     given = [k for k, v in settings.items() if v is not None]
-    if stored and not (given or ranges or template or allow):
+    if stored and not (given or ranges or template or allow or design):
         return None
     config = make_config(template=template or "cricket-universal", ranges=ranges, allow=allow,
-                         **settings)
+                         design=design or "material", **settings)
     if not stored:
         return config
+    if design:
+        config.setdefault("design_space", "material")
+        given.append("design_space")
     return {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
                                    *(["template"] if template else []),
                                    *(["allow"] if allow else []))}
 
 
 def run_design(folder: Path, *, template: str | Path | None = None, ranges: dict | None = None,
-               allow: Collection[str] = (), runs: int | None = None, seed: int | None = None,
+               allow: Collection[str] = (), design: str | None = None,
+               runs: int | None = None, seed: int | None = None,
                method: str | None = None, batch_size: int | None = None,
                group_size: int | None = None, element_size_m: float | None = None,
                precision: str | None = None, resume: bool = False, extend: int | None = None,
@@ -54,7 +59,8 @@ def run_design(folder: Path, *, template: str | Path | None = None, ranges: dict
     """Run (`resume`: continue; `extend`: add that many runs to) the design of experiments in
     `folder` (`study.run_study`, on `workers` local Dask processes or the `scheduler` at an
     address), its configuration by `design_config` (None settings: the defaults, or the stored
-    study's); `ranges` in SI, `element_size_m` in m. Returns the study's summary with its failed
+    study's); `design`: "material" (default) or "groups" (`study.make_config`); `ranges` in SI
+    (a study of the groups: the groups'), `element_size_m` in m. Returns the study's summary with its failed
     runs: `failed_runs` (their number), `failures` (the first `LISTED_FAILURES`, each `run_id`
     and `reason`) and `runs_per_s` of this run (None when nothing ran). `InputError`, before
     anything is written, for a count below its least value, an element size <= 0, `extend`
@@ -70,7 +76,7 @@ def run_design(folder: Path, *, template: str | Path | None = None, ranges: dict
     if extend is not None and runs is not None:
         raise InputError(f"--extend {extend} and --runs {runs}: give one (--runs sets a new "
                          "study's size, --extend adds runs to the study in DIR)")
-    config = design_config(template=template, ranges=ranges, allow=allow,
+    config = design_config(template=template, ranges=ranges, allow=allow, design=design,
                            stored=resume or extend is not None, runs=runs, seed=seed,
                            method=method, batch_size=batch_size, group_size=group_size,
                            element_size_m=element_size_m, precision=precision)

@@ -62,12 +62,32 @@ CONFIG_SCHEMA: dict[str, Any] = {
 }
 
 
+#: the ranges of a study of the groups (`design_space` "groups")
+GROUP_RANGES_SCHEMA = {name: (_range, "[low, high] with low < high")
+                       for name in space.GROUP_PARAMETERS}
+
+
+def design_space(config: dict[str, Any]) -> str:
+    """A study's design space (`space.DESIGN_SPACES`): "material" for studies written before
+    the groups' design."""
+    value = config.get("design_space", "material")
+    if value not in space.DESIGN_SPACES:
+        raise InputError(f"design_space = {json.dumps(value)[:40]}: allowed "
+                         f"{', '.join(space.DESIGN_SPACES)}")
+    return value
+
+
 def check_config(config: Any, where: str) -> dict[str, Any]:
-    """A study configuration checked against `CONFIG_SCHEMA` and the range limits; `where`
-    names its source in the messages."""
-    space.check_fields(config, CONFIG_SCHEMA, where)
+    """A study configuration checked against `CONFIG_SCHEMA` (its ranges: those of its design
+    space) and the range limits; `where` names its source in the messages."""
+    groups = isinstance(config, dict) and design_space(config) == "groups"
+    schema = {**CONFIG_SCHEMA, "ranges": GROUP_RANGES_SCHEMA} if groups else CONFIG_SCHEMA
+    space.check_fields(config, schema, where)
     try:
-        space.check_ranges(config["ranges"], study_allow(config))
+        if groups:
+            space.check_group_ranges(config["ranges"])
+        else:
+            space.check_ranges(config["ranges"], study_allow(config))
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
     radius, size = config["template"]["radius_m"], config["element_size_m"]
@@ -111,9 +131,13 @@ def _write_config(folder: Path, config: dict[str, Any]) -> None:
 
 
 def make_config(*, template: str | Path = "cricket-universal", ranges: dict | None = None,
-                allow: Collection[str] = (), **settings: Any) -> dict[str, Any]:
+                allow: Collection[str] = (), design: str = "material",
+                **settings: Any) -> dict[str, Any]:
     """A checked study configuration. `template`: a preset or ball file giving the radius, mass
-    and moduli convention; `ranges`: name -> (low, high) overriding `space.PARAMETERS`'s;
+    and moduli convention; `design`: "material" (the constants and the speed on the template,
+    `space.PARAMETERS`) or "groups" (the dimensionless groups, `space.GROUP_PARAMETERS`, each
+    run at its `space.run_speed`; its balls may be outside sports balls' moduli, as the groups
+    are what counts); `ranges`: name -> (low, high) overriding the design space's defaults;
     `allow`: plausibility checks the template and the design's balls may fail with a warning
     ("ball-units": e.g. a foam ball softer than sports balls); `settings`: any of `DEFAULTS`'
     keys."""
@@ -123,9 +147,17 @@ def make_config(*, template: str | Path = "cricket-universal", ranges: dict | No
     if unknown:
         raise InputError(f"study settings {sorted(unknown)}: unknown; allowed {sorted(DEFAULTS)}")
     config = {**DEFAULTS, **{k: v for k, v in settings.items() if v is not None}}
-    config["allow"] = sorted(check_allow(allow))
+    if design not in space.DESIGN_SPACES:
+        raise InputError(f"design = {design!r}: allowed {', '.join(space.DESIGN_SPACES)}")
+    # a study of the groups runs each point at the speed that keeps its pulse well sampled, so
+    # its balls' moduli are those of the groups at that speed, not a sports ball's
+    config["allow"] = sorted(check_allow({*allow, "ball-units"} if design == "groups" else allow))
     ball = load_ball(str(template), impact_speed_m_s=25.0, allow=config["allow"])
-    config["ranges"] = space.check_ranges(ranges or {}, config["allow"])
+    if design == "groups":
+        config["design_space"] = design
+        config["ranges"] = space.check_group_ranges(ranges or {})
+    else:
+        config["ranges"] = space.check_ranges(ranges or {}, config["allow"])
     config["template"] = space.template_geometry(ball)
     config["version"] = __version__
     config = json.loads(json.dumps(config))  # as stored: tuples become lists
@@ -164,7 +196,14 @@ def load_dataset(folder: Path, config: dict[str, Any] | None = None
 
 
 def samples(config: dict[str, Any]) -> np.ndarray:
+    """The study's points: rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s) in SI (a study of
+    the groups: its design's groups as the template's constants, each at its run speed)."""
     ranges = {k: tuple(v) for k, v in config["ranges"].items()}
+    if design_space(config) == "groups":
+        groups = space.sample(config["runs"], config["seed"], config["method"], ranges,
+                              tuple(space.GROUP_PARAMETERS))
+        template = config["template"]
+        return space.params_from_groups(groups, template["radius_m"], template["density_kg_m3"])
     return space.sample(config["runs"], config["seed"], config["method"], ranges)
 
 

@@ -20,14 +20,14 @@ from .model import (
     FEATURES,
     FORMAT,
     INTERVAL_LEVEL,
-    TARGETS,
     Scaler,
     UniversalModel,
-    target_ranges,
 )
 from .networks import Architecture, gaussian_interval_scale, predict, train_ensemble
 from ..comparison import noisy_features
-from .study import load_config, load_dataset
+from .design import DESIGNS
+from .similarity import BallSize
+from .study import design_space, load_config, load_dataset
 
 #: shares of the finished runs: held out for the report (never seen in training or early
 #: stopping), and validation (early stopping and the interval calibration)
@@ -41,7 +41,8 @@ NOISE_AUGMENT = 0.02
 #: fewest successful runs to train on (the split leaves 8 held out and 6 for validation)
 MIN_RUNS = 40
 #: features learned in log scale when positive in every run (times, forces, rates, speeds)
-LOG_FEATURES = np.array([key not in ("P11", "P12", "P13", "P14", "P17") for key in FEATURES])
+LINEAR_FEATURES = ("P11", "P12", "P13", "P14", "P17")
+LOG_FEATURES = np.array([key not in LINEAR_FEATURES for key in FEATURES])
 
 
 def split(run_ids: np.ndarray, seed: int) -> dict[str, np.ndarray]:
@@ -85,34 +86,39 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
                          f" training needs at least {MIN_RUNS} (a useful model several hundred):"
                          f" {more_runs(folder, len(ok), config)}")
     ranges = {k: tuple(v) for k, v in config["ranges"].items()}
+    design = DESIGNS[design_space(config)]
+    size = BallSize(config["template"]["radius_m"], config["template"]["mass_kg"])
     params = np.column_stack([columns[k][ok] for k in space.PARAMETERS])
-    features = np.column_stack([columns[k][ok] for k in FEATURES])
+    features_si = np.column_stack([columns[k][ok] for k in FEATURES])
+    features = design.inputs(features_si, size)
     shapes = curves["force_shape"][ok]
-    targets = space.to_unit(np.column_stack([columns[k][ok] for k in TARGETS]),
-                            target_ranges(ranges), TARGETS)
+    targets = space.to_unit(design.truth(params, size), design.target_ranges(ranges),
+                            design.targets)
     parts = split(columns["run_id"][ok], seed)
     tr, va, te = parts["train"], parts["validation"], parts["test"]
 
-    feature_scaler = Scaler.fit(features[tr], LOG_FEATURES)
+    log_features = np.array([key not in LINEAR_FEATURES for key in design.features])
+    feature_scaler = Scaler.fit(features[tr], log_features)
     target_scaler = Scaler.fit(targets[tr])
     shape_scaler = Scaler.fit(shapes[tr])
     x_inv = feature_scaler.forward(features)
     y_inv = target_scaler.forward(targets)
     x_tr, y_tr, x_va, y_va = x_inv[tr], y_inv[tr], x_inv[va], y_inv[va]
     if noise_augment > 0:
-        copies = _noisy_copies(curves["force_n_100khz"][ok], params, features,
+        copies = _noisy_copies(curves["force_n_100khz"][ok], params, features_si,
                                config["template"]["mass_kg"], noise_augment, seed, (tr, va))
         (x_tr, y_tr), (x_va, y_va) = (
-            (np.concatenate([x_inv[rows], feature_scaler.forward(noisy)]),
+            (np.concatenate([x_inv[rows], feature_scaler.forward(design.inputs(noisy, size))]),
              np.concatenate([y_inv[rows], y_inv[kept]]))
             for rows, (noisy, kept) in zip((tr, va), copies))
-    inv_arch = Architecture(len(FEATURES), len(TARGETS), width, depth, members)
+    inv_arch = Architecture(len(design.features), len(design.targets), width, depth, members)
     inverse, inv_fig = train_ensemble(inv_arch, x_tr, y_tr, x_va, y_va,
                                       seed=seed, steps=steps, label="inverse")
 
     model = UniversalModel(inverse, None, feature_scaler, target_scaler, shape_scaler,
-                           np.ones(len(TARGETS)), {"ranges": ranges})
-    x_fwd = model.forward_inputs(params)
+                           np.ones(len(design.targets)),
+                           {"ranges": ranges, "design_space": design.name})
+    x_fwd = model.forward_inputs(design.forward_rows(params, size))
     y_fwd = np.column_stack([x_inv, shape_scaler.forward(shapes)])
     fwd_arch = Architecture(x_fwd.shape[1], y_fwd.shape[1], width, depth, members)
     forward, fwd_fig = train_ensemble(fwd_arch, x_fwd[tr], y_fwd[tr], x_fwd[va], y_fwd[va],
@@ -135,13 +141,15 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
         "versions": {"jax": jax.__version__, "equinox": equinox.__version__,
                      "optax": optax.__version__, "numpy": np.__version__},
         "ranges": {k: list(v) for k, v in ranges.items()}, "template": config["template"],
-        "features": list(FEATURES), "targets": list(TARGETS),
-        "log_scaled_parameters": list(space.LOG_SCALED), "shape_grid_points": len(SHAPE_GRID),
+        "design_space": design.name,
+        "features": list(design.features), "targets": list(design.targets),
+        "log_scaled_parameters": [k for k in space.LOG_SCALED if k in ranges],
+        "shape_grid_points": len(SHAPE_GRID),
         "feature_range": {k: [float(features[:, j].min()), float(features[:, j].max())]
-                          for j, k in enumerate(FEATURES)},
+                          for j, k in enumerate(design.features)},
         "architecture": {"inverse": inv_arch.to_dict(), "forward": fwd_arch.to_dict()},
         "interval_level": INTERVAL_LEVEL,
-        "interval_scale": dict(zip(TARGETS, model.interval_scale.tolist())),
+        "interval_scale": dict(zip(design.targets, model.interval_scale.tolist())),
         "study": {k: config[k] for k in ("runs", "seed", "method", "element_size_m",
                                          "precision", "integration")},
         "study_folder": folder.name,
@@ -154,7 +162,7 @@ def train(folder: Path, *, seed: int = 0, steps: int = 1500, width: int = 128, d
     }
     from .evaluate import held_out_report
 
-    report, held = held_out_report(model, params[te], features[te], shapes[te],
+    report, held = held_out_report(model, params[te], features_si[te], shapes[te],
                                    columns["run_id"][ok][te])
     model.held_out = held
     model.metadata["held_out"] = report
