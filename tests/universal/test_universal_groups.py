@@ -158,3 +158,20 @@ def test_refine_surrogate_is_refused_for_a_groups_model(groups_model):
     values = {k: 1.0 for k in FEATURE_NAMES}
     with pytest.raises(InputError, match="groups' design"):
         estimate_groups(model, values, BallSize(0.036, 0.16), refine="surrogate")
+
+
+def test_builtin_sports_ball_model_held_out_figures():
+    """The built-in model of the groups (4,096 runs, 817 held out): rho v^2 / mu0 (mu0 on a given
+    ball and speed) to 0.1% of its log range at the median, and calibrated 90% intervals that
+    hold 85-95% of the held-out truths for every group (issue 42, item 2)."""
+    model = load_model("sports-ball-universal-model")
+    assert model.design.name == "groups"
+    report = model.metadata["held_out"]
+    assert report["runs"] >= 800
+    inverse = report["inverse"]
+    assert inverse["rho_v2_over_mu0"]["range_relative_error"]["median"] < 0.002
+    assert inverse["rho_v2_over_mu0"]["relative_error"]["median"] < 0.03
+    for name, entry in inverse.items():
+        assert 0.85 <= entry["interval_90_coverage"] <= 0.95, name
+    assert model.metadata["held_out_check"]["passed"]
+    assert report["forward"]["cor_absolute_error"]["p90"] < 0.005
