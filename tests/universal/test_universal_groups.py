@@ -162,7 +162,7 @@ def test_refine_surrogate_is_refused_for_a_groups_model(groups_model):
 
 def test_builtin_sports_ball_model_held_out_figures():
     """The built-in model of the groups (4,096 runs, 817 held out): rho v^2 / mu0 (mu0 on a given
-    ball and speed) to 0.1% of its log range at the median, and calibrated 90% intervals that
+    ball and speed) to 3% of its value at the median, and calibrated 90% intervals that
     hold 85-95% of the held-out truths for every group (issue 42, item 2)."""
     model = load_model("sports-ball-universal-model")
     assert model.design.name == "groups"

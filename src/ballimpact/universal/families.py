@@ -77,8 +77,6 @@ def material_family(name: str) -> dict[str, Any]:
     text = resources.files("ballimpact").joinpath("data/ball_families.json").read_text()
     families = json.loads(text)["families"]
     if name not in families:
-        from ..errors import InputError
-
         raise InputError(f"family {name!r}: unknown; allowed {', '.join(families)}")
     return families[name]
 

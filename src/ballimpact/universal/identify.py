@@ -311,7 +311,9 @@ def warn_bounds(found: Identification, where: str = "") -> None:
         warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
                       f"{words}; the test lies outside what the model was trained on, the "
                       "identified ball is the nearest one inside the range, not an estimate of "
-                      "this ball (see the FE check)", InputWarning, stacklevel=3)
+                      "this ball (see the FE check); --model sports-ball-universal-model covers "
+                      "every solid sports ball at 5-60 m/s (docs/universal.md)", InputWarning,
+                      stacklevel=3)
     clipped = [k for k in found.clipped_to_training_range if k not in found.at_training_bound]
     if clipped:
         words = ", ".join(_bound_words(k, _clipped_end(found, k), ranges) for k in clipped)

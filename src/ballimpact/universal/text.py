@@ -89,13 +89,14 @@ def held_out_lines(metadata: dict[str, Any]) -> list[str]:
     the errors, R^2 and interval coverage, the held-out check, the identifiability and the
     forward surrogate's errors."""
     report = metadata["held_out"]
+    w = max(10, *(len(name) + 1 for name in report["inverse"]))  # groups' names are long
     lines = [f"held-out runs: {report['runs']} (never used in training or early stopping)",
-             f"{'parameter':<10}{'median err':>12}{'p90 err':>10}{'R^2':>8}{'90% cover':>11}"
+             f"{'parameter':<{w}}{'median err':>12}{'p90 err':>10}{'R^2':>8}{'90% cover':>11}"
              f"{'width/range':>13}"]
     for name, entry in report["inverse"].items():
         err = entry["relative_error"] or entry["range_relative_error"]
         kind = "" if entry["relative_error"] else " (of range)"
-        lines.append(f"{name:<10}{err['median']:>12.2%}{err['p90']:>10.2%}"
+        lines.append(f"{name:<{w}}{err['median']:>12.2%}{err['p90']:>10.2%}"
                      f"{entry['range_relative_error']['r2']:>8.3f}"
                      f"{entry['interval_90_coverage']:>11.1%}"
                      f"{entry['interval_90_mean_width_of_range']:>13.2f}{kind}")
