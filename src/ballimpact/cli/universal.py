@@ -109,7 +109,8 @@ def _run(args: argparse.Namespace) -> dict[str, Any]:
     args.resume_hint = f"resume with: ballimpact universal run {args.dir} --resume"
     summary = run_design(args.dir, template=args.template,
                          ranges=assignments(args.range, "--range", bounds=True),
-                         allow=args.allow, design=args.design, runs=args.runs, seed=args.seed, method=args.method,
+                         allow=args.allow, design=args.design, runs=args.runs, seed=args.seed,
+                         method=args.method,
                          batch_size=args.batch_size, group_size=args.group_size,
                          element_size_m=args.element_size_m, precision=args.precision,
                          resume=args.resume, extend=args.extend, workers=args.workers,

@@ -51,10 +51,8 @@ class Design:
         if self.name == "material":
             return features
         speed = features[:, SPEED_COLUMN]
-        columns = [features[:, FEATURES.index(k)]
-                   / np.array([size.scale(FEATURE_KIND[k], v) for v in speed])
-                   for k in self.features]
-        return np.column_stack(columns)
+        return np.column_stack([features[:, FEATURES.index(k)] / size.scale(FEATURE_KIND[k], speed)
+                                for k in self.features])
 
     def truth(self, params: np.ndarray, size: BallSize) -> np.ndarray:
         """Study rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s; SI) of a ball of `size` ->

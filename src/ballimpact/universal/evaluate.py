@@ -12,8 +12,8 @@ import numpy as np
 from ..errors import InputError
 from ..progress import end_line, redraw_line
 from . import space
+from .identify import reference_size
 from .model import FEATURES, TARGETS, UniversalModel
-from .similarity import BallSize
 
 PERCENTILE = 90
 #: the held-out check a trained model must pass to be written (`held_out_check`): R^2 on the
@@ -46,7 +46,7 @@ def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndar
                     shapes: np.ndarray, run_ids: np.ndarray) -> tuple[dict, dict]:
     """Figures on held-out runs: `params` (n, 5) SI incl. speed, `features` (n, 19) SI,
     `shapes`."""
-    design, size = model.design, model_size(model)
+    design, size = model.design, reference_size(model)
     ranges = design.target_ranges(model.ranges)
     truth = design.truth(params, size)
     inputs = design.inputs(features, size)
@@ -77,12 +77,6 @@ def held_out_report(model: UniversalModel, params: np.ndarray, features: np.ndar
     held = {"run_id": run_ids, "truth": truth, "estimate": est["values"], "low": est["low"],
             "high": est["high"]}
     return report, held
-
-
-def model_size(model: UniversalModel) -> BallSize:
-    """The ball of the model's study (its template)."""
-    template = model.metadata["template"]
-    return BallSize(template["radius_m"], template["mass_kg"])
 
 
 def held_out_check(report: dict[str, Any]) -> dict[str, Any]:
@@ -119,28 +113,22 @@ def identifiability(model: UniversalModel, params: np.ndarray, step: float = 0.1
     mu0 = 2 (C10 + C01) (a study of the groups: a step of each group's range). A direction that
     barely changes the impact cannot be identified."""
     ranges = model.ranges
-    if model.design.name == "groups":
-        names = list(model.design.forward_inputs)
-        rows = model.design.forward_rows(params, model_size(model))
-        unit = np.clip(space.to_unit(rows, ranges, names), step, 1 - step)
-        base = _standardised_outputs(model, space.from_unit(unit, ranges, names))
-        out = {}
-        for j, name in enumerate(names):
-            moved = space.from_unit(unit + step * np.eye(len(names))[j], ranges, names)
-            change = np.sqrt(np.mean((_standardised_outputs(model, moved) - base) ** 2, axis=1))
-            out[name] = float(np.median(change))
-        return {"step_of_range": step, "median_rms_change_standardised": out}
-    names = list(space.PARAMETERS)
-    unit = np.clip(space.to_unit(params, ranges), step, 1 - step)
-    base = _standardised_outputs(model, space.from_unit(unit, ranges))
-    width = {k: ranges[k][1] - ranges[k][0] for k in names}
-    directions = {name: np.eye(len(names))[j] for j, name in enumerate(names[:4])}
-    # equal and opposite changes in Pa: C10 + d, C01 - d with d = step of C10's range
-    directions["c10_up_c01_down_same_mu0"] = np.array(
-        [1.0, -width["c10_pa"] / width["c01_pa"], 0, 0, 0])
+    design = model.design
+    names = list(design.forward_inputs)
+    rows = design.forward_rows(params, reference_size(model))
+    unit = np.clip(space.to_unit(rows, ranges, names), step, 1 - step)
+    base = _standardised_outputs(model, space.from_unit(unit, ranges, names))
+    # a step of each material parameter or group (the speed is held)
+    directions = {name: np.eye(len(names))[j] for j, name in enumerate(names)
+                  if name != "impact_speed_m_s"}
+    if design.name == "material":
+        # equal and opposite changes in Pa: C10 + d, C01 - d with d = step of C10's range
+        width = {k: ranges[k][1] - ranges[k][0] for k in names}
+        directions["c10_up_c01_down_same_mu0"] = np.array(
+            [1.0, -width["c10_pa"] / width["c01_pa"], 0, 0, 0])
     out = {}
     for name, direction in directions.items():
-        moved = space.from_unit(unit + step * direction, ranges)
+        moved = space.from_unit(unit + step * direction, ranges, names)
         change = np.sqrt(np.mean((_standardised_outputs(model, moved) - base) ** 2, axis=1))
         out[name] = float(np.median(change))
     return {"step_of_range": step, "median_rms_change_standardised": out}

@@ -54,11 +54,12 @@ class Identification:
     ball_size: dict[str, Any] = field(default_factory=dict)  # diameter_m, mass_kg, their source
     groups: dict[str, float] = field(default_factory=dict)   # `similarity.GROUPS` of the estimate
     group_range: dict[str, list[float]] = field(default_factory=dict)  # the model's, this speed
+    groups_interval_90: dict[str, list[float]] = field(default_factory=dict)  # a groups model's
 
     def to_dict(self) -> dict[str, Any]:
         return {"params": self.params, "params_interval_90": self.interval_90,
                 "ball_size": self.ball_size, "groups": self.groups,
-                "group_range": self.group_range,
+                "groups_interval_90": self.groups_interval_90, "group_range": self.group_range,
                 "training_range": self.training_range,
                 "at_training_bound": self.at_training_bound,
                 "clipped_to_training_range": self.clipped_to_training_range,
@@ -199,20 +200,12 @@ def estimate_groups(model: UniversalModel, values: dict[str, float], size: BallS
     ranges = {k: list(v) for k, v in model.ranges.items()}
     box = {k: _holding([float(lo), float(hi)], found[k], 0.0, ranges[k])
            for k, lo, hi in zip(names, est["low"][0], est["high"][0])}
-
-    def unit(row):
-        return space.to_unit(np.array([[row[k] for k in names]]), ranges, names)[0]
-
-    at = unit(found)
-    lows, highs = unit({k: v[0] for k, v in box.items()}), unit({k: v[1] for k, v in box.items()})
+    _, on, clipped = training_bounds(model, found, box)
     return {"groups": found, "groups_interval_90": box,
             "params": params_from_groups(found, size, speed),
             "interval_90": param_ranges_from_groups(box, size, speed),
             "training_range": param_ranges_from_groups(ranges, size, speed),
-            "group_range": ranges,
-            "at_bound": [k for k, u in zip(names, at) if u <= ON_BOUND or u >= 1 - ON_BOUND],
-            "clipped": [k for k, lo, hi in zip(names, lows, highs)
-                        if lo <= ON_BOUND or hi >= 1 - ON_BOUND]}
+            "group_range": ranges, "at_bound": on, "clipped": clipped}
 
 
 def _holding(interval: list[float], value: float, shift: float,
@@ -253,70 +246,60 @@ def refine_on_surrogate(model: UniversalModel, values: dict[str, float],
 
 def training_bounds(model: UniversalModel, params: dict[str, float],
                     interval: dict[str, list[float]]) -> tuple[dict, list[str], list[str]]:
-    """The training range of each target, the targets whose estimate sits on a bound, and those
-    whose 90% interval reaches one (clipped: the data may allow values beyond it)."""
-    ranges = target_ranges(model.ranges)
+    """The training range of each of the model's targets (`design.targets`: the constants, or the
+    groups), the targets whose estimate sits on a bound, and those whose 90% interval reaches
+    one (clipped: the data may allow values beyond it)."""
+    names = model.design.targets
+    ranges = model.design.target_ranges(model.ranges)
 
-    def unit(values):  # position in the range on the parameter's own axis (tau1: log)
-        return space.to_unit(np.array([[values[k] for k in TARGETS]]), ranges, TARGETS)[0]
+    def unit(values):  # position in the range on the target's own axis (tau1: log)
+        return space.to_unit(np.array([[values[k] for k in names]]), ranges, names)[0]
 
     u = unit(params)
-    lows = unit({k: interval[k][0] for k in TARGETS})
-    highs = unit({k: interval[k][1] for k in TARGETS})
-    on = [k for k, x in zip(TARGETS, u) if x <= ON_BOUND or x >= 1 - ON_BOUND]
-    clipped = [k for k, lo, hi in zip(TARGETS, lows, highs)
+    lows = unit({k: interval[k][0] for k in names})
+    highs = unit({k: interval[k][1] for k in names})
+    on = [k for k, x in zip(names, u) if x <= ON_BOUND or x >= 1 - ON_BOUND]
+    clipped = [k for k, lo, hi in zip(names, lows, highs)
                if lo <= ON_BOUND or hi >= 1 - ON_BOUND]
-    return {k: [float(v) for v in ranges[k]] for k in TARGETS}, on, clipped
+    return {k: [float(v) for v in ranges[k]] for k in names}, on, clipped
 
 
-def _bound_words(name: str, value: float, ranges: dict[str, list[float]]) -> str:
-    low, high = ranges[name]
+def _bounded(found: Identification, name: str) -> tuple[float, list[float], list[float]]:
+    """(estimate, 90% interval, training range) of `name`: a constant, or a group of a model of
+    the groups (whose ranges are the groups')."""
+    if name in found.params:
+        return found.params[name], found.interval_90[name], found.training_range[name]
+    return found.groups[name], found.groups_interval_90[name], found.group_range[name]
+
+
+def _bound_words(name: str, value: float, bounds: list[float]) -> str:
+    low, high = bounds
     side, bound = ("lower", low) if abs(value - low) <= abs(value - high) else ("upper", high)
     unit = "" if TARGET_UNITS[name] == "1" else f" {TARGET_UNITS[name]}"
     return f"{name} at its {side} bound {bound:g}{unit}"
 
 
-def _warn_group_bounds(found: Identification, where: str) -> None:
-    """`warn_bounds` of a model of the groups: the groups are what its range bounds."""
-    if found.at_training_bound:
-        words = ", ".join(_bound_words(k, found.groups[k], found.group_range)
-                          for k in found.at_training_bound)
-        warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
-                      f"{words}; the test lies outside what the model was trained on, the "
-                      "identified ball is the nearest one inside the range, not an estimate of "
-                      "this ball (see the FE check)", InputWarning, stacklevel=4)
-    clipped = [k for k in found.clipped_to_training_range if k not in found.at_training_bound]
-    if clipped:
-        warnings.warn(f"{where}90% interval clipped to the universal model's training range: "
-                      f"{', '.join(clipped)} (of the groups, range "
-                      + ", ".join(f"{k} {found.group_range[k][0]:g}..{found.group_range[k][1]:g}"
-                                  for k in clipped)
-                      + "); values beyond it are excluded by the model's range, not by the test",
-                      InputWarning, stacklevel=4)
-
-
 def warn_bounds(found: Identification, where: str = "") -> None:
     """One warning for estimates on a training bound, one for intervals clipped by one."""
-    ranges = found.training_range
-    if any(k in found.group_range and k not in found.params
-           for k in found.at_training_bound + found.clipped_to_training_range):
-        _warn_group_bounds(found, where)
-        return
     if found.at_training_bound:
-        words = ", ".join(_bound_words(k, found.params[k], ranges) for k in found.at_training_bound)
-        bounded = dict.fromkeys(g for k in found.at_training_bound for g in GROUPS_OF[k])
-        words += "; in dimensionless terms " + ", ".join(
-            f"{g} = {found.groups[g]:.4g} at an end of the model's {lo:.4g}..{hi:.4g} at this "
-            "speed" for g in bounded for lo, hi in [found.group_range[g]])
+        words = ", ".join(_bound_words(k, value, bounds) for k in found.at_training_bound
+                          for value, _, bounds in [_bounded(found, k)])
+        constants = [k for k in found.at_training_bound if k in GROUPS_OF]
+        if constants:  # the cricket model's constants: say which groups they enter
+            bounded = dict.fromkeys(g for k in constants for g in GROUPS_OF[k])
+            words += "; in dimensionless terms " + ", ".join(
+                f"{g} = {found.groups[g]:.4g} at an end of the model's {lo:.4g}..{hi:.4g} at "
+                "this speed" for g in bounded for lo, hi in [found.group_range[g]])
+            words += ("; --model sports-ball-universal-model covers every solid sports ball at "
+                      "5-60 m/s (docs/universal.md)")
         warnings.warn(f"{where}estimate on the edge of the universal model's training range: "
                       f"{words}; the test lies outside what the model was trained on, the "
                       "identified ball is the nearest one inside the range, not an estimate of "
-                      "this ball (see the FE check); --model sports-ball-universal-model covers "
-                      "every solid sports ball at 5-60 m/s (docs/universal.md)", InputWarning,
-                      stacklevel=3)
+                      "this ball (see the FE check)", InputWarning, stacklevel=3)
     clipped = [k for k in found.clipped_to_training_range if k not in found.at_training_bound]
     if clipped:
-        words = ", ".join(_bound_words(k, _clipped_end(found, k), ranges) for k in clipped)
+        words = ", ".join(_bound_words(k, _clipped_end(found, k), _bounded(found, k)[2])
+                          for k in clipped)
         warnings.warn(f"{where}90% interval clipped to the universal model's training range: "
                       f"{words}; values beyond that bound are excluded by the model's range, "
                       "not by the test", InputWarning, stacklevel=3)
@@ -324,8 +307,7 @@ def warn_bounds(found: Identification, where: str = "") -> None:
 
 def _clipped_end(found: Identification, name: str) -> float:
     """The end of `name`'s interval that sits on a bound (the lower one if both do)."""
-    low, high = found.training_range[name]
-    lo, hi = found.interval_90[name]
+    _, (lo, hi), (low, high) = _bounded(found, name)
     return lo if abs(lo - low) <= abs(hi - high) else hi
 
 
@@ -405,36 +387,24 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         dimensionless = dict(zip(model.design.features, model.design.inputs(
             np.array([[values[k] for k in FEATURES]]), size)[0]))
         warn_outside_training_range(model, dimensionless, where)
-        on_groups = estimate_groups(model, values, size, refine)
-        params, interval = on_groups["params"], on_groups["interval_90"]
+        found = estimate_groups(model, values, size, refine)
     else:
         mapped = map_features(values, size, reference)
         warn_outside_training_range(model, mapped, where,
                                     None if size == reference else values)
-        # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the
-        # C10 and C01 that `universal_ball_spec` writes unchanged, which is what the ball's
-        # Mooney-Rivlin material reads back as its initial shear modulus (`given_moduli_pa`);
-        # the mapping scales C10, C01 and mu0 by one factor, so that stays true on the ball
-        ref_params, ref_interval = estimate(model, mapped, refine)
-        params = map_params(ref_params, reference, size)
-        interval = map_ranges(ref_interval, reference, size)
-    spec = universal_spec(params, size.radius_m, size.density_kg_m3, template["moduli"],
-                          "identified-universal")
+        found = _estimate_by_similarity(model, mapped, reference, size, speed, refine)
+    spec = universal_spec(found["params"], size.radius_m, size.density_kg_m3,
+                          template["moduli"], "identified-universal")
     load_ball(spec, allow=allow)  # checked as `simulate --ball` will check it
-    result = Identification(params, interval, spec, speed, refine)
-    if model.design.name == "groups":
-        result.training_range = on_groups["training_range"]
-        result.at_training_bound = on_groups["at_bound"]
-        result.clipped_to_training_range = on_groups["clipped"]
-        result.group_range = on_groups["group_range"]
-    else:
-        ranges, result.at_training_bound, result.clipped_to_training_range = \
-            training_bounds(model, ref_params, ref_interval)
-        result.training_range = map_ranges(ranges, reference, size)
-        result.group_range = group_ranges(model, speed)
+    result = Identification(found["params"], found["interval_90"], spec, speed, refine,
+                            training_range=found["training_range"],
+                            at_training_bound=found["at_bound"],
+                            clipped_to_training_range=found["clipped"],
+                            group_range=found["group_range"],
+                            groups_interval_90=found.get("groups_interval_90", {}))
     result.ball_size = {"diameter_m": 2 * size.radius_m, "mass_kg": size.mass_kg,
                         "density_kg_m3": size.density_kg_m3, "diameter_source": given}
-    result.groups = groups(params, size, speed)
+    result.groups = groups(found["params"], size, speed)
     warn_bounds(result, where)
     if verify:
         options = options or scaled_options(model, size)
@@ -449,6 +419,24 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
                           stacklevel=2)
     result.wall_time_s = time.perf_counter() - started
     return result
+
+
+def _estimate_by_similarity(model: UniversalModel, mapped: dict[str, float],
+                            reference: BallSize, size: BallSize, speed: float, refine: str
+                            ) -> dict[str, Any]:
+    """A material model (the cricket one): the constants of the reference ball from the test's
+    features mapped onto it (`mapped`), mapped back to a ball of `size`, with their intervals,
+    training ranges and bounds, as `estimate_groups` gives them for a model of the groups."""
+    # the reported mu0 must be the written ball's: `estimate` gives 2 (C10 + C01) of the C10
+    # and C01 that `universal_ball_spec` writes unchanged, which is what the ball's Mooney-Rivlin
+    # material reads back as its initial shear modulus (`given_moduli_pa`); the mapping scales
+    # C10, C01 and mu0 by one factor, so that stays true on the tested ball
+    ref_params, ref_interval = estimate(model, mapped, refine)
+    ranges, on, clipped = training_bounds(model, ref_params, ref_interval)
+    return {"params": map_params(ref_params, reference, size),
+            "interval_90": map_ranges(ref_interval, reference, size),
+            "training_range": map_ranges(ranges, reference, size),
+            "group_range": group_ranges(model, speed), "at_bound": on, "clipped": clipped}
 
 
 def model_inputs(processed, model: UniversalModel) -> dict[str, float]:

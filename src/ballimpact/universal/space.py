@@ -223,24 +223,26 @@ def from_unit(unit: np.ndarray, ranges: dict[str, tuple[float, float]],
     return out
 
 
-def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, float]],
-           names=tuple(PARAMETERS)) -> np.ndarray:
-    """`runs` points (rows: `names`, by default c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s in
-    SI) of a scrambled Sobol sequence or a Latin hypercube, seeded. The same (runs, seed, method,
-    ranges) always gives the same points."""
+def unit_sample(runs: int, seed: int, method: str, dimensions: int) -> np.ndarray:
+    """`runs` points in the unit cube of `dimensions` axes: a scrambled Sobol sequence or a Latin
+    hypercube, seeded (the same arguments always give the same points)."""
     from scipy.stats import qmc
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: allowed {', '.join(METHODS)}")
     runs = check_integer("runs", runs, 1)
-    d = len(names)
     if method == "sobol":
         with warnings.catch_warnings():  # balance is best at powers of 2; any count is valid
             warnings.simplefilter("ignore", UserWarning)
-            unit = qmc.Sobol(d, scramble=True, seed=seed).random(runs)
-    else:
-        unit = qmc.LatinHypercube(d, seed=seed).random(runs)
-    return from_unit(unit, ranges, names)
+            return qmc.Sobol(dimensions, scramble=True, seed=seed).random(runs)
+    return qmc.LatinHypercube(dimensions, seed=seed).random(runs)
+
+
+def sample(runs: int, seed: int, method: str, ranges: dict[str, tuple[float, float]],
+           names=tuple(PARAMETERS)) -> np.ndarray:
+    """`runs` points (rows: `names`, by default c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s in
+    SI) of `unit_sample` mapped onto `ranges` (`from_unit`)."""
+    return from_unit(unit_sample(runs, seed, method, len(names)), ranges, names)
 
 
 def universal_ball_spec(params: dict[str, float], template: dict[str, Any],

@@ -41,7 +41,6 @@ def design_config(*, template: str | Path | None = None, ranges: dict | None = N
     if not stored:
         return config
     if design:
-        config.setdefault("design_space", "material")
         given.append("design_space")
     return {k: config[k] for k in (*given, *(["ranges"] if ranges else []),
                                    *(["template"] if template else []),

@@ -123,6 +123,8 @@ def load_config(folder: Path, flag: str = "DIR") -> dict[str, Any]:
         config = json.loads(stored.read_text())
     except (OSError, ValueError) as error:
         raise InputError(f"{flag}: {stored}: not readable JSON ({error})") from None
+    if isinstance(config, dict):  # studies written before the groups' design
+        config.setdefault("design_space", "material")
     return check_config(config, f"{flag}: {stored}")
 
 
@@ -153,8 +155,8 @@ def make_config(*, template: str | Path = "cricket-universal", ranges: dict | No
     # its balls' moduli are those of the groups at that speed, not a sports ball's
     config["allow"] = sorted(check_allow({*allow, "ball-units"} if design == "groups" else allow))
     ball = load_ball(str(template), impact_speed_m_s=25.0, allow=config["allow"])
+    config["design_space"] = design
     if design == "groups":
-        config["design_space"] = design
         config["ranges"] = space.check_group_ranges(ranges or {})
     else:
         config["ranges"] = space.check_ranges(ranges or {}, config["allow"])
