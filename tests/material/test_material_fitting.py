@@ -82,3 +82,21 @@ def test_stability_report_of_a_material_file(tmp_path):
         stability_report(material_file=path, speed_m_s=20.0)
     with pytest.raises(InputError, match=r"--speed-m-s = -1: allowed range \(0, inf\) m/s"):
         stability_report(ball="cricket-3layer", speed_m_s=-1.0)
+
+
+def test_dict_and_typed_constants_share_one_compiled_stress():
+    """A fit's dict of constants and the model's typed `Constants` give the same stresses from
+    one compiled program (the conversion is done before the jitted stress, not inside it)."""
+    from ballimpact.constitutive import MATERIALS
+    from ballimpact.material import modes
+
+    x = np.linspace(0.7, 1.6, 7)
+    values = {"c10_pa": 4.0e5, "c01_pa": 1.0e5, "k_pa": 0.0}
+    before = modes.incompressible_stress._cache_size()
+    as_dict = modes.deformation_stress("mooney_rivlin", values, "planar", x)
+    typed = modes.deformation_stress("mooney_rivlin",
+                                     MATERIALS["mooney_rivlin"].Constants(**values), "planar", x)
+    assert np.array_equal(as_dict, typed)
+    assert modes.incompressible_stress._cache_size() - before <= 1
+    # closed form of planar tension: P = 2 (l - l^-3) (C10 + C01)
+    assert typed == pytest.approx(2 * (x - x ** -3) * 5.0e5, rel=1e-12)

@@ -52,10 +52,14 @@ def _diag(l1, l2, l3) -> Sym:
     return Sym(l1 * l1, l2 * l2, l3 * l3, jnp.zeros_like(l1 * l2 * l3))
 
 
-def _point_energy(model: str, constants, l1, l2, l3, full: bool):
+def typed_constants(model: str, constants):
+    """A model's constants as its `Constants` NamedTuple (a dict of the same keys converted):
+    the jitted stresses then see one container type and compile once per model."""
     typed = MATERIALS[model].Constants
-    if not isinstance(constants, typed):
-        constants = typed(**constants)
+    return constants if isinstance(constants, typed) else typed(**constants)
+
+
+def _point_energy(model: str, constants, l1, l2, l3, full: bool):
     w_dev, w_vol = MATERIALS[model].energy(_diag(l1, l2, l3), constants)
     return w_dev + w_vol if full else w_dev
 
@@ -139,6 +143,8 @@ def deformation_stress(model: str, constants, deformation: str, x1, x2=None) -> 
     with jax.enable_x64(True):  # float64 here only, as the rest of the package
         x1 = jnp.asarray(x1, dtype=jnp.float64)
         x2 = None if x2 is None else jnp.asarray(x2, dtype=jnp.float64)
+        if model in COMPRESSIBLE or model in INCOMPRESSIBLE:
+            constants = typed_constants(model, constants)
         if model in COMPRESSIBLE:
             return np.asarray(compressible_stress(model, constants, deformation, x1, x2)[0])
         if model in INCOMPRESSIBLE:
@@ -201,8 +207,8 @@ __all__ = ["COMPRESSIBLE", "DEFORMATIONS", "INCOMPRESSIBLE", "compressible_stres
 @partial(jax.jit, static_argnames=("model", "deformation"))
 def _term_stresses(model, deformation, mu, alpha, beta, x1, x2):
     def one(m, a, b):
-        c = {"mu_pa": m[None], "alpha": a[None]}
-        c.update({"k_pa": 0.0} if b is None else {"beta": b[None]})
+        c = typed_constants(model, {"mu_pa": m[None], "alpha": a[None],
+                                    **({"k_pa": 0.0} if b is None else {"beta": b[None]})})
         if model in COMPRESSIBLE:
             return jnp.ravel(compressible_stress(model, c, deformation, x1, x2)[0])
         return jnp.ravel(incompressible_stress(model, c, deformation, x1, x2))
