@@ -3,9 +3,13 @@ library's defaults, used by the verbs' library functions in place of a loader an
 processor."""
 
 import dataclasses
+import json
+from pathlib import Path
 import inspect
 
 import pytest
+
+from ballimpact.errors import InputError
 
 from ballimpact.records.loaders import load_record
 from ballimpact.records.options import LOADING_FIELDS, PROCESSING_FIELDS, RecordOptions
@@ -59,3 +63,21 @@ def test_features_of_files_takes_the_options():
     result, processed = features_of_files([SAMPLE], options=RecordOptions(mass_kg=0.161))
     assert processed[0].raw.mass_kg == 0.161
     assert result["features"]["P15"] == pytest.approx(20.8)
+
+
+def test_a_functions_allow_reaches_its_records_processing():
+    """One set of allowed checks: `allow=` given to a function that reads records joins its
+    `RecordOptions.allow` (a rebound faster than the impact is refused unless allowed)."""
+    from importlib import resources
+
+    from ballimpact.universal.by_speed import identify_files
+
+    assert RecordOptions(allow=("clipping",)).allowing({"unit-slip"}).allow == \
+        ("clipping", "unit-slip")
+    sample = resources.files("ballimpact") / "data" / "sample_impact.csv"
+    options = RecordOptions(mass_kg=0.16, impact_speed_m_s=20.8, rebound_speed_m_s=25.0)
+    with pytest.raises(InputError, match="cor-above-one"):
+        identify_files([Path(str(sample))], options=options, verify=False)
+    _, out = identify_files([Path(str(sample))], options=options, verify=False,
+                            allow={"cor-above-one"})
+    assert "cor-above-one" not in json.dumps(out.get("errors", []))

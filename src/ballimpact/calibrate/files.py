@@ -11,7 +11,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..checks import check_integer, check_range
+from ..checks import check_allow, check_integer, check_range
 from ..errors import InputError
 from ..fileio import check_output_folder, check_plot_path, json_safe, write_atomic
 from ..records.datasets import PREFIX, is_builtin
@@ -129,6 +129,7 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
         raise InputError("--test or --compression: give at least one test (an impact record, "
                          "or a compression curve)")
     impacts = []
+    record_options = record_options.allowing(check_allow(allow))
     for text, (path, speed, layer) in zip(tests, [parse_test(text) for text in tests]):
         # the test's own SPEED wins over the side file's and the options' impact speed
         given = record_options if speed is None else replace(record_options,

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from ..checks import check_allow
 from ..errors import InputError, InputWarning
 from ..fileio import check_output_folder, check_plot_path, write_atomic
 from ..records.options import RecordOptions
@@ -196,6 +197,7 @@ def fit_files(paths: Sequence[Path], *, model: str | LumpedModel,
     if table_path is not None and len(files) < 2:
         raise InputError("--table: needs several files")
     started = time.perf_counter()
+    options = options.allowing(check_allow(allow))
     fits = fit_records([options.process(options.load(path)) for path in files], model,
                        [str(p) for p in files], tolerances=tolerances, allow=allow,
                        **fit_options)

@@ -7,7 +7,7 @@ functions of the verbs (`records.summaries.features_of_files`, `lumped.fit_recor
 from __future__ import annotations
 
 from collections.abc import Collection
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -66,6 +66,11 @@ class RecordOptions:
     ringing: bool = True
     resonance_hz: float | None = None
     damping_ratio: float = DEFAULT_DAMPING_RATIO
+
+    def allowing(self, allow: Collection[str]) -> "RecordOptions":
+        """These options with the checks `allow` names allowed too: a function's own `allow`
+        reaches the processing of its records (one set of allowed checks, not two)."""
+        return replace(self, allow=tuple(sorted({*self.allow, *allow})))
 
     def loading(self) -> dict[str, Any]:
         """The loading options as `loaders.load_record`'s keyword arguments."""

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import __version__
-from ..checks import check_integer
+from ..checks import check_allow, check_integer
 from ..errors import CheckFailed, InputError, InputWarning, SimulationError
 from ..fileio import check_distinct_files, check_output_folder, json_safe, write_atomic
 from ..progress import progress_bar
@@ -150,6 +150,7 @@ def report_files(files: list[Path], out: Path, *, options: RecordOptions = Recor
     specs = parse_models(models if models is not None
                          else DEFAULT_MODELS + (f",{ball}" if ball is not None else ""))
     files = builtin_files(builtin) if builtin else files
+    options = options.allowing(check_allow(allow))
     tests = label_tests([str(f) for f in files],
                         [options.process(check_test_record(options.load(path), path,
                                                            len(files)))

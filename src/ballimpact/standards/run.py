@@ -4,7 +4,6 @@ ball model, the inputs checked, with its CSV table."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +24,8 @@ def run_method(method: str | Method, *, paths: Sequence[Path] = (), ball: str | 
                table: Path | None = None) -> dict[str, Any]:
     """`method` on a lab's records, `paths` (files or folders; `from_records` with `mass_kg`
     (kg), the ball ids by `ball_id_pattern` and `record_options`, how a record is loaded and
-    processed, `records.RecordOptions`, its `allow` replaced by `allow`), or on a ball model, `ball` (a preset or ball file;
+    processed, `records.RecordOptions`, `allow` joined to its own: `RecordOptions.allowing`),
+    or on a ball model, `ball` (a preset or ball file;
     `on_model`, its mesh's element size `element_size_m`, m): one of the two.
     `impact_speed_m_s`: the impact methods run or judged at this speed (m/s) instead of the
     method's. `table`: the result's CSV (`write_result_table`) written there (a .csv file in an
@@ -55,7 +55,7 @@ def run_method(method: str | Method, *, paths: Sequence[Path] = (), ball: str | 
     else:
         result = from_records(method, paths, mass_kg=mass_kg, ball_of=ball_id_pattern,
                               nominal=impact_speed_m_s,
-                              options=replace(record_options, allow=allow))
+                              options=record_options.allowing(allow))
     if table is not None:
         result["table"] = write_result_table(table, result)
     return result

@@ -193,6 +193,7 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
                          "parameters of one test are in the output (--json) and its ball in "
                          "--ball-out")
     allow = check_allow(allow)
+    options = options.allowing(allow)
     loaded = load_model(model)
     tests = [options.load(path) for path in files]
     for path, record in zip(files, tests):  # before any processing or FE run

@@ -360,7 +360,7 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     tolerances = tolerances or Tolerances()
     if max_nrmse is not None:
         tolerances = replace(tolerances, force_nrmse=check_max_nrmse(max_nrmse))
-    values = model_inputs(processed, model)
+    values = model_inputs(processed, model, allow)
     source = processed.raw.metadata.get("file") if hasattr(processed, "raw") else None
     where = f"{source}: " if source else ""
     speed = float(values["P15"])
@@ -439,11 +439,13 @@ def _estimate_by_similarity(model: UniversalModel, mapped: dict[str, float],
             "group_range": group_ranges(model, speed), "at_bound": on, "clipped": clipped}
 
 
-def model_inputs(processed, model: UniversalModel) -> dict[str, float]:
+def model_inputs(processed, model: UniversalModel, allow: Collection[str] = ()
+                 ) -> dict[str, float]:
     """The test's features described as the model's training described its noisy copies
     (`UniversalModel.feature_method`): the built-in model learned the features of the pulse
     through its samples, whose contact time noise shortens, and is given them so; the FE check
-    still compares with the test's own (fitted) features."""
+    still compares with the test's own (fitted) features. `allow`: the checks allowed when the
+    test was processed (described again, it meets them again)."""
     features = processed.features
     if features.method == model.feature_method or not hasattr(processed, "filtered"):
         return features.values
@@ -451,7 +453,8 @@ def model_inputs(processed, model: UniversalModel) -> dict[str, float]:
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", InputWarning)  # said once already, by `process`
-        return extract_features(processed.filtered, method=model.feature_method).values
+        return extract_features(processed.filtered, method=model.feature_method,
+                                allow=allow).values
 
 
 def scaled_options(model: UniversalModel, size: BallSize):
