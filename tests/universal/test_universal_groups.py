@@ -175,3 +175,16 @@ def test_builtin_sports_ball_model_held_out_figures():
         assert 0.85 <= entry["interval_90_coverage"] <= 0.95, name
     assert model.metadata["held_out_check"]["passed"]
     assert report["forward"]["cor_absolute_error"]["p90"] < 0.005
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--design", "groups", "--range", "c10_pa=1e6:2e6"], "unknown in a study of the groups"),
+    (["--design", "groups", "--range", "rho_v2_over_mu0=1e-3:0.5"], "crushes"),
+    (["--design", "cubes"], "invalid choice"),
+])
+def test_cli_bad_group_study_exits_2_with_one_line(argv, words, capsys, tmp_path):
+    code = main(["universal", "run", str(tmp_path / "s"), *argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert words in err[-1]
+    assert not (tmp_path / "s").exists()  # refused before anything is written
