@@ -40,6 +40,11 @@ class Tolerances:
         return asdict(self)
 
 
+#: Allowed force NRMSE of a compression test (a fraction of its largest force) where `identify`
+#: judges one (`universal.compression_check`): the 5% within which a preset gives back its
+#: specification's compression (issue 42).
+COMPRESSION_TOLERANCE = 0.05
+
 #: The command-line flag of each tolerance.
 FLAGS = {"force_nrmse": "--max-nrmse", "cor": "--max-cor-error",
          "contact_time": "--max-contact-time-error", "peak_force": "--max-peak-force-error"}

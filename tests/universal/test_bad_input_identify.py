@@ -151,3 +151,45 @@ def test_unknown_allow_name(bad_input, sample):
 
 def test_plot_wrong_suffix(bad_input, sample, tmp_path):
     bad_input(["identify", sample, "--plot", tmp_path / "p.pdf"], "--plot", ".png")
+
+
+# ---- --compression (issue 42, item 4): refused before any FE run -----------------------------
+def _curve(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+def test_compression_missing_file(bad_input, sample, tmp_path):
+    bad_input(["identify", sample, "--compression", tmp_path / "squeeze.csv"],
+              "--compression", "squeeze.csv", "no such file")
+
+
+def test_compression_bad_header(bad_input, sample, tmp_path):
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_in,force_n\n1,10\n2,25\n3,45\n")
+    bad_input(["identify", sample, "--compression", curve], "squeeze.csv", "deflection_in",
+              "deflection_mm")
+
+
+def test_compression_deflections_not_increasing(bad_input, sample, tmp_path):
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_mm,force_n\n1,10\n3,25\n2,45\n")
+    bad_input(["identify", sample, "--compression", curve], "squeeze.csv", "line 4",
+              "does not increase")
+
+
+def test_compression_without_the_fe_check(bad_input, sample, tmp_path):
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_mm,force_n\n1,10\n2,25\n3,45\n")
+    bad_input(["identify", sample, "--compression", curve, "--no-verify"], "--compression",
+              "--no-verify")
+
+
+@pytest.mark.parametrize("value", [0, 1.5, -0.05])
+def test_compression_tolerance_out_of_range(bad_input, sample, value):
+    bad_input(["identify", sample, "--max-compression-error", value],
+              "--max-compression-error")
+
+
+def test_compression_deeper_than_the_ball(bad_input, sample, tmp_path):
+    # millimetres in a deflection_m column: 6.35 m on a 72 mm ball
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_m,force_n\n2,100\n4,600\n6.35,1600\n")
+    bad_input(["identify", sample, "--compression", curve], "squeeze.csv", "6.35 m",
+              "deflection_mm")

@@ -6,13 +6,14 @@ compression curves read from their CSVs), its results written to the output fold
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from ..checks import check_allow, check_integer, check_range
-from ..errors import InputError
+from ..errors import InputError, InputWarning
 from ..fileio import check_output_folder, check_plot_path, json_safe, write_atomic
 from ..records.datasets import PREFIX, is_builtin
 from ..records.options import RecordOptions
@@ -149,6 +150,7 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
                        seed=seed, decision=decision, weights=weights, out=out, resume=resume,
                        max_evaluations=max_evaluations, allow=allow)
     stage_results = result.pop("stage_results")
+    warn_one_layer(template, found, result)
     if out is not None:
         write_results(out, result)
     if plot_path is not None:
@@ -160,5 +162,32 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
     return result, stage_results
 
 
+def warn_one_layer(template: dict[str, Any], tests: Sequence, result: dict[str, Any]) -> None:
+    """An `InputWarning` when a one-layer ball calibrated against impact and compression tests
+    together misses either: each objective's value in the last stage that has it, against the
+    model checks' tolerances (`verdict.Tolerances`: force NRMSE, COR, contact time, peak force;
+    `verdict.COMPRESSION_TOLERANCE`). One homogeneous layer ties the impact's instantaneous
+    moduli to the compression's relaxed ones through its g1, and a layered ball (core and cover)
+    is the way on (docs/calibrate.md, "Layered balls from tests")."""
+    from ..verdict import COMPRESSION_TOLERANCE, Tolerances
+
+    if len(template["layers"]) != 1 or {t.kind for t in tests} != {"impact", "compression"}:
+        return
+    last: dict[str, float] = {}
+    for stage in result["stages"]:
+        last.update(stage["chosen"]["objectives"])
+    tolerances = Tolerances()
+    allowed = {"nrmse": tolerances.force_nrmse, "cor": tolerances.cor,
+               "contact_time": tolerances.contact_time, "peak_force": tolerances.peak_force,
+               "compression": COMPRESSION_TOLERANCE}
+    missed = [f"{name} {value:.3g} > {allowed[name]:g}" for name, value in last.items()
+              if name in allowed and not abs(value) <= allowed[name]]
+    if missed:
+        warnings.warn(f"one homogeneous layer does not give the impact and the compression "
+                      f"tests together ({', '.join(missed)}); calibrate a layered ball (core and "
+                      "cover) against both: docs/calibrate.md, 'Layered balls from tests'",
+                      InputWarning, stacklevel=2)
+
+
 __all__ = ["BALL_FILE", "RESULT_FILE", "calibrate_from_files", "calibration_tests",
-           "parse_compression", "parse_test", "write_results"]
+           "parse_compression", "parse_test", "warn_one_layer", "write_results"]

@@ -7,7 +7,8 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import InputError
-from ..verdict import add_tolerance_flags, given_flags, raise_if_missed, tolerances_from
+from ..verdict import (COMPRESSION_TOLERANCE, add_tolerance_flags, given_flags, raise_if_missed,
+                       tolerances_from)
 from .common import (add_processing, add_speed_grouping, print_lines, record_options,
                      use_compilation_cache)
 
@@ -36,6 +37,17 @@ def add_parser(verbs) -> None:
     identify.add_argument("--verify", action=argparse.BooleanOptionalAction, default=True,
                           help="run the identified ball in the FE engine and compare (default)")
     add_tolerance_flags(identify)
+    identify.add_argument("--compression", type=Path, metavar="FILE.csv",
+                          help="a compression test of the ball (force-deflection CSV, as "
+                               "`calibrate --compression` reads it; the slow, long-term curve): "
+                               "the identified ball is squeezed as the ball was, and the FE check "
+                               "adds its force NRMSE as a criterion. A miss says that one "
+                               "homogeneous layer does not give both tests: see "
+                               "docs/calibrate.md, 'Layered balls from tests'")
+    identify.add_argument("--max-compression-error", type=float, metavar="X",
+                          default=COMPRESSION_TOLERANCE,
+                          help="largest compression NRMSE (a fraction of the test's largest "
+                               f"force) the FE check allows (default {COMPRESSION_TOLERANCE:g})")
     identify.add_argument("--refine", choices=("none", "surrogate"), default="none",
                           help="least squares on the forward surrogate after the inverse "
                                "estimate; default none: on held-out runs it made the closed loop "
@@ -69,6 +81,7 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         args.files, options=record_options(args), model=args.model, verify=args.verify,
         refine=args.refine, allow=args.allow, diameter_m=args.ball_diameter_m,
         nominal_m_s=args.speeds, tolerance=args.speed_tolerance, tolerances=tolerances,
+        compression=args.compression, compression_tolerance=args.max_compression_error,
         table_path=args.table, ball_path=args.ball_out, plot_path=args.plot,
         each=None if args.json else lambda path, f: print_lines(identification_lines(path, f)))
     if not args.json:

@@ -203,7 +203,7 @@ def ball_for_specification(spec: Specification, name: str = "specification-ball"
             f"{values.max():.3f} at {spec.impact_speed_m_s:.4g} m/s (g1 {grid[0]:g}-"
             f"{grid[-1]:g}, tau1 {tau1 * 1e6:.3g} us): one layer cannot match both numbers; "
             "calibrate a layered ball (core and cover) against both tests (`ballimpact "
-            "calibrate`, docs/balls.md)")
+            "calibrate`, docs/calibrate.md, 'Layered balls from tests')")
     # the bracket: neighbouring grid points around the target (COR falls with g1)
     above = int(np.flatnonzero(values >= spec.cor).max())
     below = min(above + 1, grid.size - 1)

@@ -11,6 +11,7 @@ import warnings
 from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,9 @@ from ..records.options import RecordOptions
 from ..records.pipeline import process
 from ..records.repeats import (DEFAULT_SPEED_TOLERANCE, check_masses, check_nominal, check_tolerance,
                        group_by_speed, mean_sd, pulse_band)
-from .identify import Identification, check_speed, identify
+from .compression_check import (COMPRESSION_TOLERANCE, check_compression_tolerance,
+                                load_compression_test)
+from .identify import Identification, check_speed, identify, reference_size
 from .model import load_model
 from .similarity import check_diameter, check_size
 
@@ -71,13 +74,15 @@ def identify_tests(processed: Sequence, files: Sequence[str | Path], model, *,
                    nominal_m_s: Sequence[float] | None = None,
                    tolerance: float = DEFAULT_SPEED_TOLERANCE, verify: bool = True,
                    refine: str = "none", allow: Collection[str] = (),
-                   diameter_m: float | None = None, tolerances=None,
+                   diameter_m: float | None = None, tolerances=None, compression=None,
+                   compression_tolerance: float = COMPRESSION_TOLERANCE,
                    each: Callable[[Any, Identification], None] | None = None
                    ) -> IdentifiedTests:
     """The universal ball of each processed test (`identify`, with the FE check when `verify`),
     the tests grouped by speed first (`speed_groups`: errors before anything runs), the repeats
     at one speed summarised (`identify_repeats`) and the ball of them all; `diameter_m` (m):
-    the tested ball's diameter (`similarity.check_size`), else the model's; `each(file,
+    the tested ball's diameter (`similarity.check_size`), else the model's; `compression`: a
+    compression test of the ball, judged on each identified ball (`identify`); `each(file,
     identification)` is called as each test is done."""
     groups = speed_groups(processed, files, nominal_m_s, tolerance)
     results = []
@@ -85,7 +90,8 @@ def identify_tests(processed: Sequence, files: Sequence[str | Path], model, *,
         size = None if diameter_m is None else check_size(diameter_m, pr.features.mass_kg,
                                                            allow)
         found = identify(pr, model, verify=verify, refine=refine, allow=allow, size=size,
-                         tolerances=tolerances)
+                         tolerances=tolerances, compression=compression,
+                         compression_tolerance=compression_tolerance)
         results.append((path, pr, found))
         if each is not None:
             each(path, found)
@@ -158,6 +164,8 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
                    diameter_m: float | None = None,
                    nominal_m_s: Sequence[float] | None = None,
                    tolerance: float = DEFAULT_SPEED_TOLERANCE, tolerances=None,
+                   compression: Path | None = None,
+                   compression_tolerance: float = COMPRESSION_TOLERANCE,
                    table_path: Path | None = None, ball_path: Path | None = None,
                    plot_path: Path | None = None,
                    each: Callable[[Any, Identification], None] | None = None
@@ -167,11 +175,12 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
     built-in one); each impact speed (m/s) is checked against the model's training speeds
     before anything is processed. Writes the speed table (CSV, `table_path`, several files
     only), the identified ball (JSON, `ball_path`) and the tests with the identified balls'
-    pulses (PNG, `plot_path`). Returns the identifications and the command's result:
+    pulses (PNG, `plot_path`). `compression`: a compression test's CSV (the ball squeezed
+    slowly between platens), a criterion of each FE check (`identify`). Returns the identifications and the command's result:
     `IdentifiedTests.to_dict` with `table_csv`, `ball_file`, `plot` where written and
     `wall_time_s`. `InputError`, before anything is loaded, for a bad output path (an output
     over a test record or its side file included), `table_path` with one file, a diameter
-    outside sports balls' and an unknown `allow` name."""
+    outside sports balls', an unknown `allow` name and a bad compression test."""
     started = time.perf_counter()
     check_plot_path(plot_path)
     if diameter_m is not None:  # before anything is loaded (the mass comes later)
@@ -194,7 +203,16 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
                          "--ball-out")
     allow = check_allow(allow)
     options = options.allowing(allow)
+    compression_tolerance = check_compression_tolerance(compression_tolerance)
+    if compression is not None:
+        if not verify:
+            raise InputError("--compression: a criterion of the FE check, which --no-verify "
+                             "turns off")
+        compression = load_compression_test(compression)
     loaded = load_model(model)
+    if compression is not None:  # a curve deeper than the ball can be squeezed: before any run
+        radius = 0.5 * diameter_m if diameter_m is not None else reference_size(loaded).radius_m
+        compression.check_against(SimpleNamespace(outer_radius_m=radius))
     tests = [options.load(path) for path in files]
     for path, record in zip(files, tests):  # before any processing or FE run
         if record.impact_speed_m_s is not None:
@@ -202,7 +220,8 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
     found = identify_tests([options.process(record) for record in tests], files, loaded,
                            nominal_m_s=nominal_m_s, tolerance=tolerance, verify=verify,
                            refine=refine, allow=allow, diameter_m=diameter_m,
-                           tolerances=tolerances, each=each)
+                           tolerances=tolerances, compression=compression,
+                           compression_tolerance=compression_tolerance, each=each)
     out = found.to_dict()
     if "table" in out and table_path is not None:
         out["table_csv"] = write_table(table_path, list(out["table"][0]), out["table"], ".6g")

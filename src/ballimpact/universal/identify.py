@@ -23,6 +23,8 @@ from ..checks import check_allow, flag
 from . import space
 from ..comparison import compare, features_pulse, pulse_nrmse
 from ..verdict import Tolerances, judge
+from .compression_check import (COMPRESSION_TOLERANCE, check_compression_tolerance,
+                                judge_compression)
 from .similarity import BallSize, groups, map_features, map_params, map_ranges
 from .design import param_ranges_from_groups, params_from_groups
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
@@ -335,7 +337,8 @@ def group_ranges(model: UniversalModel, speed_m_s: float) -> dict[str, list[floa
 def identify(processed, model: UniversalModel, *, verify: bool = True,
              refine: str = "none", options=None, allow: Collection[str] = (),
              max_nrmse: float | None = None, size: BallSize | None = None,
-             tolerances: Tolerances | None = None) -> Identification:
+             tolerances: Tolerances | None = None, compression=None,
+             compression_tolerance: float = COMPRESSION_TOLERANCE) -> Identification:
     """Identify the universal ball from a processed test (`pipeline.process`).
 
     `size`: the tested ball's radius and mass (`similarity.BallSize`; default the model's ball's
@@ -351,13 +354,21 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     (`verify`) judges force NRMSE, COR, contact time and peak force together
     (`verdict.judge` with `tolerances`, default `verdict.Tolerances()`; `max_nrmse` sets the
     force NRMSE's alone): `verification["passed"]` only when all pass, `verification["missed"]`
-    names each miss, and a miss is an `InputWarning` (the command line exits 3)."""
+    names each miss, and a miss is an `InputWarning` (the command line exits 3). A
+    `compression` test (`calibrate.compression.CompressionTest`, e.g. from
+    `compression_check.load_compression_test`) adds the criterion "compression": the identified
+    ball squeezed as in the test, its force NRMSE within `compression_tolerance`
+    (`compression_check.judge_compression`); it needs `verify`."""
     from ..fe import load_ball
     from ..balls.ball import universal_spec
 
     started = time.perf_counter()
     allow = check_allow(allow)
     tolerances = tolerances or Tolerances()
+    compression_tolerance = check_compression_tolerance(compression_tolerance)
+    if compression is not None and not verify:
+        raise InputError("compression (--compression): a criterion of the FE check, which "
+                         "verify=False (--no-verify) turns off")
     if max_nrmse is not None:
         tolerances = replace(tolerances, force_nrmse=check_max_nrmse(max_nrmse))
     values = model_inputs(processed, model, allow)
@@ -413,6 +424,8 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         check = result.verification
         check.update(judge(check, tolerances, processed.features.uncertainty))
         check["force_nrmse_limit"] = tolerances.force_nrmse
+        if compression is not None:
+            judge_compression(check, spec, compression, compression_tolerance)
         if not check["passed"]:
             warnings.warn(f"{where}FE check failed: {'; '.join(check['missed'])}: the identified "
                           "ball does not reproduce this test (see --plot)", InputWarning,

@@ -45,6 +45,11 @@ def identification_lines(path: Path, found: Identification) -> list[str]:
                   f"{v['contact_time_simulated_s'] * 1e3:.4g} vs "
                   f"{v['contact_time_measured_s'] * 1e3:.4g} ms; peak "
                   f"{v['peak_force_simulated_n']:.5g} vs {v['peak_force_measured_n']:.5g} N"]
+    if v and "compression" in v:
+        c = v["compression"]
+        lines.append(f"  compression NRMSE {c['compression_nrmse']:.2%}; force at "
+                     f"{c['deflection_m'] * 1e3:.4g} mm {c['force_simulated_n']:.5g} vs "
+                     f"{c['force_measured_n']:.5g} N ({c['test']})")
     return lines
 
 
