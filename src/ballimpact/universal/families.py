@@ -164,7 +164,13 @@ def family_closed_loop(model: UniversalModel, size: BallSize, *, runs: int = 12,
 
 
 def _spec(params: dict, size: BallSize, model: UniversalModel, name: str) -> dict:
+    """The universal ball of `params`; a `prony` list of terms ({"g", "tau_s"}) in them stands
+    for the one term g1, tau1_s (a test ball the model cannot be: benchmarks/
+    bench_second_prony.py)."""
     from ..balls.ball import universal_spec
 
-    return universal_spec(params, size.radius_m, size.density_kg_m3,
+    spec = universal_spec(params, size.radius_m, size.density_kg_m3,
                           model.metadata["template"]["moduli"], name)
+    if "prony" in params:
+        spec["layers"][0]["material"]["prony"] = [dict(term) for term in params["prony"]]
+    return spec
