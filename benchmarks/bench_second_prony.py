@@ -6,8 +6,9 @@ that test back as well as it gives back one-term balls, a second term would add 
 learn and nothing the impact shows.
 
 For each material family (`data/ball_families.json`) this draws the family's 12 balls
-(`families.family_box_tests`, the seeds of examples/identify_ball_families.py), and makes of each a two-term twin: the same long-term
-C10, C01 and total g (g1 + g2 = the one-term g1, split at a fraction drawn in 0.3-0.7) with the
+(`families.family_box_tests`, the seeds of examples/identify_ball_families.py), and makes of
+each a two-term twin: the same long-term C10, C01 and total g (g1 + g2 = the one-term g1,
+split at a fraction drawn in 0.3-0.7) with the
 two relaxation times a factor k apart around the one-term tau1 (tau1 / sqrt(k) and
 tau1 sqrt(k), k log-uniform in 10-100: one to two decades). Both sets go through the families'
 closed loop (`families.family_closed_loop`: FE test at 100 kHz with 1% noise, identified with
@@ -57,7 +58,12 @@ def main(argv=None) -> dict:
            "machine": f"{platform.machine()}, Python {platform.python_version()}",
            "families": {}}
     started = time.perf_counter()
-    for name in args.families.split(","):
+    names = args.families.split(",")
+    unknown = [name for name in names if name not in MATERIAL_FAMILIES]
+    if unknown:
+        parser.error(f"--families: unknown {', '.join(unknown)}; the families are "
+                     f"{', '.join(MATERIAL_FAMILIES)}")
+    for name in names:
         seed = MATERIAL_FAMILIES.index(name)  # examples/identify_ball_families.py's draws
         size, params, speeds = family_box_tests(name, args.runs, seed)
         rows = {}

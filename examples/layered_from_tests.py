@@ -24,7 +24,7 @@ Then three commands, each printed before it runs:
     python examples/layered_from_tests.py [--out DIR] [--element-size-m H]
 
 prints a JSON summary (per path: force NRMSE, COR and contact-time errors, compression NRMSE;
-the constants against the truth). About 4 minutes on 2 CPU cores (default mesh).
+the constants against the truth). About 3 minutes on 2 CPU cores (default mesh).
 """
 
 from __future__ import annotations

@@ -100,7 +100,7 @@ def test_a_parameter_without_effect_is_not_identified(tmp_path, capsys):
 
 # ---- layered balls from tests (issue 42, item 4) -------------------------------------------------
 def test_layered_ball_from_impact_and_compression(tmp_path, capsys):
-    """`examples/layered_from_tests.py` on a 3 mm mesh (about 95 s): the core-cover ball's
+    """`examples/layered_from_tests.py` on a 3 mm mesh (about 93 s): the core-cover ball's
     impact and compression tests. The homogeneous ball identified from the impact misses the
     compression (exit 3, naming the layered path); a one-layer calibration against both misses
     the impact and warns; the core and cover calibrated against both give both back (levels

@@ -183,9 +183,25 @@ def test_compression_without_the_fe_check(bad_input, sample, tmp_path):
 
 
 @pytest.mark.parametrize("value", [0, 1.5, -0.05])
-def test_compression_tolerance_out_of_range(bad_input, sample, value):
-    bad_input(["identify", sample, "--max-compression-error", value],
-              "--max-compression-error")
+def test_compression_tolerance_out_of_range(bad_input, sample, tmp_path, value):
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_mm,force_n\n1,10\n2,25\n3,45\n")
+    bad_input(["identify", sample, "--compression", curve, "--max-compression-error", value],
+              "max_compression_error (--max-compression-error)")
+
+
+def test_compression_tolerance_without_a_compression_test(bad_input, sample):
+    bad_input(["identify", sample, "--max-compression-error", 0.1], "--max-compression-error",
+              "needs --compression")
+
+
+def test_an_output_over_the_compression_test(bad_input, sample, twin, tmp_path):
+    curve = _curve(tmp_path / "squeeze.csv", "deflection_mm,force_n\n1,10\n2,25\n3,45\n")
+    bad_input(["identify", sample, twin, "--compression", curve, "--table", curve],
+              "--table", "squeeze.csv", "one of the inputs")
+
+
+def test_compression_test_is_a_folder(bad_input, sample, tmp_path):
+    bad_input(["identify", sample, "--compression", tmp_path], "--compression", "is a folder")
 
 
 def test_compression_deeper_than_the_ball(bad_input, sample, tmp_path):

@@ -164,7 +164,8 @@ def calibrate_from_files(ball: str | Path, bounds: dict[str, tuple[float, float]
 
 def warn_one_layer(template: dict[str, Any], tests: Sequence, result: dict[str, Any]) -> None:
     """An `InputWarning` when a one-layer ball calibrated against impact and compression tests
-    together misses either: each objective's value in the last stage that has it, against the
+    together misses either: each objective's value as the last stage that fitted it left it (a
+    later stage may have moved it a little), against the
     model checks' tolerances (`verdict.Tolerances`: force NRMSE, COR, contact time, peak force;
     `verdict.COMPRESSION_TOLERANCE`). One homogeneous layer ties the impact's instantaneous
     moduli to the compression's relaxed ones through its g1, and a layered ball (core and cover)
@@ -183,10 +184,11 @@ def warn_one_layer(template: dict[str, Any], tests: Sequence, result: dict[str, 
     missed = [f"{name} {value:.3g} > {allowed[name]:g}" for name, value in last.items()
               if name in allowed and not abs(value) <= allowed[name]]
     if missed:
-        warnings.warn(f"one homogeneous layer does not give the impact and the compression "
-                      f"tests together ({', '.join(missed)}); calibrate a layered ball (core and "
-                      "cover) against both: docs/calibrate.md, 'Layered balls from tests'",
-                      InputWarning, stacklevel=2)
+        warnings.warn(f"one homogeneous layer may not give the impact and the compression tests "
+                      f"together ({', '.join(missed)}, each as the last stage that fitted it left "
+                      "it; a parameter on its bound or a search that stopped early can also do "
+                      "this); calibrate a layered ball (core and cover) against both: "
+                      "docs/calibrate.md, 'Layered balls from tests'", InputWarning, stacklevel=2)
 
 
 __all__ = ["BALL_FILE", "RESULT_FILE", "calibrate_from_files", "calibration_tests",

@@ -45,7 +45,6 @@ def add_parser(verbs) -> None:
                                "homogeneous layer does not give both tests: see "
                                "docs/calibrate.md, 'Layered balls from tests'")
     identify.add_argument("--max-compression-error", type=float, metavar="X",
-                          default=COMPRESSION_TOLERANCE,
                           help="largest compression NRMSE (a fraction of the test's largest "
                                f"force) the FE check allows (default {COMPRESSION_TOLERANCE:g})")
     identify.add_argument("--refine", choices=("none", "surrogate"), default="none",
@@ -72,6 +71,12 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     from ..universal.text import identification_lines, identified_tests_lines
 
     tolerances = tolerances_from(args)  # a bad tolerance is refused before anything is loaded
+    if args.max_compression_error is not None and args.compression is None:
+        raise InputError("--max-compression-error: the tolerance of the compression criterion, "
+                         "which needs --compression FILE.csv")
+    if args.compression is not None and not args.verify:
+        raise InputError("--compression: a criterion of the FE check, which --no-verify turns "
+                         "off")
     if given_flags(args) and not args.verify:
         raise InputError(f"{', '.join(given_flags(args))}: the FE check's tolerances, which "
                          "--no-verify turns off")
@@ -81,7 +86,9 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
         args.files, options=record_options(args), model=args.model, verify=args.verify,
         refine=args.refine, allow=args.allow, diameter_m=args.ball_diameter_m,
         nominal_m_s=args.speeds, tolerance=args.speed_tolerance, tolerances=tolerances,
-        compression=args.compression, compression_tolerance=args.max_compression_error,
+        compression=args.compression, compression_tolerance=(
+            COMPRESSION_TOLERANCE if args.max_compression_error is None
+            else args.max_compression_error),
         table_path=args.table, ball_path=args.ball_out, plot_path=args.plot,
         each=None if args.json else lambda path, f: print_lines(identification_lines(path, f)))
     if not args.json:

@@ -176,17 +176,20 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
     before anything is processed. Writes the speed table (CSV, `table_path`, several files
     only), the identified ball (JSON, `ball_path`) and the tests with the identified balls'
     pulses (PNG, `plot_path`). `compression`: a compression test's CSV (the ball squeezed
-    slowly between platens), a criterion of each FE check (`identify`). Returns the identifications and the command's result:
-    `IdentifiedTests.to_dict` with `table_csv`, `ball_file`, `plot` where written and
-    `wall_time_s`. `InputError`, before anything is loaded, for a bad output path (an output
-    over a test record or its side file included), `table_path` with one file, a diameter
-    outside sports balls', an unknown `allow` name and a bad compression test."""
+    slowly between platens), a criterion of each FE check (`identify`). Returns the
+    identifications and the command's result: `IdentifiedTests.to_dict` with `table_csv`,
+    `ball_file`, `plot` where written and `wall_time_s`. `InputError`, before anything is
+    loaded, for a bad output path (an output over an input included), `table_path` with one
+    file, a diameter outside sports balls', an unknown `allow` name and a bad compression
+    test."""
     started = time.perf_counter()
     check_plot_path(plot_path)
     if diameter_m is not None:  # before anything is loaded (the mass comes later)
         check_diameter(diameter_m)
     records = check_distinct_files(list(files), "FILE")
     inputs = set(records) | {p.with_suffix(".json") for p in records}  # and their side files
+    if compression is not None:
+        inputs.add(Path(compression).resolve())
     for path, flag, suffix in ((table_path, "--table", ".csv"),
                                (ball_path, "--ball-out", ".json")):
         if path is None:
@@ -195,7 +198,8 @@ def identify_files(files: Sequence[Path], *, options: RecordOptions = RecordOpti
         if path.is_dir():
             raise InputError(f"{flag}: {path} is a folder; give a {suffix} file")
         if path.resolve() in inputs:
-            raise InputError(f"{flag}: {path} is one of the test records or their side files; "
+            raise InputError(f"{flag}: {path} is one of the inputs (test records, side files, "
+                             "compression test); "
                              "writing it would overwrite the test: choose another name")
     if table_path is not None and len(files) < 2:
         raise InputError("--table: needs several test files (one per speed), got one; the "

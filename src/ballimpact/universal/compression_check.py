@@ -35,23 +35,26 @@ def load_compression_test(path: str | Path):
 
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"--compression: {path}: no such file")
+        raise InputError(f"--compression: {path}: " + ("is a folder; give a CSV file"
+                                                       if path.is_dir() else "no such file"))
     deflection, force = read_compression_csv(path)
     return CompressionTest(path.stem, deflection, force, source=str(path))
 
 
 def judge_compression(verification: dict[str, Any], ball_spec: dict, test,
-                      tolerance: float = COMPRESSION_TOLERANCE) -> dict[str, Any]:
+                      tolerance: float = COMPRESSION_TOLERANCE,
+                      allow=()) -> dict[str, Any]:
     """Compress the ball `ball_spec` (long-term, or at the test's platen rate) to the test's
     largest deflection on the mesh that resolves the platens' contact (`fe.compress`'s default),
     compare (`compare_compression`) and add the criterion "compression" to `verification`
     (`verdict.judge`'s dict, changed in place: its `criteria`, `missed` and `passed`; the curve's
     figures under `verification["compression"]`). Returns `verification`. `InputError` for a
-    test deeper than the ball can be squeezed."""
+    test deeper than the ball can be squeezed. `allow`: the ball's checks to pass
+    (`load_ball`)."""
     from ..calibrate.compression import compare_compression, compression_run
     from ..fe import load_ball
 
-    ball = load_ball(ball_spec)
+    ball = load_ball(ball_spec, allow=allow)
     test.check_against(ball)
     curve = compression_run(test, ball, None)
     figures = compare_compression(test, curve)

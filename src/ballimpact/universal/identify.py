@@ -12,6 +12,7 @@ import time
 import warnings
 from collections.abc import Collection
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -24,7 +25,7 @@ from . import space
 from ..comparison import compare, features_pulse, pulse_nrmse
 from ..verdict import Tolerances, judge
 from .compression_check import (COMPRESSION_TOLERANCE, check_compression_tolerance,
-                                judge_compression)
+                                judge_compression, load_compression_test)
 from .similarity import BallSize, groups, map_features, map_params, map_ranges
 from .design import param_ranges_from_groups, params_from_groups
 from .model import FEATURES, TARGET_UNITS, TARGETS, UniversalModel, target_ranges
@@ -355,10 +356,9 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
     (`verdict.judge` with `tolerances`, default `verdict.Tolerances()`; `max_nrmse` sets the
     force NRMSE's alone): `verification["passed"]` only when all pass, `verification["missed"]`
     names each miss, and a miss is an `InputWarning` (the command line exits 3). A
-    `compression` test (`calibrate.compression.CompressionTest`, e.g. from
-    `compression_check.load_compression_test`) adds the criterion "compression": the identified
-    ball squeezed as in the test, its force NRMSE within `compression_tolerance`
-    (`compression_check.judge_compression`); it needs `verify`."""
+    `compression` test (`calibrate.compression.CompressionTest`, or its CSV's path) adds the
+    criterion "compression": the identified ball squeezed as in the test, its force NRMSE
+    within `compression_tolerance` (`compression_check.judge_compression`); it needs `verify`."""
     from ..fe import load_ball
     from ..balls.ball import universal_spec
 
@@ -406,7 +406,11 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         found = _estimate_by_similarity(model, mapped, reference, size, speed, refine)
     spec = universal_spec(found["params"], size.radius_m, size.density_kg_m3,
                           template["moduli"], "identified-universal")
-    load_ball(spec, allow=allow)  # checked as `simulate --ball` will check it
+    ball = load_ball(spec, allow=allow)  # checked as `simulate --ball` will check it
+    if compression is not None:  # a path, or a test deeper than the ball: before any FE run
+        if isinstance(compression, (str, Path)):
+            compression = load_compression_test(compression)
+        compression.check_against(ball)
     result = Identification(found["params"], found["interval_90"], spec, speed, refine,
                             training_range=found["training_range"],
                             at_training_bound=found["at_bound"],
@@ -425,7 +429,7 @@ def identify(processed, model: UniversalModel, *, verify: bool = True,
         check.update(judge(check, tolerances, processed.features.uncertainty))
         check["force_nrmse_limit"] = tolerances.force_nrmse
         if compression is not None:
-            judge_compression(check, spec, compression, compression_tolerance)
+            judge_compression(check, spec, compression, compression_tolerance, allow)
         if not check["passed"]:
             warnings.warn(f"{where}FE check failed: {'; '.join(check['missed'])}: the identified "
                           "ball does not reproduce this test (see --plot)", InputWarning,
