@@ -186,6 +186,9 @@ CSV_CASES = [
       "millimetres given as metres", "deflection_mm"]),
     ("deep.csv", "deflection_m,force_n\n0.01,100\n0.02,300\n0.03,600\n",
      ["deep.csv", "above the radius 0.026 m of layer core", "allowed (0, 0.026]"]),
+    # kilonewtons under a newton header: the core's ~0.6 kN at 4 mm typed as 0.61
+    ("kn.csv", "deflection_mm,force_n\n1,0.08\n2,0.22\n4,0.61\n",
+     ["kn.csv", "force at the largest deflection", "looks like kN", "use 610 N"]),
 ]
 
 

@@ -209,3 +209,11 @@ def test_compression_deeper_than_the_ball(bad_input, sample, tmp_path):
     curve = _curve(tmp_path / "squeeze.csv", "deflection_m,force_n\n2,100\n4,600\n6.35,1600\n")
     bad_input(["identify", sample, "--compression", curve], "squeeze.csv", "6.35 m",
               "deflection_mm")
+
+
+def test_compression_force_in_kn_under_a_newton_header(bad_input, sample, tmp_path):
+    # a 72 mm ball's 1.6 kN at 6.35 mm typed in kN under force_n: no sports ball is that soft
+    curve = _curve(tmp_path / "squeeze.csv",
+                   "deflection_mm,force_n\n2,0.25\n4,0.8\n6.35,1.6\n")
+    bad_input(["identify", sample, "--compression", curve], "squeeze.csv",
+              "force at the largest deflection", "looks like kN", "use 1600 N")

@@ -111,6 +111,24 @@ _BALL_FIXES = {
 }
 
 
+def check_force_units(force_n: float, deflection_m: float, radius_m: float, name: str) -> None:
+    """A compression force whose sphere would be no sports ball's is a unit slip (kN typed for N):
+    the shear modulus it implies by Hertz between two platens (each approaching D / 2, F = 4/3 E*
+    sqrt(R) (D/2)^1.5, nearly incompressible: mu = E* / 4) must lie in `BALL_RANGES`' shear
+    moduli. `InputError` starting with `name` (the force's field or flag), naming the slip."""
+    e_star = 0.75 * force_n / (math.sqrt(radius_m) * (0.5 * deflection_m) ** 1.5)
+    low, high, _ = BALL_RANGES["shear modulus"]
+    mu = 0.25 * e_star
+    if low <= mu <= high:
+        return
+    factor = next((f for f in (1e3, 1e-3) if low <= mu * f <= high), None)
+    hint = ("" if factor is None else
+            f"; looks like {'kN' if factor > 1 else 'mN'}: use {force_n * factor:g} N")
+    raise InputError(f"{name} = {force_n:g} N at {deflection_m * 1e3:.3g} mm implies a shear "
+                     f"modulus of about {mu:.3g} Pa (Hertz), outside the {low:g}..{high:g} Pa "
+                     f"of sports balls{hint}")
+
+
 def check_ball_values(where: str, values: dict[str, float], keys: dict | None = None,
                       allow: Collection[str] = ()) -> None:
     """The `ball-units` check of `values` (quantity of `BALL_RANGES` -> value in SI): each value

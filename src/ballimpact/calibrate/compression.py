@@ -133,7 +133,8 @@ def check_against_ball(test: CompressionTest, ball) -> None:
     """`InputError` naming the file for a curve the tested ball cannot be compressed to: a
     deflection at or above its diameter (likely millimetres given as metres), or above its radius
     (`fe.compress` squeezes a ball to half its diameter at most); then `compress`'s own checks
-    (`check_compression_input`: the platen rate, the increments)."""
+    (`check_compression_input`: the platen rate, the increments); last a force whose implied
+    stiffness is no sports ball's (`balls.checks.check_force_units`: kN given as N)."""
     d = test.max_deflection_m
     diameter, radius = 2.0 * ball.outer_radius_m, ball.outer_radius_m
     where = test.source or test.name
@@ -147,12 +148,16 @@ def check_against_ball(test: CompressionTest, ball) -> None:
         raise InputError(f"{where}: a deflection of {d:g} m is above the radius {radius:g} m of "
                          f"{part}; the FE compression goes to half the diameter at most "
                          f"(allowed (0, {radius:g}] m)")
+    from ..balls.checks import check_force_units
     from ..fe.compression import check_compression_input
 
     try:  # the rest (platen rate, increments) as `compress` checks it
         check_compression_input(ball, d, test.rate_m_s, test.steps)
     except InputError as error:
         raise InputError(f"{where}: {error}") from None
+    # a force in kN under a force_n header (or N under force_kn): no sports ball's stiffness
+    check_force_units(float(test.force_n[-1]), d, radius,
+                      f"{where}: the force at the largest deflection")
 
 
 def compression_run(test: CompressionTest, ball, options, progress=None):

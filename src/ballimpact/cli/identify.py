@@ -74,9 +74,6 @@ def run(args: argparse.Namespace) -> dict[str, Any]:
     if args.max_compression_error is not None and args.compression is None:
         raise InputError("--max-compression-error: the tolerance of the compression criterion, "
                          "which needs --compression FILE.csv")
-    if args.compression is not None and not args.verify:
-        raise InputError("--compression: a criterion of the FE check, which --no-verify turns "
-                         "off")
     if given_flags(args) and not args.verify:
         raise InputError(f"{', '.join(given_flags(args))}: the FE check's tolerances, which "
                          "--no-verify turns off")

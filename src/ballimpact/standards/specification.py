@@ -34,8 +34,8 @@ from typing import Any
 import numpy as np
 
 from ..balls.ball import UNIVERSAL_RADIUS_M, universal_spec
-from ..balls.checks import (BALL_RANGES, check_ball_diameter, check_ball_mass,
-                            check_ball_values)
+from ..balls.checks import (check_ball_diameter, check_ball_mass,
+                            check_ball_values, check_force_units)
 from ..checks import check_metres, check_range
 from ..errors import InputError
 from ..records.features import dynamic_stiffness
@@ -94,29 +94,12 @@ class Specification:
                             *FORCE_RANGE_N, unit="N")
         deflection = check_metres("compression_deflection_m (--deflection-m)",
                                   self.compression_deflection_m, 0.5 * radius, 1e-4)
-        check_force_units(force, deflection, radius)
+        check_force_units(force, deflection, radius,
+                          "compression_force_n (--compression-n)")
         return Specification(
             diameter, mass,
             check_range("cor (--cor)", self.cor, 0.0, 1.0, low_open=True, high_open=True),
             force, deflection, checked_speed(self.impact_speed_m_s))
-
-
-def check_force_units(force_n: float, deflection_m: float, radius_m: float) -> None:
-    """A compression force whose sphere would be no sports ball's is a unit slip (kN typed for N):
-    the shear modulus it implies by Hertz between two platens (each approaching D / 2, F = 4/3 E*
-    sqrt(R) (D/2)^1.5, nearly incompressible: mu = E* / 4) must lie in `BALL_RANGES`' shear
-    moduli. `InputError` naming the force and the slip."""
-    e_star = 0.75 * force_n / (math.sqrt(radius_m) * (0.5 * deflection_m) ** 1.5)
-    low, high, _ = BALL_RANGES["shear modulus"]
-    mu = 0.25 * e_star
-    if low <= mu <= high:
-        return
-    factor = next((f for f in (1e3, 1e-3) if low <= mu * f <= high), None)
-    hint = ("" if factor is None else
-            f"; looks like {'kN' if factor > 1 else 'mN'}: use {force_n * factor:g} N")
-    raise InputError(f"compression_force_n (--compression-n) = {force_n:g} N at "
-                     f"{deflection_m * 1e3:.3g} mm implies a shear modulus of about {mu:.3g} Pa "
-                     f"(Hertz), outside the {low:g}..{high:g} Pa of sports balls{hint}")
 
 
 #: Relaxation times accepted (s).

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..records.features import FEATURE_NAMES
 from . import space
-from .similarity import FEATURE_KIND, GROUPS, BallSize
+from .similarity import FEATURE_KIND, GROUPS, BallSize, constants_of_groups, groups
 
 FEATURES = tuple(FEATURE_NAMES)  # P1..P19
 SPEED_COLUMN = FEATURES.index("P15")
@@ -58,11 +58,10 @@ class Design:
         """Study rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s; SI) of a ball of `size` ->
         the targets' true values."""
         c10, c01, g1, tau1, speed = np.atleast_2d(np.asarray(params, np.float64)).T
-        mu0 = 2.0 * (c10 + c01)
         if self.name == "material":
-            return np.column_stack([c10, c01, g1, tau1, mu0])
-        return np.column_stack([size.density_kg_m3 * speed ** 2 / mu0, c01 / c10, g1,
-                                tau1 * speed / size.radius_m])
+            return np.column_stack([c10, c01, g1, tau1, 2.0 * (c10 + c01)])
+        found = groups({"c10_pa": c10, "c01_pa": c01, "g1": g1, "tau1_s": tau1}, size, speed)
+        return np.column_stack([found[k] for k in GROUPS])
 
     def forward_rows(self, params: np.ndarray, size: BallSize) -> np.ndarray:
         """Study rows (SI) -> the rows the forward surrogate takes (`forward_inputs`, SI)."""
@@ -78,11 +77,8 @@ DESIGNS = {d.name: d for d in (MATERIAL, GROUPS_DESIGN)}
 def params_from_groups(groups: dict[str, float], size: BallSize, speed_m_s: float
                        ) -> dict[str, float]:
     """Universal-ball constants (c10_pa, c01_pa, g1, tau1_s, mu0_pa; SI) of a ball of `size` at
-    `speed_m_s` (m/s) with the four `groups` (`similarity.groups` inverted)."""
-    mu0 = size.density_kg_m3 * speed_m_s ** 2 / groups["rho_v2_over_mu0"]
-    c10 = mu0 / (2.0 * (1.0 + groups["c01_over_c10"]))
-    return {"c10_pa": c10, "c01_pa": groups["c01_over_c10"] * c10, "g1": groups["g1"],
-            "tau1_s": groups["tau1_v_over_r"] * size.radius_m / speed_m_s, "mu0_pa": mu0}
+    `speed_m_s` (m/s) with the four `groups` (`similarity.constants_of_groups`)."""
+    return constants_of_groups(groups, size.radius_m, size.density_kg_m3, speed_m_s)
 
 
 def param_ranges_from_groups(ranges: dict[str, list[float]], size: BallSize, speed_m_s: float

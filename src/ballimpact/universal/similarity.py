@@ -63,6 +63,17 @@ def groups(params: dict[str, float], size: BallSize, speed_m_s: float) -> dict[s
             "tau1_v_over_r": params["tau1_s"] * speed_m_s / size.radius_m}
 
 
+def constants_of_groups(groups: dict, radius_m: float, density_kg_m3: float, speed_m_s
+                        ) -> dict:
+    """`groups` inverted: the universal-ball constants (c10_pa, c01_pa, g1, tau1_s, mu0_pa; SI)
+    of a ball of `radius_m` and `density_kg_m3` at `speed_m_s` (m/s) with the four groups
+    (numbers, or arrays of one shape)."""
+    mu0 = density_kg_m3 * speed_m_s ** 2 / groups["rho_v2_over_mu0"]
+    c10 = mu0 / (2.0 * (1.0 + groups["c01_over_c10"]))
+    return {"c10_pa": c10, "c01_pa": groups["c01_over_c10"] * c10, "g1": groups["g1"],
+            "tau1_s": groups["tau1_v_over_r"] * radius_m / speed_m_s, "mu0_pa": mu0}
+
+
 def map_features(values: dict[str, float], source: BallSize, target: BallSize
                  ) -> dict[str, float]:
     """Features (P1..P19, SI) of an impact of a `source` ball mapped to the similar impact of a

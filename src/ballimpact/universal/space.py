@@ -143,12 +143,13 @@ def params_from_groups(points: np.ndarray, radius_m: float, density_kg_m3: float
                        ) -> np.ndarray:
     """Rows (c10_pa, c01_pa, g1, tau1_s, impact_speed_m_s) of a ball of `radius_m` and
     `density_kg_m3` from rows of `GROUP_PARAMETERS`' groups, each at its `run_speed`."""
+    from .similarity import constants_of_groups
+
     points = np.atleast_2d(np.asarray(points, np.float64))
-    inertia, ratio, g1, tau = points.T
-    speed = run_speed(inertia)
-    mu0 = density_kg_m3 * speed ** 2 / inertia
-    c10 = mu0 / (2.0 * (1.0 + ratio))
-    return np.column_stack([c10, ratio * c10, g1, tau * radius_m / speed, speed])
+    speed = run_speed(points[:, 0])
+    found = constants_of_groups(dict(zip(GROUP_PARAMETERS, points.T)), radius_m,
+                                density_kg_m3, speed)
+    return np.column_stack([*(found[k] for k in MATERIAL_PARAMETERS), speed])
 
 
 def is_number(value: Any, finite: bool = True) -> bool:
