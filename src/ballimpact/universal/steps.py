@@ -59,9 +59,10 @@ def run_design(folder: Path, *, template: str | Path | None = None, ranges: dict
     `folder` (`study.run_study`, on `workers` local Dask processes or the `scheduler` at an
     address), its configuration by `design_config` (None settings: the defaults, or the stored
     study's); `design`: "material" (default) or "groups" (`study.make_config`); `ranges` in SI
-    (a study of the groups: the groups'), `element_size_m` in m. Returns the study's summary with its failed
-    runs: `failed_runs` (their number), `failures` (the first `LISTED_FAILURES`, each `run_id`
-    and `reason`) and `runs_per_s` of this run (None when nothing ran). `InputError`, before
+    (a study of the groups: the groups'), `element_size_m` in m. Returns the study's summary
+    with its failed runs: `failed_runs` (their number), `failures` (the first
+    `LISTED_FAILURES`, each `run_id` and `reason`) and `runs_per_s` of this run (None when
+    nothing ran). `InputError`, before
     anything is written, for a count below its least value, an element size <= 0, `extend`
     with `runs`, and what `make_config` and `run_study` refuse."""
     for flag, value, low, what in (("--runs", runs, 1, "the number of runs"),
